@@ -1,0 +1,80 @@
+# Small declarative helpers so each folder's CMakeLists is a short list.
+#
+#   igms_library(NAME igms_net SOURCES a.cpp b.cpp DEPS igms_proto Boost::boost)
+#   igms_executable(NAME igms-video-server SOURCES main.cpp DEPS igms_video)
+#   igms_test(NAME net/framing SOURCES framing_test.cpp DEPS igms_net)
+#   igms_add_subdirectories()   # every child folder that has a CMakeLists.txt
+
+function(igms_library)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(${ARG_NAME} STATIC ${ARG_SOURCES})
+  # Headers are included by their path from the repository root: "common/net/server.h".
+  target_include_directories(${ARG_NAME} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${ARG_NAME} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  set_target_properties(${ARG_NAME} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+endfunction()
+
+function(igms_executable)
+  cmake_parse_arguments(ARG "NO_INSTALL" "NAME" "SOURCES;DEPS" ${ARGN})
+  add_executable(${ARG_NAME} ${ARG_SOURCES})
+  target_include_directories(${ARG_NAME} PRIVATE ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS})
+  if(NOT ARG_NO_INSTALL)
+    install(TARGETS ${ARG_NAME} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  endif()
+endfunction()
+
+# A GoogleTest binary registered with CTest as <folder>/<name>, so `ctest -R net/` works.
+# Tests run from the build tree and find the lab's executables in ${CMAKE_BINARY_DIR}/bin,
+# passed to them as IGMS_BIN_DIR; IGMS_SOURCE_DIR points at the repository for data files.
+function(igms_test)
+  cmake_parse_arguments(ARG "" "NAME;TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  string(REPLACE "/" "_" target "test_${ARG_NAME}")
+  add_executable(${target} ${ARG_SOURCES})
+  set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+  target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${target} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
+  add_test(NAME ${ARG_NAME} COMMAND ${target})
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 300)
+  endif()
+  set_tests_properties(${ARG_NAME} PROPERTIES TIMEOUT ${ARG_TIMEOUT}
+    ENVIRONMENT "IGMS_BIN_DIR=${CMAKE_BINARY_DIR}/bin;IGMS_SOURCE_DIR=${PROJECT_SOURCE_DIR};IGMS_BUILD_DIR=${CMAKE_BINARY_DIR}"
+    LABELS "${ARG_LABELS}")
+endfunction()
+
+# A benchmark program: built into bench/, never run by CTest; `deploy/lab bench` runs them.
+function(igms_benchmark)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
+  add_executable(${ARG_NAME} ${ARG_SOURCES})
+  set_target_properties(${ARG_NAME} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/bench)
+  target_include_directories(${ARG_NAME} PRIVATE ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS})
+endfunction()
+
+# Adds every direct child folder holding a CMakeLists.txt, so components can grow
+# sub-libraries without editing their parent.
+function(igms_add_subdirectories)
+  file(GLOB children LIST_DIRECTORIES true RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR}/*)
+  list(SORT children)
+  foreach(child ${children})
+    if(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/${child} AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${child}/CMakeLists.txt)
+      add_subdirectory(${child})
+    endif()
+  endforeach()
+endfunction()
+
+# A libFuzzer target, built only in the clang fuzz tree (IGMS_FUZZ=ON) into fuzz/;
+# `deploy/lab fuzz` and `deploy/lab test` run every one for a bounded time.
+function(igms_fuzzer)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
+  if(NOT IGMS_FUZZ)
+    return()
+  endif()
+  add_executable(${ARG_NAME} ${ARG_SOURCES})
+  set_target_properties(${ARG_NAME} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/fuzz)
+  target_include_directories(${ARG_NAME} PRIVATE ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS})
+  target_link_options(${ARG_NAME} PRIVATE -fsanitize=fuzzer)
+  add_dependencies(igms_fuzzers ${ARG_NAME})
+endfunction()

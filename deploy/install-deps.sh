@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs exactly the Debian 12 packages that IGMS needs to build, test and run its demo.
+# Idempotent and quick when everything is present; uses sudo when not run as root.
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  cmake g++ make ninja-build pkg-config git
+  # libraries the build links
+  libeigen3-dev libopencv-dev libboost-dev libboost-system-dev libboost-program-options-dev
+  libprotobuf-dev protobuf-compiler libyaml-cpp-dev libspdlog-dev
+  libglfw3-dev libopenal-dev libsndfile1-dev libsqlite3-dev
+  libpocketsphinx-dev pocketsphinx pocketsphinx-en-us
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev clang-14 libclang-rt-14-dev
+  # run time: headless windows, sound, speech, serial ports, namespaces, real test images
+  xvfb xauth libgl1-mesa-dri espeak-ng sox socat iproute2 procps opencv-doc python3
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+echo "install-deps: done"
