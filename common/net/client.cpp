@@ -28,7 +28,8 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     std::string method;
     std::string payload;
     RawDone done;
-    std::unique_ptr<asio::steady_timer> timer;
+    std::chrono::steady_clock::time_point deadline;
+    std::chrono::milliseconds timeout;
     bool sent = false;
   };
   struct Subscription {
@@ -45,13 +46,18 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
         resolver(strand),
         connect_timer(strand),
         retry_timer(strand),
-        heartbeat_timer(strand) {}
+        heartbeat_timer(strand),
+        deadline_timer(strand) {}
 
   ClientOptions options;
   asio::strand<asio::io_context::executor_type> strand;
   tcp::socket socket;
   tcp::resolver resolver;
   asio::steady_timer connect_timer, retry_timer, heartbeat_timer;
+  // Fires at the earliest deadline of the calls in flight; one timer for all of them, so a
+  // call costs no timer system calls of its own.
+  asio::steady_timer deadline_timer;
+  std::chrono::steady_clock::time_point deadline_armed = std::chrono::steady_clock::time_point::max();
   std::atomic<std::uint64_t> next_id{1};
 
   // Touched only on the strand.
@@ -245,7 +251,6 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
         }
         if (auto it = pending.find(id); it != pending.end()) {
           auto done = std::move(it->second.done);
-          it->second.timer->cancel();
           pending.erase(it);
           done(status, e.payload());
         } else if (auto s = subscriptions.find(id); s != subscriptions.end() && !status.ok()) {
@@ -286,7 +291,6 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     std::vector<RawDone> failed;
     for (auto it = pending.begin(); it != pending.end();) {
       if (it->second.sent) {
-        it->second.timer->cancel();
         failed.push_back(std::move(it->second.done));
         it = pending.erase(it);
       } else {
@@ -317,9 +321,41 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     auto all = std::move(pending);
     pending.clear();
     for (auto& [id, p] : all) {
-      p.timer->cancel();
       p.done(Status::Error(igms::UNAVAILABLE, why), "");
     }
+  }
+
+  void ArmDeadline(std::chrono::steady_clock::time_point when) {
+    if (when >= deadline_armed) return;
+    deadline_armed = when;
+    deadline_timer.expires_at(when);
+    deadline_timer.async_wait([self = shared_from_this()](boost::system::error_code ec) {
+      if (ec) return;
+      self->deadline_armed = std::chrono::steady_clock::time_point::max();
+      self->ExpireCalls();
+    });
+  }
+
+  void ExpireCalls() {
+    const auto now = std::chrono::steady_clock::now();
+    auto next = std::chrono::steady_clock::time_point::max();
+    std::vector<std::pair<RawDone, Status>> expired;
+    for (auto it = pending.begin(); it != pending.end();) {
+      if (it->second.deadline <= now) {
+        const auto& p = it->second;
+        expired.emplace_back(
+            std::move(it->second.done),
+            Status::Error(igms::TIMEOUT, p.method + ": no " + (p.sent ? "answer" : "connection") +
+                                             " from " + Where() + " within " +
+                                             std::to_string(p.timeout.count()) + " ms"));
+        it = pending.erase(it);
+      } else {
+        next = std::min(next, it->second.deadline);
+        ++it;
+      }
+    }
+    if (next != std::chrono::steady_clock::time_point::max()) ArmDeadline(next);
+    for (auto& [done, status] : expired) done(status, "");
   }
 
   bool IsStopped() {
@@ -351,6 +387,7 @@ void Client::Stop() {
     impl->connect_timer.cancel();
     impl->retry_timer.cancel();
     impl->heartbeat_timer.cancel();
+    impl->deadline_timer.cancel();
     impl->FailAll("client stopped");
     impl->subscriptions.clear();
     impl->SetState(ConnectionState::kDisconnected, "client stopped");
@@ -384,20 +421,9 @@ void Client::CallRaw(const std::string& method, std::string payload,
     Impl::Pending p;
     p.method = method;
     p.done = std::move(done);
-    p.timer = std::make_unique<asio::steady_timer>(impl->strand);
-    p.timer->expires_after(timeout);
-    p.timer->async_wait([impl, id, method, timeout](boost::system::error_code ec) {
-      if (ec) return;
-      auto it = impl->pending.find(id);
-      if (it == impl->pending.end()) return;
-      auto d = std::move(it->second.done);
-      const bool sent = it->second.sent;
-      impl->pending.erase(it);
-      d(Status::Error(igms::TIMEOUT,
-                      method + ": no " + (sent ? "answer" : "connection") + " from " +
-                          impl->Where() + " within " + std::to_string(timeout.count()) + " ms"),
-        "");
-    });
+    p.timeout = timeout;
+    p.deadline = std::chrono::steady_clock::now() + timeout;
+    impl->ArmDeadline(p.deadline);
     const bool is_connected = [&] {
       std::lock_guard lock(impl->state_mutex);
       return impl->state == ConnectionState::kConnected;

@@ -175,10 +175,20 @@ void Session::Start() {
 }
 
 void Session::ArmIdleTimer() {
-  idle_timer_.expires_after(server_->options.idle_timeout);
+  // One timer per session that checks the time of the last frame, rather than re-arming a
+  // timer on every read (two system calls a frame on a busy session).
+  const auto timeout = server_->options.idle_timeout;
+  const auto since = std::chrono::steady_clock::now() - last_activity_;
+  idle_timer_.expires_after(since >= timeout ? timeout : timeout - since);
   idle_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
     if (ec) return;
-    if (auto self = weak.lock()) self->Close("idle for longer than the idle timeout");
+    auto self = weak.lock();
+    if (!self) return;
+    if (std::chrono::steady_clock::now() - self->last_activity_ >= self->server_->options.idle_timeout) {
+      self->Close("idle for longer than the idle timeout");
+    } else {
+      self->ArmIdleTimer();
+    }
   });
 }
 
@@ -195,7 +205,7 @@ void Session::ReadMore() {
           return;
         }
         self->in_.commit(n);
-        self->ArmIdleTimer();
+        self->last_activity_ = std::chrono::steady_clock::now();
         for (;;) {
           DecodeResult r = DecodeFrame(self->in_.pending(), self->server_->options.max_frame_bytes);
           if (r.status == DecodeStatus::kNeedMore) break;

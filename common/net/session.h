@@ -45,6 +45,7 @@ class Session : public std::enable_shared_from_this<Session> {
   boost::asio::ip::tcp::socket socket_;
   std::shared_ptr<Server::Impl> server_;
   boost::asio::steady_timer idle_timer_;
+  std::chrono::steady_clock::time_point last_activity_ = std::chrono::steady_clock::now();
   std::string peer_;
   ReadBuffer in_;
   bool authenticated_ = false;
