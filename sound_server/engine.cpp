@@ -19,20 +19,20 @@ struct Engine::Voice {
   ALuint source = 0;
   uint64_t play_id = 0;  // 0: free
   const Sound* sound = nullptr;
-  Priority priority = Priority::kNormal;
+  PlayPriority priority = PlayPriority::kNormal;
   float volume = 1.0f;
 };
 
 struct Engine::Pending {
   uint64_t play_id = 0;
   const Sound* sound = nullptr;
-  Priority priority = Priority::kNormal;
+  PlayPriority priority = PlayPriority::kNormal;
   float volume = 1.0f;
 };
 
 namespace {
 
-bool ValidPriority(Priority p) { return p >= Priority::kLow && p <= Priority::kHigh; }
+bool ValidPriority(PlayPriority p) { return p >= PlayPriority::kLow && p <= PlayPriority::kHigh; }
 
 bool ValidVolume(float v) { return std::isfinite(v) && v >= 0.0f && v <= 1.0f; }
 
@@ -42,11 +42,11 @@ std::string Describe(const SoundEntry& entry) {
 
 }  // namespace
 
-const char* PriorityName(Priority priority) {
+const char* PriorityName(PlayPriority priority) {
   switch (priority) {
-    case Priority::kLow: return "low";
-    case Priority::kNormal: return "normal";
-    case Priority::kHigh: return "high";
+    case PlayPriority::kLow: return "low";
+    case PlayPriority::kNormal: return "normal";
+    case PlayPriority::kHigh: return "high";
   }
   return "?";
 }
@@ -247,9 +247,9 @@ PlayOutcome Engine::PlaySpeech(const Sound& sound, const PlayParams& params) {
   return result;
 }
 
-void Engine::StartVoice(Voice& voice, const Sound& sound, uint64_t play_id, Priority priority,
+void Engine::StartVoice(Voice& voice, const Sound& sound, uint64_t play_id, PlayPriority priority,
                         float volume) {
-  if (&voice == speech_.get() && priority == Priority::kHigh) {
+  if (&voice == speech_.get() && priority == PlayPriority::kHigh) {
     for (Voice& cue : cues_) {
       if (cue.play_id != 0 && cue.priority < priority) StopVoice(cue);
     }

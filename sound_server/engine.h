@@ -41,8 +41,8 @@
 
 namespace igms::sound {
 
-enum class Priority { kLow = 1, kNormal = 2, kHigh = 3 };
-const char* PriorityName(Priority priority);
+enum class PlayPriority { kLow = 1, kNormal = 2, kHigh = 3 };
+const char* PriorityName(PlayPriority priority);
 
 struct EngineOptions {
   int cue_sources = 4;
@@ -71,7 +71,7 @@ struct SoundRef {
 
 struct PlayParams {
   SoundRef sound;
-  Priority priority = Priority::kNormal;
+  PlayPriority priority = PlayPriority::kNormal;
   float volume = 1.0f;
 };
 
@@ -96,7 +96,7 @@ struct BankSound {
 struct PlayState {
   uint64_t play_id = 0;
   SoundEntry entry;
-  Priority priority = Priority::kNormal;
+  PlayPriority priority = PlayPriority::kNormal;
   float volume = 1.0f;
   bool playing = false;  // false: waiting in the speech queue
   double position = 0.0;  // seconds played so far
@@ -152,7 +152,7 @@ class Engine {
   const Sound* Resolve(const SoundRef& ref, Outcome& outcome) const;
   PlayOutcome PlayCue(const Sound& sound, const PlayParams& params);
   PlayOutcome PlaySpeech(const Sound& sound, const PlayParams& params);
-  void StartVoice(Voice& voice, const Sound& sound, uint64_t play_id, Priority priority,
+  void StartVoice(Voice& voice, const Sound& sound, uint64_t play_id, PlayPriority priority,
                   float volume);
   void StopVoice(Voice& voice);
   void Reap();

@@ -10,6 +10,7 @@
 #include "sound_server/audio_file.h"
 #include "sound_server/engine.h"
 #include "sound_server/wave_capture.h"
+#include "tests/sound_server/sound_checks.h"
 #include "tests/sound_server/test_bank.h"
 
 namespace igms::sound {
@@ -17,7 +18,6 @@ namespace {
 
 using namespace std::chrono_literals;
 constexpr int kRate = 22050;
-constexpr double kSilence = 0.002;  // of full scale: quieter than any sound's onset
 
 class EngineTest : public ::testing::Test {
  protected:
@@ -84,22 +84,8 @@ std::filesystem::path* EngineTest::dir_ = nullptr;
 std::filesystem::path* EngineTest::wave_ = nullptr;
 std::vector<std::string>* EngineTest::warnings_ = nullptr;
 
-// The captured sound has the source's audible length and level, and its shape.
-void ExpectSameSound(const std::vector<int16_t>& captured, const AudioClip& source, double gain,
-                     const std::string& what) {
-  auto [s0, s1] = AudibleSpan(source.samples, kSilence);
-  auto [c0, c1] = AudibleSpan(captured, kSilence * gain);
-  ASSERT_GT(c1, c0) << what << ": nothing audible was captured";
-  const double source_seconds = double(s1 - s0) / kRate;
-  const double captured_seconds = double(c1 - c0) / kRate;
-  EXPECT_NEAR(captured_seconds, source_seconds, 0.02) << what;
-  const double source_rms = RmsLevel(source.samples, s0, s1) * gain;
-  const double captured_rms = RmsLevel(captured, c0, c1);
-  EXPECT_NEAR(captured_rms / source_rms, 1.0, 0.05) << what;
-  Alignment a = AlignClip(captured, source.samples, int64_t(c0) - int64_t(s0) - 64,
-                          int64_t(c0) - int64_t(s0) + 64, 8192);
-  EXPECT_GT(a.correlation, 0.98) << what;
-}
+using testing::ExpectSameSound;
+using testing::kSilence;
 
 TEST_F(EngineTest, EachCueAndAMessagePlayAsGenerated) {
   for (const char* key : {"camera_click", "ricochet", "woodblock", "bell_tree",
@@ -176,7 +162,7 @@ TEST_F(EngineTest, MessagesQueueAndAPromptInterrupts) {
   first.sound.key = "welcome";
   second.sound.key = "please_wait";
   prompt.sound.key = "box_or_cylinder";
-  prompt.priority = Priority::kHigh;
+  prompt.priority = PlayPriority::kHigh;
   PlayOutcome p1 = engine_->Play(first);
   PlayOutcome p2 = engine_->Play(second);
   ASSERT_TRUE(p1.outcome.ok() && p2.outcome.ok());
@@ -200,7 +186,7 @@ TEST_F(EngineTest, MessagesQueueAndAPromptInterrupts) {
   status = engine_->Status();
   ASSERT_EQ(status.plays.size(), 2u);
   EXPECT_EQ(status.plays[0].play_id, p3.play_id);
-  EXPECT_EQ(status.plays[0].priority, Priority::kHigh);
+  EXPECT_EQ(status.plays[0].priority, PlayPriority::kHigh);
   EXPECT_EQ(status.plays[1].play_id, p2.play_id);  // still waiting its turn
   // After the prompt, the waiting message is said.
   const auto end = std::chrono::steady_clock::now() + 6s;
@@ -218,7 +204,7 @@ TEST_F(EngineTest, MessagesQueueAndAPromptInterrupts) {
 TEST_F(EngineTest, BusyCueSourcesGoToTheMoreImportant) {
   PlayParams high, normal;
   high.sound.key = "introduction_music";
-  high.priority = Priority::kHigh;
+  high.priority = PlayPriority::kHigh;
   normal.sound.key = "woodblock";
   for (int i = 0; i < engine_->Status().cue_sources; ++i) ASSERT_TRUE(engine_->Play(high).outcome.ok());
   PlayOutcome refused = engine_->Play(normal);
@@ -250,7 +236,7 @@ TEST_F(EngineTest, BadRequestsAreRefusedWithAReason) {
   cases[4].params.volume = 1.5f;
   cases[4] = {cases[4].params, Failure::kBadRequest, "volume"};
   cases[5].params.sound.key = "woodblock";
-  cases[5].params.priority = static_cast<Priority>(7);
+  cases[5].params.priority = static_cast<PlayPriority>(7);
   cases[5] = {cases[5].params, Failure::kBadRequest, "priority"};
   cases[6].params.sound.key = "missing_file";
   cases[6] = {cases[6].params, Failure::kUnavailable, "missing.wav: file is missing"};
