@@ -149,13 +149,15 @@ Engine::~Engine() {
 const Engine::Sound* Engine::Resolve(const SoundRef& ref, Outcome& outcome) const {
   const SoundEntry* entry = ref.id != 0 ? manifest_.FindId(ref.id) : manifest_.FindKey(ref.key);
   if (entry == nullptr) {
-    outcome = Outcome::Error(
-        Failure::kNotFound,
-        (ref.id != 0 ? "no sound with id " + std::to_string(ref.id)
-         : ref.key.empty() ? std::string("no sound named: give an id or a key")
-                           : "no sound with key '" + ref.key + "'") +
-            " in the bank " + manifest_.path.string() + " (ListBank lists them)");
-    if (ref.id == 0 && ref.key.empty()) outcome.failure = Failure::kBadRequest;
+    if (ref.id == 0 && ref.key.empty()) {
+      outcome = Outcome::Error(Failure::kBadRequest, "name a sound: give an id or a key");
+    } else {
+      outcome = Outcome::Error(
+          Failure::kNotFound,
+          (ref.id != 0 ? "no sound with id " + std::to_string(ref.id)
+                       : "no sound with key '" + ref.key + "'") +
+              " in the bank " + manifest_.path.string() + " (ListBank lists them)");
+    }
     return nullptr;
   }
   const Sound& sound = *sounds_[entry - manifest_.sounds.data()];

@@ -11,6 +11,11 @@
 // includes waiting for the next period, as a sound card would; it excludes a card's own
 // output buffer, which the wave writer does not have.
 //
+// On a loaded machine the writer sometimes wakes late and mixes several periods at once; a
+// sound started then lands in a period whose nominal end has already passed, and its
+// figure comes out below the period, even negative (the minimum column shows it). The
+// median and the 99th percentile are not moved by these few.
+//
 // Baseline in the same run: the same measure on an engine in this process (no network,
 // no server), at the same period. Then the server over loopback TCP at the same period,
 // and at a short period.
