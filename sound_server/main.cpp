@@ -1,6 +1,6 @@
 // igms-sound-server: plays the lab's sounds and spoken messages (Cooke, section 2.2.1).
 //   igms-sound-server --config lab.yaml --name sound
-//   igms-sound-server --port 7305 --output wave --wave-file out.wav
+//   igms-sound-server --port 7303 --output wave --wave-file out.wav
 #include <spdlog/spdlog.h>
 
 #include <boost/asio/io_context.hpp>

@@ -28,6 +28,16 @@ T Setting(const config::ProcessOptions& p, const char* flag, const char* key, T 
   return p.Get<T>(key, fallback);
 }
 
+// `output: null` and `fallback: null` in YAML are a null value, not the word: read them as
+// the null output, which is what a person writing them means.
+std::string Mode(const config::ProcessOptions& p, const char* flag, const char* key,
+                 const std::string& fallback) {
+  if (p.flags.count(flag)) return p.flags[flag].as<std::string>();
+  const YAML::Node node = p.config.Find(p.Key(key));
+  if (node.IsDefined() && node.IsNull()) return "null";
+  return p.Get<std::string>(key, fallback);
+}
+
 }  // namespace
 
 std::string ReadSettings(const config::ProcessOptions& p, const std::filesystem::path& executable,
@@ -40,12 +50,15 @@ std::string ReadSettings(const config::ProcessOptions& p, const std::filesystem:
   } else {
     s.manifest = p.flags.count("bank") ? bank : p.config.ResolvePath(bank);
   }
-  s.output.output = Setting<std::string>(p, "output", "output", "default");
+  s.output.output = Mode(p, "output", "output", "default");
   s.output.device = Setting<std::string>(p, "device", "device", "");
   s.output.wave_file = Setting<std::string>(p, "wave-file", "wave_file", "");
+  if (!s.output.wave_file.empty() && !p.flags.count("wave-file")) {
+    s.output.wave_file = p.config.ResolvePath(s.output.wave_file);
+  }
   s.output.wave_rate = Setting<int>(p, "wave-rate", "wave_rate", 22050);
   s.output.period_frames = Setting<int>(p, "period-frames", "period_frames", 256);
-  s.output.fallback = Setting<std::string>(p, "fallback", "fallback", "none");
+  s.output.fallback = Mode(p, "fallback", "fallback", "none");
   s.engine.cue_sources = Setting<int>(p, "cue-sources", "cue_sources", 4);
   const int queue = Setting<int>(p, "speech-queue", "speech_queue", 16);
   if (queue < 1) return "the speech queue must hold at least 1 message";

@@ -12,6 +12,8 @@
 //   cue_sources     sources for cues (default 4)
 //   speech_queue    messages that may wait (default 16)
 //   volume          master volume 0..1 (default 1)
+// Paths in the configuration file are relative to its folder; `output: null` and
+// `fallback: null` (a YAML null) mean the null output.
 #pragma once
 
 #include <boost/program_options.hpp>
@@ -24,7 +26,7 @@
 
 namespace igms::sound {
 
-inline constexpr std::uint16_t kDefaultPort = 7305;
+inline constexpr std::uint16_t kDefaultPort = 7303;
 
 struct ServerSettings {
   std::filesystem::path manifest;

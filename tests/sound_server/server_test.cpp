@@ -232,5 +232,43 @@ TEST(ServerStart, FallsBackToTheNullOutputWhenNoDeviceOpens) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(ServerStart, ReadsItsSectionOfTheLabConfiguration) {
+  const std::filesystem::path dir = testing::ScratchDir("config");
+  testing::DamagedBank(dir);
+  // An unquoted `null` is a YAML null: still the null output.
+  std::ofstream(dir / "lab.yaml") << "processes:\n"
+                                     "  sound:\n"
+                                     "    bank: manifest.yaml\n"
+                                     "    device: no such device\n"
+                                     "    fallback: null\n"
+                                     "    cue_sources: 2\n"
+                                     "    speech_queue: 3\n"
+                                     "    volume: 0.5\n";
+  testing::ServerProcess server({"--config", (dir / "lab.yaml").string(), "--name", "sound"},
+                                dir / "server.log");
+  const uint16_t port = server.WaitListening();
+  ASSERT_NE(port, 0) << server.Log();
+  {
+    testing::SoundClient client(port);
+    net::Result<StatusResponse> status = client.Status();
+    ASSERT_TRUE(status.ok());
+    EXPECT_EQ(status.value.output(), "null");
+    EXPECT_EQ(status.value.cue_sources(), 2u);
+    EXPECT_EQ(status.value.speech_queue_limit(), 3u);
+    EXPECT_FLOAT_EQ(status.value.master_volume(), 0.5f);
+    net::Result<ListBankResponse> bank =
+        client.Call<ListBankResponse>(kListBankMethod, ListBankRequest());
+    ASSERT_TRUE(bank.ok());
+    EXPECT_EQ(std::filesystem::path(bank.value.manifest()), dir / "manifest.yaml");
+    // The queue holds three messages behind the one being said; the fifth is refused.
+    for (int i = 0; i < 4; ++i) EXPECT_TRUE(client.Play("welcome").ok()) << i;
+    net::Result<PlayResponse> full = client.Play("welcome");
+    EXPECT_EQ(full.status.code, igms::UNAVAILABLE);
+    EXPECT_NE(full.status.message.find("queue is full"), std::string::npos);
+  }
+  EXPECT_EQ(server.Terminate(), 0);
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace igms::sound
