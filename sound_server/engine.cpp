@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <spdlog/spdlog.h>
+
 #include "sound_server/audio_file.h"
 
 namespace igms::sound {
@@ -293,9 +295,17 @@ void Engine::Reap() {
 
 void Engine::PollLoop() {
   std::unique_lock lock(mutex_);
+  bool connected = true;
   while (!stopping_) {
     wake_.wait_for(lock, options_.poll_period);
-    if (!stopping_) Reap();
+    if (stopping_) break;
+    Reap();
+    if (connected && !output_->connected()) {
+      connected = false;
+      spdlog::error("the audio device '{}' is lost: plays are refused until the server is "
+                    "restarted",
+                    output_->device_name());
+    }
   }
 }
 

@@ -23,7 +23,9 @@
 // Errors. Unknown ids and keys, sounds whose file was missing or corrupt at start-up,
 // a volume out of range, a full queue or a lost device are refused with a message; the
 // engine never throws on a request. All methods are thread-safe. A poll thread (every
-// `poll_period`) frees finished sources and starts the next message of the queue.
+// `poll_period`) frees finished sources and starts the next message of the queue, and
+// logs once when OpenAL reports the device gone (OpenAL Soft 1.19 cannot reopen a device:
+// plays are refused until the server restarts).
 #pragma once
 
 #include <chrono>
