@@ -100,7 +100,7 @@ struct PlayState {
   SoundEntry entry;
   PlayPriority priority = PlayPriority::kNormal;
   float volume = 1.0f;
-  bool playing = false;  // false: waiting in the speech queue
+  bool playing = false;   // false: waiting in the speech queue
   double position = 0.0;  // seconds played so far
   double seconds = 0.0;   // length
 };

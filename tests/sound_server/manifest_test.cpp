@@ -1,4 +1,6 @@
 // The manifest parser and the generated lab bank.
+#include "sound_server/manifest.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +8,6 @@
 
 #include "sound_server/audio_file.h"
 #include "sound_server/bank_generator.h"
-#include "sound_server/manifest.h"
 #include "tests/sound_server/test_bank.h"
 
 namespace igms::sound {
@@ -75,8 +76,8 @@ TEST(LabBank, HoldsEverySoundOfTheThesisAndTheFailureReasons) {
   ManifestResult r = LoadManifest(testing::BankDir() / "manifest.yaml");
   ASSERT_TRUE(r.manifest) << r.error;
   const Manifest& m = *r.manifest;
-  for (const char* key : {"camera_click", "ricochet", "woodblock", "bell_tree",
-                          "introduction_music"}) {
+  for (const char* key :
+       {"camera_click", "ricochet", "woodblock", "bell_tree", "introduction_music"}) {
     ASSERT_NE(m.FindKey(key), nullptr) << key;
     EXPECT_EQ(m.FindKey(key)->kind, SoundKind::kCue);
   }
