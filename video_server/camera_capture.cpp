@@ -158,7 +158,7 @@ class CameraCapture : public CaptureBackend {
     if (!options.side_by_side) right_ = std::make_unique<DeviceReader>("right", options);
   }
 
-  CaptureResult Capture(const PlatformPose& pose) override {
+  CaptureResult Capture(const PoseStamp& pose) override {
     const auto deadline = Clock::now() + options_.frame_timeout;
     const uint64_t left_seen = left_->sequence();
     const uint64_t right_seen = right_ ? right_->sequence() : 0;

@@ -38,7 +38,7 @@ class CaptureBackend {
   // without a platform); a camera or file backend passes it through into the result, the
   // simulator renders the site at it. Never blocks longer than the backend's documented
   // timeout; a missing or silent device is an error result, never a hang or an exception.
-  virtual CaptureResult Capture(const PlatformPose& pose) = 0;
+  virtual CaptureResult Capture(const PoseStamp& pose) = 0;
 
   // One line for logs and the Ping answer, e.g. "files: left01.jpg / right01.jpg (13 pairs)".
   virtual std::string Describe() const = 0;
@@ -47,12 +47,12 @@ class CaptureBackend {
 // A backend around a render function: the simulated site, or any other synthetic source. The
 // function is called with the pose and returns the pair (its capture times are filled in
 // with the time rendering started when the function leaves them zero), or an error.
-using RenderFunction = std::function<CaptureResult(const PlatformPose& pose)>;
+using RenderFunction = std::function<CaptureResult(const PoseStamp& pose)>;
 
 class RenderCapture : public CaptureBackend {
  public:
   RenderCapture(std::string description, RenderFunction render);
-  CaptureResult Capture(const PlatformPose& pose) override;
+  CaptureResult Capture(const PoseStamp& pose) override;
   std::string Describe() const override { return description_; }
 
  private:

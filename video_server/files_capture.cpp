@@ -23,7 +23,7 @@ class FilesCapture : public CaptureBackend {
     if (pairs_.size() == 1) cached_ = std::move(first);
   }
 
-  CaptureResult Capture(const PlatformPose& pose) override {
+  CaptureResult Capture(const PoseStamp& pose) override {
     const int64_t now = NowUnixNs();
     StereoImages images;
     if (cached_) {

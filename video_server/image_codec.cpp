@@ -6,7 +6,7 @@
 
 namespace igms::video {
 
-std::optional<cv::Rect> ResolveRegion(const Region& region, cv::Size size, std::string* error) {
+std::optional<cv::Rect> ResolveRegion(const PixelRegion& region, cv::Size size, std::string* error) {
   if (region.whole()) return cv::Rect(0, 0, size.width, size.height);
   auto fail = [&](const std::string& why) -> std::optional<cv::Rect> {
     if (error) {
@@ -27,8 +27,8 @@ std::optional<cv::Rect> ResolveRegion(const Region& region, cv::Size size, std::
   return cv::Rect(region.x, region.y, region.width, region.height);
 }
 
-std::string EncodeImage(const cv::Mat& image, Encoding encoding) {
-  if (encoding == Encoding::kPng) {
+std::string EncodeImage(const cv::Mat& image, ImageEncoding encoding) {
+  if (encoding == ImageEncoding::kPng) {
     std::vector<uint8_t> png;
     // Level 1: most of the size reduction of higher levels at a fraction of their time.
     cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 1});
@@ -42,9 +42,9 @@ std::string EncodeImage(const cv::Mat& image, Encoding encoding) {
   return raw;
 }
 
-cv::Mat DecodeImage(const std::string& data, Encoding encoding, int width, int height,
+cv::Mat DecodeImage(const std::string& data, ImageEncoding encoding, int width, int height,
                     int channels) {
-  if (encoding == Encoding::kPng) {
+  if (encoding == ImageEncoding::kPng) {
     std::vector<uint8_t> bytes(data.begin(), data.end());
     if (bytes.empty()) return {};
     return cv::imdecode(bytes, cv::IMREAD_UNCHANGED);

@@ -12,11 +12,11 @@
 
 namespace igms::video {
 
-enum class Encoding { kRaw, kPng };
+enum class ImageEncoding { kRaw, kPng };
 
 // A rectangle of pixels: columns x .. x+width-1, rows y .. y+height-1. All four zero means
 // the whole image.
-struct Region {
+struct PixelRegion {
   int x = 0;
   int y = 0;
   int width = 0;
@@ -28,14 +28,14 @@ struct Region {
 // The rectangle `region` names inside an image of `size`, or nullopt with `error` set when
 // it is empty, negative or reaches outside the image (a region is never silently clipped:
 // the caller asked for pixels that do not exist).
-std::optional<cv::Rect> ResolveRegion(const Region& region, cv::Size size, std::string* error);
+std::optional<cv::Rect> ResolveRegion(const PixelRegion& region, cv::Size size, std::string* error);
 
 // Encodes an 8-bit 1- or 3-channel image (any view, e.g. a region of a larger image).
-std::string EncodeImage(const cv::Mat& image, Encoding encoding);
+std::string EncodeImage(const cv::Mat& image, ImageEncoding encoding);
 
 // Decodes what EncodeImage made. For raw data the size and channels must be given; an
 // empty Mat when the data does not match them or does not decode.
-cv::Mat DecodeImage(const std::string& data, Encoding encoding, int width, int height,
+cv::Mat DecodeImage(const std::string& data, ImageEncoding encoding, int width, int height,
                     int channels);
 
 }  // namespace igms::video

@@ -8,7 +8,7 @@
 
 namespace igms::video {
 
-std::string OverlaySettings::Check() const {
+std::string Overlay::Check() const {
   if (u_offset_px < -4096 || u_offset_px > 4096 || v_offset_px < -4096 || v_offset_px > 4096) {
     return "overlay offsets must be within +-4096 pixels";
   }
@@ -16,10 +16,10 @@ std::string OverlaySettings::Check() const {
   return "";
 }
 
-std::optional<OverlaySettings> LoadOverlaySettings(const std::string& path, std::string* error) {
+std::optional<Overlay> LoadOverlaySettings(const std::string& path, std::string* error) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return OverlaySettings{};
-  OverlaySettings settings;
+  if (!std::filesystem::exists(path, ec)) return Overlay{};
+  Overlay settings;
   try {
     const YAML::Node root = YAML::LoadFile(path);
     if (!root.IsMap()) throw YAML::Exception(YAML::Mark::null_mark(), "not a map");
@@ -37,7 +37,7 @@ std::optional<OverlaySettings> LoadOverlaySettings(const std::string& path, std:
   return settings;
 }
 
-bool SaveOverlaySettings(const std::string& path, const OverlaySettings& settings,
+bool SaveOverlaySettings(const std::string& path, const Overlay& settings,
                          std::string* error) {
   const std::string temporary = path + ".tmp";
   {
@@ -63,12 +63,12 @@ bool SaveOverlaySettings(const std::string& path, const OverlaySettings& setting
   return true;
 }
 
-OverlaySettings OverlayStore::Get() const {
+Overlay OverlayStore::Get() const {
   std::lock_guard lock(mutex_);
   return settings_;
 }
 
-bool OverlayStore::Set(const OverlaySettings& settings, std::string* error) {
+bool OverlayStore::Set(const Overlay& settings, std::string* error) {
   if (std::string problem = settings.Check(); !problem.empty()) {
     if (error) *error = problem;
     return false;

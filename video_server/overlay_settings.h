@@ -9,7 +9,7 @@
 
 namespace igms::video {
 
-struct OverlaySettings {
+struct Overlay {
   // Pixel offset of the video's top-left corner within the graphics, u right, v down.
   int u_offset_px = 0;
   int v_offset_px = 0;
@@ -19,33 +19,33 @@ struct OverlaySettings {
 
   // Empty when valid: offsets within +-4096 px, key level in 0..255.
   std::string Check() const;
-  bool operator==(const OverlaySettings&) const = default;
+  bool operator==(const Overlay&) const = default;
 };
 
 // Reads settings from `path`. A missing file gives the defaults (first start); a file that
 // exists but does not parse or holds invalid values gives nullopt with `error` set.
-std::optional<OverlaySettings> LoadOverlaySettings(const std::string& path, std::string* error);
+std::optional<Overlay> LoadOverlaySettings(const std::string& path, std::string* error);
 
 // Writes settings to `path` atomically (a temporary file renamed over it), so a crash never
 // leaves half a file. False with `error` set when the folder is not writable.
-bool SaveOverlaySettings(const std::string& path, const OverlaySettings& settings,
+bool SaveOverlaySettings(const std::string& path, const Overlay& settings,
                          std::string* error);
 
 // The settings in memory plus their file; thread-safe. An empty path keeps them in memory.
 class OverlayStore {
  public:
-  explicit OverlayStore(std::string path, OverlaySettings initial = {})
+  explicit OverlayStore(std::string path, Overlay initial = {})
       : path_(std::move(path)), settings_(initial) {}
 
-  OverlaySettings Get() const;
+  Overlay Get() const;
   // Validates, writes the file, then takes the new settings; on error nothing changes.
-  bool Set(const OverlaySettings& settings, std::string* error);
+  bool Set(const Overlay& settings, std::string* error);
   const std::string& path() const { return path_; }
 
  private:
   const std::string path_;
   mutable std::mutex mutex_;
-  OverlaySettings settings_;
+  Overlay settings_;
 };
 
 }  // namespace igms::video

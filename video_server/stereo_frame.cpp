@@ -43,7 +43,7 @@ CaptureResult CaptureResult::Error(std::string message) {
 RenderCapture::RenderCapture(std::string description, RenderFunction render)
     : description_(std::move(description)), render_(std::move(render)) {}
 
-CaptureResult RenderCapture::Capture(const PlatformPose& pose) {
+CaptureResult RenderCapture::Capture(const PoseStamp& pose) {
   const int64_t start = NowUnixNs();
   CaptureResult result = render_(pose);
   if (!result.ok()) {

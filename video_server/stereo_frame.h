@@ -17,7 +17,7 @@ namespace igms::video {
 // calibration's platform model (pan, tilt, roll for a three-axis platform; the thesis's MOLLY
 // used pan only). All zero, with from_platform false, when the lab has no platform: the
 // cameras then sit at the pose their projection matrices were calibrated at.
-struct PlatformPose {
+struct PoseStamp {
   std::array<double, 3> joints_rad{0.0, 0.0, 0.0};
   // True when the angles were reported by a platform daemon, false for the zero pose.
   bool from_platform = false;
@@ -38,7 +38,7 @@ struct StereoImages {
   int64_t left_capture_unix_ns = 0;
   int64_t right_capture_unix_ns = 0;
   // The platform pose the pair was taken at.
-  PlatformPose pose;
+  PoseStamp pose;
 };
 
 // Checks that both images are non-empty 8-bit 1- or 3-channel images of one size and type.

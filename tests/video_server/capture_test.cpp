@@ -27,7 +27,7 @@ TEST(FilesCapture, SinglePairIsReturnedOnEveryGrabWithTimeAndPose) {
   ASSERT_TRUE(open.backend) << open.error;
   const cv::Mat left = cv::imread(OpenCvData("left01.jpg"), cv::IMREAD_GRAYSCALE);
   const cv::Mat right = cv::imread(OpenCvData("right01.jpg"), cv::IMREAD_GRAYSCALE);
-  PlatformPose pose;
+  PoseStamp pose;
   pose.joints_rad = {0.25, 0.0, 0.0};
   pose.from_platform = true;
   for (int i = 0; i < 3; ++i) {
@@ -116,14 +116,14 @@ TEST(FilesCapture, PatternFormatting) {
 
 TEST(RenderCapture, StampsTimeAndPoseAndRejectsBadOutput) {
   int calls = 0;
-  RenderCapture good("sim: test", [&](const PlatformPose& pose) {
+  RenderCapture good("sim: test", [&](const PoseStamp& pose) {
     ++calls;
     StereoImages images;
     images.left = cv::Mat(48, 64, CV_8UC1, cv::Scalar(static_cast<int>(pose.joints_rad[0] * 100)));
     images.right = images.left.clone();
     return CaptureResult::Ok(images);
   });
-  PlatformPose pose;
+  PoseStamp pose;
   pose.joints_rad = {0.5, 0.0, 0.0};
   const int64_t before = NowUnixNs();
   CaptureResult grab = good.Capture(pose);
@@ -134,7 +134,7 @@ TEST(RenderCapture, StampsTimeAndPoseAndRejectsBadOutput) {
   EXPECT_EQ(grab.images->right_capture_unix_ns, grab.images->left_capture_unix_ns);
   EXPECT_EQ(grab.images->pose.joints_rad[0], 0.5);
 
-  RenderCapture mismatched("sim: bad", [](const PlatformPose&) {
+  RenderCapture mismatched("sim: bad", [](const PoseStamp&) {
     StereoImages images;
     images.left = cv::Mat(48, 64, CV_8UC1, cv::Scalar(0));
     images.right = cv::Mat(48, 65, CV_8UC1, cv::Scalar(0));
@@ -142,7 +142,7 @@ TEST(RenderCapture, StampsTimeAndPoseAndRejectsBadOutput) {
   });
   EXPECT_NE(mismatched.Capture({}).error.find("must match"), std::string::npos);
   RenderCapture failing("sim: fails",
-                        [](const PlatformPose&) { return CaptureResult::Error("no scene"); });
+                        [](const PoseStamp&) { return CaptureResult::Error("no scene"); });
   EXPECT_EQ(failing.Capture({}).error, "no scene");
 }
 

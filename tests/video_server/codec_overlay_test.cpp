@@ -14,7 +14,7 @@ namespace {
 
 using testing::OpenCvData;
 
-TEST(Region, WholeImageAndBoundsChecks) {
+TEST(PixelRegion, WholeImageAndBoundsChecks) {
   const cv::Size size(640, 480);
   std::string error;
   EXPECT_EQ(*ResolveRegion({}, size, &error), cv::Rect(0, 0, 640, 480));
@@ -33,19 +33,19 @@ TEST(Codec, RawAndPngRoundTripARegionOfARealImage) {
   for (int flags : {cv::IMREAD_GRAYSCALE, cv::IMREAD_COLOR}) {
     const cv::Mat image = cv::imread(OpenCvData("aloeL.jpg"), flags);
     const cv::Mat region = image(cv::Rect(101, 33, 257, 190));
-    for (Encoding encoding : {Encoding::kRaw, Encoding::kPng}) {
+    for (ImageEncoding encoding : {ImageEncoding::kRaw, ImageEncoding::kPng}) {
       const std::string data = EncodeImage(region, encoding);
       const cv::Mat back = DecodeImage(data, encoding, 257, 190, image.channels());
       ASSERT_EQ(back.size(), region.size());
       ASSERT_EQ(back.type(), region.type());
       EXPECT_EQ(cv::norm(back, region, cv::NORM_INF), 0.0);
-      if (encoding == Encoding::kRaw) {
+      if (encoding == ImageEncoding::kRaw) {
         EXPECT_EQ(data.size(), 257u * 190 * image.channels());
       }
     }
   }
-  EXPECT_TRUE(DecodeImage("garbage", Encoding::kPng, 0, 0, 0).empty());
-  EXPECT_TRUE(DecodeImage("short", Encoding::kRaw, 10, 10, 1).empty());
+  EXPECT_TRUE(DecodeImage("garbage", ImageEncoding::kPng, 0, 0, 0).empty());
+  EXPECT_TRUE(DecodeImage("short", ImageEncoding::kRaw, 10, 10, 1).empty());
 }
 
 class OverlayFile : public ::testing::Test {
@@ -66,16 +66,16 @@ TEST_F(OverlayFile, MissingFileGivesDefaultsAndSettingsSurviveARestart) {
   std::string error;
   auto initial = LoadOverlaySettings(path_, &error);
   ASSERT_TRUE(initial) << error;
-  EXPECT_EQ(*initial, OverlaySettings{});
+  EXPECT_EQ(*initial, Overlay{});
   EXPECT_EQ(initial->key_level, 60);
   {
     OverlayStore store(path_, *initial);
     ASSERT_TRUE(store.Set({12, -7, 90}, &error)) << error;
-    EXPECT_EQ(store.Get(), (OverlaySettings{12, -7, 90}));
+    EXPECT_EQ(store.Get(), (Overlay{12, -7, 90}));
   }
   auto reloaded = LoadOverlaySettings(path_, &error);
   ASSERT_TRUE(reloaded) << error;
-  EXPECT_EQ(*reloaded, (OverlaySettings{12, -7, 90}));
+  EXPECT_EQ(*reloaded, (Overlay{12, -7, 90}));
 }
 
 TEST_F(OverlayFile, InvalidValuesAreRefusedAndChangeNothing) {
@@ -85,8 +85,8 @@ TEST_F(OverlayFile, InvalidValuesAreRefusedAndChangeNothing) {
   EXPECT_FALSE(store.Set({1, 2, 300}, &error));
   EXPECT_NE(error.find("key level"), std::string::npos);
   EXPECT_FALSE(store.Set({99999, 2, 3}, &error));
-  EXPECT_EQ(store.Get(), (OverlaySettings{1, 2, 3}));
-  EXPECT_EQ(*LoadOverlaySettings(path_, &error), (OverlaySettings{1, 2, 3}));
+  EXPECT_EQ(store.Get(), (Overlay{1, 2, 3}));
+  EXPECT_EQ(*LoadOverlaySettings(path_, &error), (Overlay{1, 2, 3}));
 }
 
 TEST_F(OverlayFile, CorruptFileIsAClearError) {
@@ -104,7 +104,7 @@ TEST_F(OverlayFile, UnwritableFolderIsAnErrorAndKeepsTheOldSettings) {
   std::string error;
   EXPECT_FALSE(store.Set({5, 5, 5}, &error));
   EXPECT_FALSE(error.empty());
-  EXPECT_EQ(store.Get(), OverlaySettings{});
+  EXPECT_EQ(store.Get(), Overlay{});
 }
 
 }  // namespace
