@@ -94,6 +94,31 @@ TEST(Edges, DirectionPointsFromDarkToBrightAcrossADisc) {
   EXPECT_LT(worst_radius, 1.5);
 }
 
+// Each direction is atan2 of the Sobel derivatives of the smoothed image at that pixel.
+TEST(Edges, DirectionsAreAtan2OfTheSmoothedGradient) {
+  IGMS_REQUIRE_OPENCV_DATA();
+  const cv::Mat image = cv::imread(OpenCvData("aloeL.jpg"), cv::IMREAD_GRAYSCALE);
+  const EdgeOptions options;
+  const EdgeImage edges = DetectEdges(image, options);
+  cv::Mat smooth, du, dv;
+  cv::GaussianBlur(image, smooth, cv::Size(0, 0), options.sigma, options.sigma,
+                   cv::BORDER_REPLICATE);
+  cv::Sobel(smooth, du, CV_32F, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+  cv::Sobel(smooth, dv, CV_32F, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+  int index = 0;
+  double worst = 0.0;
+  for (int v = 0; v < image.rows; ++v) {
+    for (int u = 0; u < image.cols; ++u) {
+      if (!edges.edges.at<uint8_t>(v, u)) continue;
+      const double exact = std::atan2(dv.at<float>(v, u), du.at<float>(v, u));
+      double difference = std::abs(edges.direction_rad[index++] - exact);
+      worst = std::max(worst, std::min(difference, 2 * std::numbers::pi - difference));
+    }
+  }
+  EXPECT_EQ(index, edges.edge_count());
+  EXPECT_LT(worst, 2e-5);
+}
+
 TEST(Edges, RegionDirectionsAreTheFullListRestrictedToTheRegion) {
   IGMS_REQUIRE_OPENCV_DATA();
   const EdgeImage edges = DetectEdges(cv::imread(OpenCvData("left01.jpg"), cv::IMREAD_GRAYSCALE), {});

@@ -1,7 +1,6 @@
 // Runs igms-video-server as a real process on loopback for the tests, and a client for it.
 #pragma once
 
-#include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
