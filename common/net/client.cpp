@@ -16,6 +16,7 @@
 
 #include "common/net/clock.h"
 #include "common/net/framing.h"
+#include "common/net/read_buffer.h"
 
 namespace igms::net {
 
@@ -58,8 +59,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   std::map<std::uint64_t, Subscription> subscriptions;
   std::deque<std::string> out;
   bool writing = false;
-  std::string in;
-  std::size_t in_used = 0;
+  ReadBuffer in;
   std::chrono::milliseconds backoff{100};
   std::uint64_t generation = 0;  // bumps on every (re)connection attempt
   std::string last_server_error;
@@ -163,8 +163,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     socket.set_option(tcp::no_delay(true), ignored);
     backoff = std::chrono::milliseconds(100);
     last_server_error.clear();
-    in.clear();
-    in_used = 0;
+    in = ReadBuffer();
     out.clear();
     writing = false;
     igms::Envelope hello = Make(igms::Envelope::HELLO, 0, "");
@@ -199,37 +198,32 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   }
 
   void Read(std::uint64_t gen) {
-    if (in_used > 0) {
-      in.erase(0, in_used);
-      in_used = 0;
-    }
-    const std::size_t have = in.size();
-    const std::size_t chunk = 64 * 1024;
-    in.resize(have + chunk);
+    in.shrink_if_idle(1u << 20);
+    const std::size_t need = std::max<std::size_t>(BytesStillNeeded(in.pending()), 4096);
+    char* at = in.prepare(need);
     socket.async_read_some(
-        asio::buffer(in.data() + have, chunk),
-        [self = shared_from_this(), gen, have](boost::system::error_code ec, std::size_t n) {
+        asio::buffer(at, in.room()),
+        [self = shared_from_this(), gen](boost::system::error_code ec, std::size_t n) {
           if (gen != self->generation) return;
-          self->in.resize(have + n);
           if (ec) {
             self->Drop(ec == asio::error::eof ? "server closed the connection" : ec.message());
             return;
           }
+          self->in.commit(n);
           for (;;) {
-            std::string_view rest(self->in.data() + self->in_used, self->in.size() - self->in_used);
-            DecodeResult r = DecodeFrame(rest, self->options.max_frame_bytes);
+            DecodeResult r = DecodeFrame(self->in.pending(), self->options.max_frame_bytes);
             if (r.status == DecodeStatus::kNeedMore) break;
             if (r.status == DecodeStatus::kError) {
               self->Drop("bad frame from server: " + r.error);
               return;
             }
-            self->in_used += r.consumed;
             igms::Envelope e;
             std::string error;
             if (!ParseEnvelope(r.frame, &e, &error)) {
               self->Drop("bad frame from server: " + error);
               return;
             }
+            self->in.consume(r.consumed);
             self->OnEnvelope(e);
             if (gen != self->generation) return;
           }
@@ -410,7 +404,7 @@ void Client::CallRaw(const std::string& method, std::string payload,
     }();
     if (is_connected) {
       auto e = impl->Make(igms::Envelope::REQUEST, id, method);
-      e.set_payload(payload);
+      e.set_payload(std::move(payload));
       p.sent = true;
       impl->pending.emplace(id, std::move(p));
       impl->Write(e);

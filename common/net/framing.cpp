@@ -39,6 +39,19 @@ DecodeResult DecodeFrame(std::string_view input, std::size_t max_frame_bytes) {
   return result;
 }
 
+std::size_t BytesStillNeeded(std::string_view input) {
+  std::uint64_t length = 0;
+  for (std::size_t i = 0; i < input.size() && i < kMaxVarintBytes; ++i) {
+    const auto byte = static_cast<std::uint8_t>(input[i]);
+    length |= static_cast<std::uint64_t>(byte & 0x7f) << (7 * i);
+    if ((byte & 0x80) == 0) {
+      const std::uint64_t total = i + 1 + length;
+      return total > input.size() ? static_cast<std::size_t>(total - input.size()) : 0;
+    }
+  }
+  return 0;
+}
+
 void AppendFrame(const google::protobuf::MessageLite& message, std::string* out) {
   const std::size_t size = message.ByteSizeLong();
   if (size > std::numeric_limits<std::uint32_t>::max()) {

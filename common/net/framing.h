@@ -38,6 +38,10 @@ struct DecodeResult {
 // Looks for one frame at the start of `input`.
 DecodeResult DecodeFrame(std::string_view input, std::size_t max_frame_bytes);
 
+// How many more bytes the frame at the start of `input` needs (0 when it is complete or its
+// length is not known yet), so a reader can size its buffer once for a large frame.
+std::size_t BytesStillNeeded(std::string_view input);
+
 // Appends the varint length prefix and the serialized message to `out`.
 void AppendFrame(const google::protobuf::MessageLite& message, std::string* out);
 std::string EncodeFrame(const google::protobuf::MessageLite& message);

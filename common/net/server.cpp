@@ -7,6 +7,7 @@
 #include <boost/asio/read.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/write.hpp>
+#include <algorithm>
 #include <stdexcept>
 
 #include "common/net/clock.h"
@@ -182,40 +183,33 @@ void Session::ArmIdleTimer() {
 }
 
 void Session::ReadMore() {
-  // Compact the buffer, then read into its free tail.
-  if (in_used_ > 0) {
-    in_.erase(0, in_used_);
-    in_used_ = 0;
-  }
-  const std::size_t have = in_.size();
-  const std::size_t chunk = 64 * 1024;
-  in_.resize(have + chunk);
+  // Idle sessions keep a small buffer; a large frame gets room for all of it at once.
+  in_.shrink_if_idle(1u << 20);
+  const std::size_t need = std::max<std::size_t>(BytesStillNeeded(in_.pending()), 4096);
+  char* at = in_.prepare(need);
   socket_.async_read_some(
-      asio::buffer(in_.data() + have, chunk),
-      [self = shared_from_this(), have](boost::system::error_code ec, std::size_t n) {
-        self->in_.resize(have + n);
+      asio::buffer(at, in_.room()), [self = shared_from_this()](boost::system::error_code ec,
+                                                                std::size_t n) {
         if (ec) {
           self->Close(ec == asio::error::eof ? "peer closed the connection" : ec.message());
           return;
         }
+        self->in_.commit(n);
         self->ArmIdleTimer();
         for (;;) {
-          const std::string_view pending(self->in_.data() + self->in_used_,
-                                         self->in_.size() - self->in_used_);
-          DecodeResult r = DecodeFrame(pending, self->server_->options.max_frame_bytes);
+          DecodeResult r = DecodeFrame(self->in_.pending(), self->server_->options.max_frame_bytes);
           if (r.status == DecodeStatus::kNeedMore) break;
           if (r.status == DecodeStatus::kError) {
             self->Close("bad frame: " + r.error);
             return;
           }
           self->OnFrame(r.frame);
-          self->in_used_ += r.consumed;
+          self->in_.consume(r.consumed);
           {
             std::lock_guard lock(self->mutex_);
             if (self->closed_) return;
           }
         }
-        // Reserve room for a large frame in one step rather than 64 KiB at a time.
         self->ReadMore();
       });
 }
@@ -360,7 +354,8 @@ bool Session::Send(igms::Envelope envelope, bool latest_only) {
       start = true;
     }
   }
-  if (start) asio::post(socket_.get_executor(), [self = shared_from_this()] { self->WriteNext(); });
+  // dispatch: a handler answering on the session's own strand writes without a hop.
+  if (start) asio::dispatch(socket_.get_executor(), [self = shared_from_this()] { self->WriteNext(); });
   return true;
 }
 

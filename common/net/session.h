@@ -10,6 +10,7 @@
 #include <set>
 #include <string>
 
+#include "common/net/read_buffer.h"
 #include "common/net/server.h"
 
 namespace igms::net {
@@ -45,8 +46,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::shared_ptr<Server::Impl> server_;
   boost::asio::steady_timer idle_timer_;
   std::string peer_;
-  std::string in_;  // received bytes not yet framed
-  std::size_t in_used_ = 0;
+  ReadBuffer in_;
   bool authenticated_ = false;
   bool close_after_write_ = false;
 
