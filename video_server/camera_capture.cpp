@@ -41,17 +41,13 @@ class DeviceReader {
     thread_.join();
   }
 
-  uint64_t sequence() const {
-    std::lock_guard lock(mutex_);
-    return sequence_;
-  }
-
-  // Waits until a frame newer than `after` arrives or `deadline` passes.
-  bool WaitNewer(uint64_t after, Clock::time_point deadline, cv::Mat& frame, int64_t& time_ns,
+  // Waits until a frame read at or after `since_ns` (wall clock) arrives or `deadline`
+  // passes.
+  bool WaitNewer(int64_t since_ns, Clock::time_point deadline, cv::Mat& frame, int64_t& time_ns,
                  std::string& error) {
     std::unique_lock lock(mutex_);
-    changed_.wait_until(lock, deadline, [&] { return sequence_ > after || stop_; });
-    if (sequence_ <= after) {
+    changed_.wait_until(lock, deadline, [&] { return latest_time_ns_ >= since_ns || stop_; });
+    if (latest_time_ns_ < since_ns) {
       error = role_ + " camera " + device_ + ": " +
               (status_.empty() ? "no frame within " +
                                      std::to_string(options_.frame_timeout.count()) + " ms"
@@ -100,7 +96,6 @@ class DeviceReader {
         std::lock_guard lock(mutex_);
         latest_ = frame;
         latest_time_ns_ = now;
-        ++sequence_;
         status_.clear();
       }
       changed_.notify_all();
@@ -146,7 +141,6 @@ class DeviceReader {
   bool stop_ = false;
   cv::Mat latest_;
   int64_t latest_time_ns_ = 0;
-  uint64_t sequence_ = 0;
   std::string status_ = "opening the device (first attempt still running)";
   std::thread thread_;
 };
@@ -160,18 +154,17 @@ class CameraCapture : public CaptureBackend {
 
   CaptureResult Capture(const PoseStamp& pose) override {
     const auto deadline = Clock::now() + options_.frame_timeout;
-    const uint64_t left_seen = left_->sequence();
-    const uint64_t right_seen = right_ ? right_->sequence() : 0;
+    const int64_t since = NowUnixNs();
     StereoImages images;
     images.pose = pose;
     std::string error;
     cv::Mat left;
-    if (!left_->WaitNewer(left_seen, deadline, left, images.left_capture_unix_ns, error)) {
+    if (!left_->WaitNewer(since, deadline, left, images.left_capture_unix_ns, error)) {
       return CaptureResult::Error(error);
     }
     if (right_) {
       images.left = left;
-      if (!right_->WaitNewer(right_seen, deadline, images.right, images.right_capture_unix_ns,
+      if (!right_->WaitNewer(since, deadline, images.right, images.right_capture_unix_ns,
                              error)) {
         return CaptureResult::Error(error);
       }
