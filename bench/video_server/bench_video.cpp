@@ -5,7 +5,8 @@
 //  2. live video at 1280x1024 from the real server process to 1 and 4 subscribers;
 //  3. the server process's peak resident memory with its default frame store full of
 //     1920x1080 pairs, however many grabs it has taken.
-// Images: Debian's opencv-doc aloe pair, resized. Usage: bench_video [--quick]
+// Images: Debian's opencv-doc aloe pair, resized.
+// Usage: bench_video [--quick | --memory]; IGMS_BENCH_GRABS=N sets the grabs of the memory run.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -218,6 +219,7 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);
   if (!getenv("IGMS_BIN_DIR")) setenv("IGMS_BIN_DIR", IGMS_DEFAULT_BIN_DIR, 0);
   const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  const bool memory_only = argc > 1 && std::string(argv[1]) == "--memory";
   if (!std::filesystem::exists(kData + "aloeL.jpg")) {
     std::fprintf(stderr, "bench_video: needs opencv-doc (deploy/install-deps.sh)\n");
     return 2;
@@ -228,11 +230,14 @@ int main(int argc, char** argv) {
                 std::thread::hardware_concurrency(), load[0]);
   }
   try {
-    EdgeFigures(cv::Size(512, 480), quick ? 30 : 200);
-    EdgeFigures(cv::Size(1920, 1080), quick ? 10 : 60);
-    LiveFigures(1, quick ? 2.0 : 5.0);
-    LiveFigures(4, quick ? 2.0 : 5.0);
-    MemoryFigures(quick ? 48 : 160);
+    if (!memory_only) {
+      EdgeFigures(cv::Size(512, 480), quick ? 30 : 200);
+      EdgeFigures(cv::Size(1920, 1080), quick ? 10 : 60);
+      LiveFigures(1, quick ? 2.0 : 5.0);
+      LiveFigures(4, quick ? 2.0 : 5.0);
+    }
+    const char* grabs = getenv("IGMS_BENCH_GRABS");
+    MemoryFigures(grabs ? std::max(48, atoi(grabs)) : quick ? 48 : 160);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_video: %s\n", e.what());
     return 1;
