@@ -46,8 +46,17 @@ std::size_t BytesStillNeeded(std::string_view input);
 void AppendFrame(const google::protobuf::MessageLite& message, std::string* out);
 std::string EncodeFrame(const google::protobuf::MessageLite& message);
 
+// Frames `envelope` (whose own payload must be empty) with `payload` serialized straight
+// into the frame as the envelope's payload field: one copy instead of two.
+void AppendFrame(const igms::Envelope& envelope, const google::protobuf::MessageLite& payload,
+                 std::string* out);
+
 // Parses a frame body into an envelope and checks the fields every peer relies on.
 // Returns false with a reason for a frame that does not parse or makes no sense.
 bool ParseEnvelope(std::string_view frame, igms::Envelope* envelope, std::string* error);
+// The same, except that the payload is not copied: *payload points into `frame` and
+// envelope->payload() stays empty.
+bool ParseEnvelopeView(std::string_view frame, igms::Envelope* envelope,
+                       std::string_view* payload, std::string* error);
 
 }  // namespace igms::net

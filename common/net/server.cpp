@@ -63,7 +63,7 @@ struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
 
 Server::Server(asio::io_context& io, ServerOptions options)
     : options_(std::move(options)), impl_(std::make_shared<Impl>(io, options_)) {
-  AddMethod("igms.Server.Ping", [this](const std::string&, std::weak_ptr<Session> s,
+  AddMethod("igms.Server.Ping", [this](std::string_view, std::weak_ptr<Session> s,
                                        std::uint64_t id) {
     igms::PingResponse r;
     r.set_server_name(options_.name);
@@ -132,10 +132,18 @@ std::size_t Server::session_count() const {
 
 namespace detail {
 
-bool Send(const std::weak_ptr<Session>& session, igms::Envelope envelope, bool latest_only) {
+bool Send(const std::weak_ptr<Session>& session, std::string frame, std::uint64_t key) {
   auto s = session.lock();
-  return s && s->Send(std::move(envelope), latest_only);
+  return s && s->Send(std::move(frame), key);
 }
+
+std::string Frame(const igms::Envelope& envelope, const google::protobuf::MessageLite& payload) {
+  std::string out;
+  AppendFrame(envelope, payload, &out);
+  return out;
+}
+
+std::string Frame(const igms::Envelope& envelope) { return EncodeFrame(envelope); }
 
 bool SubscriptionOpen(const std::weak_ptr<Session>& session, std::uint64_t id) {
   auto s = session.lock();
@@ -175,10 +183,20 @@ void Session::Start() {
 }
 
 void Session::ArmIdleTimer() {
-  idle_timer_.expires_after(server_->options.idle_timeout);
+  // One timer per session that checks the time of the last frame, rather than re-arming a
+  // timer on every read (two system calls a frame on a busy session).
+  const auto timeout = server_->options.idle_timeout;
+  const auto since = std::chrono::steady_clock::now() - last_activity_;
+  idle_timer_.expires_after(since >= timeout ? timeout : timeout - since);
   idle_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
     if (ec) return;
-    if (auto self = weak.lock()) self->Close("idle for longer than the idle timeout");
+    auto self = weak.lock();
+    if (!self) return;
+    if (std::chrono::steady_clock::now() - self->last_activity_ >= self->server_->options.idle_timeout) {
+      self->Close("idle for longer than the idle timeout");
+    } else {
+      self->ArmIdleTimer();
+    }
   });
 }
 
@@ -195,7 +213,7 @@ void Session::ReadMore() {
           return;
         }
         self->in_.commit(n);
-        self->ArmIdleTimer();
+        self->last_activity_ = std::chrono::steady_clock::now();
         for (;;) {
           DecodeResult r = DecodeFrame(self->in_.pending(), self->server_->options.max_frame_bytes);
           if (r.status == DecodeStatus::kNeedMore) break;
@@ -216,15 +234,16 @@ void Session::ReadMore() {
 
 void Session::OnFrame(std::string_view frame) {
   igms::Envelope envelope;
+  std::string_view payload;
   std::string error;
-  if (!ParseEnvelope(frame, &envelope, &error)) {
+  if (!ParseEnvelopeView(frame, &envelope, &payload, &error)) {
     Close("bad frame: " + error);
     return;
   }
-  Dispatch(envelope);
+  Dispatch(envelope, payload);
 }
 
-void Session::Dispatch(igms::Envelope& e) {
+void Session::Dispatch(igms::Envelope& e, std::string_view payload) {
   const auto id = e.header().correlation_id();
   const auto& options = server_->options;
   if (e.kind() == igms::Envelope::HELLO) {
@@ -261,7 +280,7 @@ void Session::Dispatch(igms::Envelope& e) {
         return;
       }
       try {
-        it->second(e.payload(), weak_from_this(), id);
+        it->second(payload, weak_from_this(), id);
       } catch (const std::exception& ex) {
         spdlog::error("{}: {} threw: {}", options.name, e.method(), ex.what());
         SendError(id, e.method(), igms::INTERNAL, ex.what(), false);
@@ -281,7 +300,7 @@ void Session::Dispatch(igms::Envelope& e) {
       }
       Status status;
       try {
-        status = it->second(e.payload(), weak_from_this(), id);
+        status = it->second(payload, weak_from_this(), id);
       } catch (const std::exception& ex) {
         status = Status::Error(igms::INTERNAL, ex.what());
       }
@@ -316,13 +335,13 @@ void Session::SendError(std::uint64_t id, const std::string& method, igms::Error
     boost::system::error_code ignored;
     socket_.shutdown(tcp::socket::shutdown_receive, ignored);
   }
-  Send(std::move(e), false);
+  Send(EncodeFrame(e), 0);
 }
 
-bool Session::Send(igms::Envelope envelope, bool latest_only) {
+bool Session::Send(std::string frame, std::uint64_t latest_only_key) {
   Outgoing out;
-  AppendFrame(envelope, &out.bytes);
-  out.stream_id = latest_only ? envelope.header().correlation_id() : 0;
+  out.bytes = std::move(frame);
+  out.stream_id = latest_only_key;
   bool start = false;
   {
     std::lock_guard lock(mutex_);
