@@ -82,8 +82,14 @@ net::Status VideoService::Grab(GrabResponse& response) {
     spdlog::warn("grab failed: {}", captured.error);
     return net::Status::Error(igms::UNAVAILABLE, "grab failed: " + captured.error);
   }
-  const uint64_t id = ids_.Next();
-  std::shared_ptr<FrameRecord> record = store_.Insert(id, std::move(*captured.images));
+  // Ids must enter the store in order, whichever threads grab.
+  std::shared_ptr<FrameRecord> record;
+  uint64_t id = 0;
+  {
+    std::lock_guard lock(insert_mutex_);
+    id = ids_.Next();
+    record = store_.Insert(id, std::move(*captured.images));
+  }
   pipeline_.Start(record);
   ++grabs_;
   const StereoImages& images = record->images();

@@ -80,6 +80,7 @@ class VideoService {
   std::unique_ptr<CaptureBackend> backend_;
   std::mutex backend_mutex_;  // one capture at a time: grabs and live video share it
   PoseSource pose_;
+  std::mutex insert_mutex_;
   FrameIdSource ids_;
   FrameStore store_;
   EdgePipeline pipeline_;

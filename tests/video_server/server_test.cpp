@@ -173,7 +173,7 @@ TEST_F(VideoServerTest, EvictedAndUnknownFramesAndBadInputAreErrorsAndTheServerG
   // A payload that is not a GetImagesRequest.
   std::promise<net::Status> garbage;
   (*client_)->CallRaw(kService + "GetImages", std::string("\xff\xff\xff\xff", 4), 5s,
-                      [&](const net::Status& status, const std::string&) { garbage.set_value(status); });
+                      [&](const net::Status& status, std::string_view) { garbage.set_value(status); });
   EXPECT_EQ(garbage.get_future().get().code, igms::BAD_REQUEST);
 
   SetOverlayRequest overlay;
