@@ -63,6 +63,7 @@ std::string LiveStreamer::Add(const LiveRequest& request, LiveSink sink) {
   {
     std::lock_guard lock(mutex_);
     subscribers_.push_back(std::move(subscriber));
+    ++added_;
   }
   changed_.notify_all();
   return "";
@@ -95,7 +96,9 @@ void LiveStreamer::Run() {
       if (stop_) return;
       Clock::time_point earliest = Clock::time_point::max();
       for (const auto& s : subscribers_) earliest = std::min(earliest, s->next_due);
-      if (changed_.wait_until(lock, earliest, [&] { return stop_; })) return;
+      const uint64_t added = added_;
+      changed_.wait_until(lock, earliest, [&] { return stop_ || added_ != added; });
+      if (stop_) return;
       const auto now = Clock::now();
       for (const auto& s : subscribers_) {
         if (s->next_due <= now) due.push_back(s);

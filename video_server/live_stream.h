@@ -54,6 +54,7 @@ class LiveStreamer {
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   bool stop_ = false;
+  uint64_t added_ = 0;  // counts subscribers added, to wake the loop for a new one
   std::vector<std::shared_ptr<Subscriber>> subscribers_;
   uint64_t captures_ = 0;
   std::string last_error_;

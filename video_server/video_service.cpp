@@ -55,10 +55,10 @@ VideoService::VideoService(boost::asio::io_context& io, std::unique_ptr<CaptureB
       backend_(std::move(backend)),
       pose_(std::move(pose)),
       store_(options_.store_capacity, ids_.first()),
-      pipeline_(options_.edges, options_.edge_threads),
       overlay_(options_.overlay_path, overlay),
-      capture_pool_(1),
       encode_pool_(options_.encode_threads),
+      pipeline_(options_.edges, options_.edge_threads),
+      capture_pool_(1),
       live_([this] { return CaptureNow(); }) {
   if (std::string problem = options_.Check(); !problem.empty()) {
     throw std::invalid_argument(problem);

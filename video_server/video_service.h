@@ -83,11 +83,13 @@ class VideoService {
   std::mutex insert_mutex_;
   FrameIdSource ids_;
   FrameStore store_;
-  EdgePipeline pipeline_;
   OverlayStore overlay_;
   std::atomic<uint64_t> grabs_{0};
-  WorkerPool capture_pool_;
+  // Destroyed in reverse: live video and grabs stop first, then the pipeline finishes its
+  // queued frames, whose waiting requests still find the encode pool.
   WorkerPool encode_pool_;
+  EdgePipeline pipeline_;
+  WorkerPool capture_pool_;
   LiveStreamer live_;
 };
 

@@ -290,7 +290,13 @@ TEST_F(VideoServerTest, LiveVideoToAFastAndASlowSubscriber) {
   // fresh (a queue would age it by 250 ms more with every frame; the bound leaves room for a
   // loaded machine).
   EXPECT_GT(slow.sequences.back() - slow.sequences.front(), 3 * (slow.sequences.size() - 1));
-  for (size_t i = 0; i < slow.age_ms.size(); ++i) EXPECT_LT(slow.age_ms[i], 400.0) << i;
+  // A queue would make ages grow with every frame (to seconds within this run); an overloaded
+  // machine only delays the odd one.
+  std::vector<double> slow_ages = slow.age_ms;
+  std::sort(slow_ages.begin(), slow_ages.end());
+  EXPECT_LT(slow_ages[slow_ages.size() / 2], 400.0);
+  const auto stale = std::count_if(slow_ages.begin(), slow_ages.end(), [](double a) { return a > 400.0; });
+  EXPECT_LE(static_cast<size_t>(stale) * 4, slow_ages.size());
   for (size_t i = 1; i < fast.sequences.size(); ++i) {
     EXPECT_GT(fast.sequences[i], fast.sequences[i - 1]);
   }
