@@ -6,6 +6,7 @@
 //                                     grammar for the files after it (the control
 //                                     client's word on the system's state)
 //   igms-voiced --mic [--device NAME] listen until interrupted
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <boost/program_options.hpp>
@@ -91,6 +92,8 @@ int RunMicrophone(Recognizer& recognizer, const std::string& device, bool verbos
 }  // namespace
 
 int main(int argc, char** argv) try {
+  // stdout carries the codes alone; the log goes to stderr.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("igms-voiced"));
   RecognizerOptions options;
   std::string state = "verification", device;
   std::vector<std::string> items;

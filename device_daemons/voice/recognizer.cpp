@@ -145,6 +145,7 @@ struct Recognizer::Impl {
       state = s;
       Decode(warm_up);
     }
+    PhoneLoopScore(warm_up, Span{});
     state = options.initial_state;
     return true;
   }
@@ -196,7 +197,7 @@ struct Recognizer::Impl {
         int32 lscr = 0, lback = 0;
         ps_seg_prob(seg, &span.ascr, &lscr, &lback);
       }
-      if (tokens.size() == 1 && span.last >= span.first) {
+      if (tokens.size() == 1 && span.last >= span.first && options.min_confidence > 0.0) {
         const double loop = PhoneLoopScore(samples, span);
         r.score_per_frame = (span.ascr - loop) / (span.last - span.first + 1);
         r.confidence = 1.0 / (1.0 + std::exp(-(r.score_per_frame - options.score_offset) /
