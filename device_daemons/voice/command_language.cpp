@@ -12,14 +12,14 @@ constexpr std::array<CommandInfo, 11> kCommands = {{
     {Command::kFreeze, "01", "freeze"},
     {Command::kRange, "02", "range"},
     {Command::kUnfreeze, "03", "unfreeze"},
-    {Command::kMark, "04", "mark"},
-    {Command::kUnmark, "05", "unmark"},
-    {Command::kRemovePoints, "06", "remove points"},
     {Command::kBox, "10", "box"},
     {Command::kCylinder, "11", "cylinder"},
-    {Command::kWireframe, "20", "wireframe"},
-    {Command::kSolid, "21", "solid"},
-    {Command::kRemoveModel, "22", "remove model"},
+    {Command::kMark, "20", "mark"},
+    {Command::kUnmark, "21", "unmark"},
+    {Command::kRemovePoints, "22", "remove points"},
+    {Command::kWireframe, "30", "wireframe"},
+    {Command::kSolid, "31", "solid"},
+    {Command::kRemoveModel, "32", "remove model"},
 }};
 
 constexpr std::array<OperatorState, 3> kStates = {
@@ -30,9 +30,9 @@ constexpr std::array<Command, 4> kVerification = {Command::kFreeze, Command::kWi
 constexpr std::array<Command, 8> kModelBuilding = {
     Command::kRange,     Command::kUnfreeze, Command::kMark,  Command::kUnmark,
     Command::kRemovePoints, Command::kWireframe, Command::kSolid, Command::kRemoveModel};
-constexpr std::array<Command, 5> kAwaitingType = {Command::kUnfreeze, Command::kUnmark,
-                                                  Command::kRemovePoints, Command::kBox,
-                                                  Command::kCylinder};
+constexpr std::array<Command, 5> kAwaitingType = {Command::kUnfreeze, Command::kBox,
+                                                  Command::kCylinder, Command::kUnmark,
+                                                  Command::kRemovePoints};
 
 // Lower case with runs of white space collapsed to one space and the ends trimmed.
 std::string Normalise(std::string_view text) {

@@ -12,16 +12,17 @@
 //   01    freeze          enter model building (thesis)
 //   02    range           move the pointer to the ultrasonic depth (thesis)
 //   03    unfreeze        back to verification (thesis)
-//   04    mark            place a mark at the pointer
-//   05    unmark          remove the last mark
-//   06    remove points   remove every mark
 //   10    box             the object is a box (thesis)
 //   11    cylinder        the object is a cylinder (thesis)
-//   20    wireframe       draw models as wireframes
-//   21    solid           draw models solid
-//   22    remove model    remove the last model built
+//   20    mark            place a mark at the pointer
+//   21    unmark          remove the last mark
+//   22    remove points   remove every mark
+//   30    wireframe       draw models as wireframes
+//   31    solid           draw models solid
+//   32    remove model    remove the last model built
 //
-// The first digit groups the codes: 0x operator and pointer, 1x object types, 2x models.
+// The first digit groups the codes: 0x mode and pointer, 1x object types, 2x marks,
+// 3x display and models. They equal the numbers of igms.devices.VoiceCommand.
 //
 // States (figure 2-3 rebuilt from sections 2.1.6 and 2.4):
 //   verification    freeze, wireframe, solid, remove model
@@ -45,11 +46,11 @@ enum class Command {
   kFreeze,
   kRange,
   kUnfreeze,
+  kBox,
+  kCylinder,
   kMark,
   kUnmark,
   kRemovePoints,
-  kBox,
-  kCylinder,
   kWireframe,
   kSolid,
   kRemoveModel,

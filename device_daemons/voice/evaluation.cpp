@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 namespace igms::voice {
@@ -74,6 +75,30 @@ std::string EvaluationReport::Failures() const {
                                                         r.recognition.reason)))
         << " (heard \"" << r.recognition.hypothesis << "\", confidence "
         << r.recognition.confidence << ")\n";
+  }
+  return out.str();
+}
+
+std::string EvaluationReport::Sweep(const std::vector<double>& thresholds) const {
+  std::ostringstream out;
+  out.precision(1);
+  out << std::fixed;
+  for (double t : thresholds) {
+    int recognised_at = 0, false_at = 0;
+    for (const ItemResult& r : results) {
+      const Recognition& g = r.recognition;
+      const bool accepted = (g.accepted || g.reason == RejectReason::kLowConfidence) &&
+                            g.command && IsValid(r.item.state, *g.command) && g.confidence >= t;
+      if (r.item.expected) {
+        recognised_at += accepted && g.command == r.item.expected;
+      } else {
+        false_at += accepted;
+      }
+    }
+    out << "  min_confidence " << std::setprecision(2) << t << std::setprecision(1)
+        << ": recognised " << (commands ? 100.0 * recognised_at / commands : 0.0)
+        << "%, false accepts " << (out_of_vocabulary ? 100.0 * false_at / out_of_vocabulary : 0.0)
+        << "%\n";
   }
   return out.str();
 }

@@ -51,6 +51,10 @@ struct EvaluationReport {
   double decode_ms_quantile(double q) const;  // q in [0, 1]; 0 when empty
   std::string Summary() const;                // a few lines for a person
   std::string Failures() const;               // one line per wrong result
+  // Recognition and false-accept rates had min_confidence been each of `thresholds`
+  // (meaningful for thresholds at or above the one the corpus was decoded with), one line
+  // each: how the confidence trades misses against false accepts.
+  std::string Sweep(const std::vector<double>& thresholds) const;
 };
 
 // Synthesises and decodes every item; the recogniser's state is set before each item and

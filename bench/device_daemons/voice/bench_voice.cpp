@@ -26,7 +26,7 @@ const std::vector<std::string> kTestWords = {
     "thank you", "good night", "what time is it"};
 
 bool Run(const char* title, const RecognizerOptions& options, const std::vector<Voice>& voices,
-         const std::vector<std::string>& words) {
+         const std::vector<std::string>& words, bool sweep = false) {
   std::string error;
   auto recognizer = Recognizer::Create(options, &error);
   if (!recognizer) {
@@ -39,6 +39,7 @@ bool Run(const char* title, const RecognizerOptions& options, const std::vector<
     return false;
   }
   std::cout << "== " << title << "\n" << report->Summary();
+  if (sweep) std::cout << report->Sweep({0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8});
   return true;
 }
 
@@ -56,5 +57,9 @@ int main() {
   bool ok = Run("tuning voices and words", options, tuning, kTuningWords);
   ok &= Run("unseen voices and words", options, unseen, kTestWords);
   ok &= Run("unseen, grammar alone (min_confidence 0)", grammar_only, unseen, kTestWords);
+  RecognizerOptions sweep = options;
+  sweep.min_confidence = 1e-6;  // confidence computed, nearly everything accepted
+  ok &= Run("tuning set, threshold sweep", sweep, tuning, kTuningWords, true);
+  ok &= Run("unseen set, threshold sweep", sweep, unseen, kTestWords, true);
   return ok ? 0 : 1;
 }

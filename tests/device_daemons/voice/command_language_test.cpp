@@ -28,6 +28,26 @@ TEST(CommandLanguage, CodesArePairsOfDigitsAndRoundTrip) {
   EXPECT_EQ(AllCommands().size(), 11u);
 }
 
+// The numbers of igms.devices.VoiceCommand, which the daemon publishes.
+TEST(CommandLanguage, NewCodesMatchTheDevicesProtocol) {
+  EXPECT_EQ(Code(Command::kMark), "20");
+  EXPECT_EQ(Code(Command::kUnmark), "21");
+  EXPECT_EQ(Code(Command::kRemovePoints), "22");
+  EXPECT_EQ(Code(Command::kWireframe), "30");
+  EXPECT_EQ(Code(Command::kSolid), "31");
+  EXPECT_EQ(Code(Command::kRemoveModel), "32");
+}
+
+TEST(CommandLanguage, ListsAreInCodeOrder) {
+  for (size_t i = 1; i < AllCommands().size(); ++i) {
+    EXPECT_LT(AllCommands()[i - 1].code, AllCommands()[i].code);
+  }
+  for (OperatorState s : AllStates()) {
+    const auto valid = ValidCommands(s);
+    for (size_t i = 1; i < valid.size(); ++i) EXPECT_LT(Code(valid[i - 1]), Code(valid[i]));
+  }
+}
+
 TEST(CommandLanguage, RejectsAnythingElse) {
   EXPECT_FALSE(CommandFromCode("1"));
   EXPECT_FALSE(CommandFromCode("99"));
