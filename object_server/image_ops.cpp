@@ -7,6 +7,10 @@
 namespace igms::object {
 namespace {
 
+// Share of the strongest edge along a search line that an outer edge needs to count as the
+// silhouette.
+constexpr double kOuterFraction = 0.4;
+
 // Catmull-Rom weights for fractional offset t in [0, 1).
 inline void CubicWeights(double t, double w[4]) {
   const double t2 = t * t, t3 = t2 * t;
@@ -100,7 +104,19 @@ bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eige
       best_i = i;
     }
   }
-  if (best < min_gradient || best_i == -count || best_i == count) return false;
+  if (best < min_gradient) return false;
+  // A silhouette is the outermost strong edge: inner edges (a cylinder's cap rim, a box's face
+  // boundary) can be stronger, so take the outermost local maximum that is at least
+  // outer_fraction of the strongest, not the strongest itself.
+  const double floor_value = std::max(min_gradient, kOuterFraction * best);
+  for (int i = count - 1; i > -count; --i) {
+    const double v = g[i + count];
+    if (v >= floor_value && v >= g[i + count - 1] && v >= g[i + count + 1]) {
+      best_i = i;
+      break;
+    }
+  }
+  if (best_i == -count || best_i == count) return false;
   const double a = g[best_i + count - 1], b = g[best_i + count], c = g[best_i + count + 1];
   const double denom = a - 2 * b + c;
   double frac = denom < 0 ? 0.5 * (a - c) / denom : 0.0;

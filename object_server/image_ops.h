@@ -37,9 +37,10 @@ std::vector<cv::Point> StrongEdgePixels(const Gradients& grad, const std::vector
                                         const cv::Mat& edges, double fraction, double min_gradient,
                                         double* strongest = nullptr);
 
-// Sub-pixel position of the strongest gradient (projected on `normal`, unit) along the line
-// p + s * normal, |s| <= range; false when the strongest is under `min_gradient` or sits at
-// the end of the range (no peak inside it).
+// Sub-pixel position of the silhouette edge along the line p + s * normal (`normal` unit,
+// pointing out of the object), |s| <= range: the outermost local maximum of the gradient
+// along the normal that reaches 40% of the strongest on the line. False when the strongest
+// is under `min_gradient` or the chosen peak sits at the end of the range.
 bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& normal,
                      double range, double min_gradient, double* s);
 

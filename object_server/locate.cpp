@@ -5,11 +5,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include <spdlog/spdlog.h>
 
+#include "common/geometry/triangulation.h"
 #include "object_server/image_ops.h"
 #include "object_server/silhouette_fit.h"
 
@@ -40,18 +43,25 @@ Eigen::Vector3d AtDepth(const geometry::ProjectiveCamera& cam, const Eigen::Vect
   return ray.origin + ray.direction * (d / rate);
 }
 
-// Midpoint of the shortest segment between the two pixels' rays (Cooke, 3.7).
+// Midpoint triangulation of the match (Cooke, 3.7); only a starting depth, so the simplest.
 std::optional<Eigen::Vector3d> Triangulate(const geometry::ProjectiveCamera& l, const Eigen::Vector2d& pl,
                                            const geometry::ProjectiveCamera& r, const Eigen::Vector2d& pr) {
-  const geometry::Ray a = l.PixelRay(pl), b = r.PixelRay(pr);
-  const Eigen::Vector3d w = a.origin - b.origin;
-  const double ab = a.direction.dot(b.direction);
-  const double denom = 1 - ab * ab;
-  if (denom < 1e-12) return std::nullopt;
-  const double da = a.direction.dot(w), db = b.direction.dot(w);
-  const double s = (ab * db - da) / denom, t = (db - ab * da) / denom;
-  if (s <= 0 || t <= 0) return std::nullopt;
-  return 0.5 * (a.origin + s * a.direction + b.origin + t * b.direction);
+  geometry::TriangulationOptions options;
+  options.pixel_sigma = 0;
+  const auto t = geometry::Triangulate(l.P(), r.P(), pl, pr, geometry::TriangulationMethod::kMidpoint, options);
+  if (!t) return std::nullopt;
+  return t->point;
+}
+
+// The image in ideal pixels: a camera with lens distortion is undistorted first (P maps to
+// ideal pixels; the lens acts after it, as in OpenCV's model).
+cv::Mat Ideal(const cv::Mat& gray, const geometry::ProjectiveCamera& cam) {
+  if (gray.empty() || !cam.has_distortion()) return gray;
+  cv::Mat K, dist, out;
+  cv::eigen2cv(cam.lens()->K, K);
+  dist = cv::Mat(cam.lens()->dist, true);
+  cv::undistort(gray, out, K, dist, K);
+  return out;
 }
 
 cv::Mat Gray(const cv::Mat& img) {
@@ -137,7 +147,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     return r;
   };
   if (const std::string e = opt.Check(); !e.empty()) return finish(Fail(res, Failure::kBadInput, "options: " + e));
-  const cv::Mat left = Gray(in.left), right = Gray(in.right);
+  const cv::Mat left = Ideal(Gray(in.left), in.left_camera), right = Ideal(Gray(in.right), in.right_camera);
   const auto lsize = in.left_camera.image_size(), rsize = in.right_camera.image_size();
   if (left.empty() || right.empty())
     return finish(Fail(res, Failure::kBadInput, "both images must be 8-bit grey or BGR and not empty"));

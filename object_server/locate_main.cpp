@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
-#include "object_server/calibration_file.h"
+#include "common/calibration/calibration_file.h"
 #include "object_server/locate.h"
 #include "object_server/result_json.h"
 
@@ -69,10 +69,11 @@ int Run(int argc, char** argv) {
     if (!m || !m->allFinite()) return bad("--mark '" + marks[i] + "' is not X,Y,Z with three finite numbers");
     input.marks[i] = *m;
   }
-  const auto cal = igms::object::LoadStereoCalibration(calibration);
-  if (!cal.calibration) return bad(cal.error);
-  input.left_camera = cal.calibration->left;
-  input.right_camera = cal.calibration->right;
+  std::string error;
+  const auto cal = igms::calibration::LoadCalibration(calibration, &error);
+  if (!cal) return bad(error);
+  input.left_camera = cal->left.Camera();
+  input.right_camera = cal->right.Camera();
   input.left = cv::imread(left_path, cv::IMREAD_GRAYSCALE);
   if (input.left.empty()) return bad("cannot read image " + left_path);
   input.right = cv::imread(right_path, cv::IMREAD_GRAYSCALE);

@@ -127,8 +127,9 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
   };
 
   // Robust cost: Huber up to outlier_px, then flat, so moving away from edges never pays.
+  double outlier = options.outlier_px;  // grows with the search range in early passes
   auto rho = [&](double res) {
-    const double a = std::min(std::abs(res), options.outlier_px), k = options.huber_px;
+    const double a = std::min(std::abs(res), outlier), k = options.huber_px;
     return a <= k ? 0.5 * a * a : k * (a - 0.5 * k);
   };
   auto cost_of = [&](const Eigen::VectorXd& res) {
@@ -142,6 +143,7 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
     const double range = outer == 0   ? options.search_px
                          : outer == 1 ? std::max(2.0, 0.6 * options.search_px)
                                       : std::max(1.5, 0.4 * options.search_px);
+    outlier = std::max(options.outlier_px, range + 0.5);
     std::array<std::vector<Eigen::Vector2d>, 2> hulls;
     if (!hulls_of(x, hulls)) {
       out.error = "the model went behind a camera";
@@ -169,7 +171,7 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
       w.resize(r.size());
       for (int i = 0; i < r.size(); ++i) {
         const double a = std::abs(r[i]);
-        w[i] = a > options.outlier_px ? 0.0 : (a <= options.huber_px ? 1.0 : options.huber_px / a);
+        w[i] = a > outlier ? 0.0 : (a <= options.huber_px ? 1.0 : options.huber_px / a);
       }
       Eigen::MatrixXd J(r.size(), np);
       for (int k = 0; k < np; ++k) {

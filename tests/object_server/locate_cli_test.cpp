@@ -12,7 +12,7 @@
 #include "common/site/marks.h"
 #include "common/site/renderer.h"
 #include "common/site/testbed.h"
-#include "object_server/calibration_file.h"
+#include "common/calibration/calibration_file.h"
 
 namespace fs = std::filesystem;
 
@@ -59,7 +59,13 @@ class LocateCli : public ::testing::Test {
     const auto images = site::RenderStereo(scene_);
     cv::imwrite((dir_ / "left.png").string(), images.left);
     cv::imwrite((dir_ / "right.png").string(), images.right);
-    ASSERT_TRUE(SaveStereoCalibration((dir_ / "cal.yaml").string(), {scene_.cameras.left, scene_.cameras.right}));
+    calibration::StereoCalibration cal;
+    cal.left.P = scene_.cameras.left.P();
+    cal.left.image_size = scene_.cameras.left.image_size();
+    cal.right.P = scene_.cameras.right.P();
+    cal.right.image_size = scene_.cameras.right.image_size();
+    std::string error;
+    ASSERT_TRUE(calibration::SaveCalibration(cal, (dir_ / "cal.yaml").string(), &error)) << error;
     base_ = "--calibration " + (dir_ / "cal.yaml").string() + " --left " + (dir_ / "left.png").string() +
             " --right " + (dir_ / "right.png").string();
   }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/core/utility.hpp>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,13 @@
 #include "common/site/testbed.h"
 
 namespace {
+
+// CPU time of this thread: the machine is shared, so wall time alone overstates the cost.
+double CpuMs() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
 
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -31,11 +39,13 @@ int main(int argc, char** argv) {
     cv::imwrite(std::string(argv[1]) + "_right.png", pair.right);
   }
   const int runs = 40;
-  std::vector<double> pair_ms, radiance_ms, sensor_ms, fill_ms;
+  std::vector<double> pair_ms, pair_cpu_ms, radiance_ms, sensor_ms, fill_ms;
   for (int i = 0; i < runs; ++i) {
     scene.sensor.seed = i + 1;
     auto t0 = Clock::now();
+    const double c0 = CpuMs();
     const auto pair = igms::site::RenderStereo(scene);
+    pair_cpu_ms.push_back(CpuMs() - c0);
     auto t1 = Clock::now();
     const cv::Mat rad = igms::site::RenderRadiance(scene, scene.cameras.left);
     auto t2 = Clock::now();
@@ -56,6 +66,8 @@ int main(int argc, char** argv) {
               scene.objects.size(), runs);
   std::printf("  stereo pair (render + sensor), median  %7.2f ms  = %6.1f pairs/s (target 30)\n",
               Median(pair_ms), 1000.0 / Median(pair_ms));
+  std::printf("  stereo pair, CPU time of the thread     %7.2f ms  = %6.1f pairs/s\n", Median(pair_cpu_ms),
+              1000.0 / Median(pair_cpu_ms));
   std::printf("  one image: ray casting + anti-aliasing  %7.2f ms\n", Median(radiance_ms));
   std::printf("  one image: sensor (blur, noise, 8 bits) %7.2f ms\n", Median(sensor_ms));
   std::printf("  baseline: writing every pixel once       %7.2f ms\n", Median(fill_ms));
