@@ -1,0 +1,120 @@
+// The simulated remote site: a scene of analytic solids on the optical table, seen by the
+// two calibrated cameras (Cooke, "Interactive Graphical Model Building using Virtual
+// Reality", sections 4.1-4.2).
+//
+// Units and frames follow common/geometry/camera.h: world frame z up, inches for the
+// thesis's testbed; the table top is the plane z = 0. Everything here is plain data: the
+// renderer (renderer.h), the range sensor model (range.h) and the operator mark generator
+// (marks.h) read it; tests and the accuracy table read the ground truth straight from it.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "common/geometry/camera.h"
+
+namespace igms::site {
+
+// A directional light: `direction` points from the scene towards the light (any length;
+// normalised on use). Shading is Lambertian without shadows.
+struct Light {
+  Eigen::Vector3d direction{0.0, 0.0, 1.0};
+  double intensity = 0.5;
+};
+
+struct Lighting {
+  double ambient = 0.35;  // added to every surface, whatever its orientation
+  std::vector<Light> lights;
+};
+
+// The optical table: a dark rectangle in the plane z = 0 drilled with a square grid of
+// holes. Outside the table the ray sees `background` (a constant radiance).
+struct Table {
+  bool enabled = true;
+  double x_min = -3.0, x_max = 45.0;  // across the cameras' view
+  double y_min = -96.0, y_max = -24.0;
+  double albedo = 0.12;
+  double hole_albedo = 0.02;
+  double hole_pitch = 1.0;   // distance between hole centres, both axes
+  double hole_radius = 0.125;
+  Eigen::Vector2d hole_origin{0.0, 0.0};  // one hole's centre; the grid repeats from it
+  double background = 0.03;               // radiance beyond the table's edge
+};
+
+// Solids. Albedo in [0, 1]; radiance = albedo * (ambient + sum of lights' n.l terms),
+// mapped to grey levels as 255 * radiance.
+struct Cylinder {
+  Eigen::Vector3d center{0, 0, 0};  // midpoint of the axis segment
+  Eigen::Vector3d axis{0, 0, 1};    // unit vector (normalised on load)
+  double radius = 0.5;
+  double height = 6.0;
+  Eigen::Vector3d Base() const { return center - 0.5 * height * axis; }
+  Eigen::Vector3d Top() const { return center + 0.5 * height * axis; }
+};
+
+struct Box {
+  Eigen::Vector3d center{0, 0, 0};
+  Eigen::Vector3d size{1, 1, 1};                               // along the box's own axes
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();      // columns: box axes in world
+  // Corners of the world-axis-aligned bounding box (the thesis's block model).
+  Eigen::Vector3d AlignedMin() const;
+  Eigen::Vector3d AlignedMax() const;
+};
+
+struct Sphere {
+  Eigen::Vector3d center{0, 0, 0};
+  double radius = 1.0;
+};
+
+using Shape = std::variant<Cylinder, Box, Sphere>;
+
+struct SceneObject {
+  std::string name;
+  Shape shape;
+  double albedo = 0.85;  // white matte, as the thesis's test objects
+};
+
+// Sensor model applied after rendering: Gaussian blur, then additive Gaussian noise, then
+// rounding to 8 bits. Zero sigma turns a stage off. `seed` makes the noise repeatable;
+// the left and right images draw from different streams of the same seed.
+struct SensorModel {
+  double noise_sigma = 2.0;  // grey levels
+  double blur_sigma = 0.7;   // pixels
+  uint64_t seed = 1;
+};
+
+struct StereoCameras {
+  geometry::ProjectiveCamera left;
+  geometry::ProjectiveCamera right;
+};
+
+struct Scene {
+  StereoCameras cameras;
+  Lighting lighting;
+  Table table;
+  SensorModel sensor;
+  std::vector<SceneObject> objects;
+};
+
+// Ray-solid intersection, used by the renderer and the range model. `t` is the distance
+// along a unit direction; `face` tells apart the surfaces of one solid (0 = cylinder side or
+// sphere, 1/2 = cylinder caps, 0..5 = box faces) so shading steps can be anti-aliased.
+struct Hit {
+  double t = 0.0;
+  Eigen::Vector3d normal{0, 0, 1};
+  int face = 0;
+};
+std::optional<Hit> Intersect(const Shape& shape, const Eigen::Vector3d& origin,
+                             const Eigen::Vector3d& dir);
+
+// Points on the solid's surface whose projections' convex hull is its image silhouette
+// (cap circles for a cylinder, corners for a box, a dense sampling for a sphere).
+std::vector<Eigen::Vector3d> OutlinePoints(const Shape& shape, int circle_samples = 90);
+
+// A short human-readable kind: "cylinder", "box", "sphere".
+std::string KindName(const Shape& shape);
+
+}  // namespace igms::site

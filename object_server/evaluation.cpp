@@ -1,0 +1,100 @@
+#include "object_server/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/site/marks.h"
+#include "common/site/renderer.h"
+
+namespace igms::object {
+
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const double pos = q * (v.size() - 1);
+  const size_t i = static_cast<size_t>(std::floor(pos));
+  const double f = pos - i;
+  return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
+}
+
+std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
+                                            uint64_t mark_seed, const LocateOptions& options) {
+  const site::StereoImages images = site::RenderStereo(scene);
+  std::vector<ObjectEvaluation> out;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const auto& object = scene.objects[i];
+    const auto* cyl = std::get_if<site::Cylinder>(&object.shape);
+    const auto* box = std::get_if<site::Box>(&object.shape);
+    if (!cyl && !box) continue;
+    const auto marks = site::GenerateMarks(object.shape, scene.cameras.left, mark_seed * 1000 + i);
+    if (!marks) continue;
+    ObjectEvaluation e;
+    e.scene_name = scene_name;
+    e.object_name = object.name;
+    LocateInput in;
+    in.type = cyl ? ObjectType::kCylinder : ObjectType::kBox;
+    in.marks = *marks;
+    in.left = images.left;
+    in.right = images.right;
+    in.left_camera = scene.cameras.left;
+    in.right_camera = scene.cameras.right;
+    e.result = Locate(in, options);
+    const Eigen::Vector3d eye = scene.cameras.left.Center();
+    if (cyl) {
+      e.lying = std::abs(cyl->axis.z()) < 0.7;
+      e.kind = e.lying ? "lying" : "upright";
+      e.distance = (cyl->center - eye).norm();
+      if (e.result.found) {
+        const auto& c = e.result.cylinder;
+        e.radius_error = std::abs(c.radius - cyl->radius);
+        e.height_error = std::abs(c.height - cyl->height);
+        e.position_error = (c.center - cyl->center).norm();
+        e.axis_error_deg = std::acos(std::min(1.0, std::abs(c.axis.dot(cyl->axis)))) * 180 / M_PI;
+      }
+    } else {
+      e.kind = "box";
+      e.distance = (box->center - eye).norm();
+      if (e.result.found) {
+        const auto& b = e.result.box;
+        e.size_error = ((b.max - b.min) - (box->AlignedMax() - box->AlignedMin())).cwiseAbs();
+        e.position_error = (0.5 * (b.max + b.min) - box->center).norm();
+      }
+    }
+    out.push_back(e);
+  }
+  return out;
+}
+
+Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& which) {
+  Summary s;
+  std::vector<double> radius, height, position, time, sx, sy, sz;
+  for (const auto& e : all) {
+    if (!which.empty() && e.kind != which) continue;
+    ++s.count;
+    time.push_back(e.result.elapsed_ms);
+    if (!e.result.found) continue;
+    ++s.found;
+    position.push_back(e.position_error);
+    if (e.kind == "box") {
+      sx.push_back(e.size_error.x());
+      sy.push_back(e.size_error.y());
+      sz.push_back(e.size_error.z());
+    } else {
+      radius.push_back(e.radius_error);
+      height.push_back(e.height_error);
+    }
+  }
+  s.found_rate = s.count ? double(s.found) / s.count : 0;
+  s.radius_median = Percentile(radius, 0.5);
+  s.radius_p90 = Percentile(radius, 0.9);
+  s.height_median = Percentile(height, 0.5);
+  s.height_p90 = Percentile(height, 0.9);
+  s.position_median = Percentile(position, 0.5);
+  s.position_p90 = Percentile(position, 0.9);
+  s.size_median = {Percentile(sx, 0.5), Percentile(sy, 0.5), Percentile(sz, 0.5)};
+  s.size_p90 = {Percentile(sx, 0.9), Percentile(sy, 0.9), Percentile(sz, 0.9)};
+  s.time_median_ms = Percentile(time, 0.5);
+  return s;
+}
+
+}  // namespace igms::object

@@ -1,0 +1,44 @@
+// Locating every object of simulated scenes from generated operator marks, and comparing
+// with the ground truth: the accuracy test, the accuracy benchmark and the demo's table
+// share this. Needs the site simulator (common/site); the locator itself never sees it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "common/site/scene.h"
+#include "object_server/locate.h"
+
+namespace igms::object {
+
+struct ObjectEvaluation {
+  std::string scene_name;
+  std::string object_name;
+  std::string kind;  // cylinder (upright or lying) or box
+  bool lying = false;
+  double distance = 0;  // from the left camera centre to the object's centre
+  LocateResult result;
+  // Errors, world units (valid when result.found).
+  double radius_error = 0, height_error = 0, position_error = 0;
+  double axis_error_deg = 0;
+  Eigen::Vector3d size_error = Eigen::Vector3d::Zero();  // box: |found - true| per axis
+};
+
+// Renders the scene's stereo pair, generates marks for each cylinder and box from the
+// ground truth (seeded by mark_seed and the object's index), locates and compares.
+std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
+                                            uint64_t mark_seed, const LocateOptions& options = {});
+
+struct Summary {
+  int count = 0, found = 0;
+  double found_rate = 0;
+  double radius_median = 0, radius_p90 = 0, height_median = 0, height_p90 = 0;
+  double position_median = 0, position_p90 = 0;
+  Eigen::Vector3d size_median = Eigen::Vector3d::Zero(), size_p90 = Eigen::Vector3d::Zero();
+  double time_median_ms = 0;
+};
+// Statistics over the evaluations whose kind matches ("" = all; "upright", "lying", "box").
+Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& which);
+double Percentile(std::vector<double> v, double q);
+
+}  // namespace igms::object

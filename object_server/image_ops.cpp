@@ -1,0 +1,174 @@
+#include "object_server/image_ops.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace igms::object {
+namespace {
+
+// Share of the strongest edge along a search line that an outer edge needs to count as the
+// silhouette.
+constexpr double kOuterFraction = 0.4;
+
+// Catmull-Rom weights for fractional offset t in [0, 1).
+inline void CubicWeights(double t, double w[4]) {
+  const double t2 = t * t, t3 = t2 * t;
+  w[0] = 0.5 * (-t3 + 2 * t2 - t);
+  w[1] = 0.5 * (3 * t3 - 5 * t2 + 2);
+  w[2] = 0.5 * (-3 * t3 + 4 * t2 + t);
+  w[3] = 0.5 * (t3 - t2);
+}
+
+}  // namespace
+
+Gradients::Gradients(const cv::Mat& gray, cv::Rect region, double sigma) {
+  const int border = static_cast<int>(std::ceil(3 * sigma)) + 4;
+  region_ = cv::Rect(region.x - border, region.y - border, region.width + 2 * border,
+                     region.height + 2 * border) &
+            cv::Rect(0, 0, gray.cols, gray.rows);
+  if (region_.empty()) return;
+  cv::Mat f;
+  gray(region_).convertTo(f, CV_32F);
+  if (sigma > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+  cv::Sobel(f, gx_, CV_32F, 1, 0, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+  cv::Sobel(f, gy_, CV_32F, 0, 1, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+}
+
+Eigen::Vector2d Gradients::At(const Eigen::Vector2d& p) const {
+  const double x = p.x() - region_.x, y = p.y() - region_.y;
+  const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+  if (x0 < 1 || y0 < 1 || x0 + 2 >= gx_.cols || y0 + 2 >= gx_.rows) return {0, 0};
+  double wx[4], wy[4];
+  CubicWeights(x - x0, wx);
+  CubicWeights(y - y0, wy);
+  double sx = 0, sy = 0;
+  for (int j = 0; j < 4; ++j) {
+    const float* rx = gx_.ptr<float>(y0 - 1 + j) + x0 - 1;
+    const float* ry = gy_.ptr<float>(y0 - 1 + j) + x0 - 1;
+    double ax = 0, ay = 0;
+    for (int i = 0; i < 4; ++i) {
+      ax += wx[i] * rx[i];
+      ay += wx[i] * ry[i];
+    }
+    sx += wy[j] * ax;
+    sy += wy[j] * ay;
+  }
+  return {sx, sy};
+}
+
+float Gradients::MagnitudeAt(int x, int y) const {
+  x -= region_.x;
+  y -= region_.y;
+  if (x < 0 || y < 0 || x >= gx_.cols || y >= gx_.rows) return 0;
+  return std::hypot(gx_.at<float>(y, x), gy_.at<float>(y, x));
+}
+
+std::vector<cv::Point> StrongEdgePixels(const Gradients& grad, const std::vector<cv::Point2f>& polygon,
+                                        const cv::Mat& edges, double fraction, double min_gradient,
+                                        double* strongest) {
+  const cv::Rect box = cv::boundingRect(polygon) & grad.region();
+  std::vector<std::pair<cv::Point, float>> inside;
+  float max_mag = 0;
+  for (int y = box.y; y < box.y + box.height; ++y) {
+    for (int x = box.x; x < box.x + box.width; ++x) {
+      if (cv::pointPolygonTest(polygon, cv::Point2f(x, y), false) < 0) continue;
+      if (!edges.empty() && (y >= edges.rows || x >= edges.cols || edges.at<uint8_t>(y, x) == 0))
+        continue;
+      const float m = grad.MagnitudeAt(x, y);
+      max_mag = std::max(max_mag, m);
+      inside.push_back({{x, y}, m});
+    }
+  }
+  if (strongest) *strongest = max_mag;
+  const double threshold = std::max(min_gradient, fraction * max_mag);
+  std::vector<cv::Point> out;
+  for (const auto& [p, m] : inside)
+    if (m >= threshold) out.push_back(p);
+  return out;
+}
+
+bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
+                     double range, double min_gradient, double* s) {
+  // Coarse scan every half pixel, then a parabola through the best sample and its neighbours.
+  const double step = 0.5;
+  const int count = static_cast<int>(std::floor(range / step));
+  double best = -1;
+  int best_i = 0;
+  std::vector<double> g(2 * count + 1);
+  for (int i = -count; i <= count; ++i) {
+    const double v = std::abs(grad.At(p + i * step * n).dot(n));
+    g[i + count] = v;
+    if (v > best) {
+      best = v;
+      best_i = i;
+    }
+  }
+  if (best < min_gradient) return false;
+  // A silhouette is the outermost strong edge: inner edges (a cylinder's cap rim, a box's face
+  // boundary) can be stronger, so take the outermost local maximum that is at least
+  // outer_fraction of the strongest, not the strongest itself.
+  const double floor_value = std::max(min_gradient, kOuterFraction * best);
+  for (int i = count - 1; i > -count; --i) {
+    const double v = g[i + count];
+    if (v >= floor_value && v >= g[i + count - 1] && v >= g[i + count + 1]) {
+      best_i = i;
+      break;
+    }
+  }
+  if (best_i == -count || best_i == count) return false;
+  const double a = g[best_i + count - 1], b = g[best_i + count], c = g[best_i + count + 1];
+  const double denom = a - 2 * b + c;
+  double frac = denom < 0 ? 0.5 * (a - c) / denom : 0.0;
+  frac = std::clamp(frac, -0.5, 0.5);
+  double s0 = (best_i + frac) * step;
+  // Refine once more on a finer bracket, where the parabola fits the smooth peak better.
+  const double h = 0.2;
+  const double fa = std::abs(grad.At(p + (s0 - h) * n).dot(n));
+  const double fb = std::abs(grad.At(p + s0 * n).dot(n));
+  const double fc = std::abs(grad.At(p + (s0 + h) * n).dot(n));
+  const double d2 = fa - 2 * fb + fc;
+  if (d2 < 0) s0 += std::clamp(0.5 * (fa - fc) / d2, -1.0, 1.0) * h;
+  *s = s0;
+  return true;
+}
+
+SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect patch,
+                           const Eigen::Vector2d& offset_a, const Eigen::Vector2d& offset_b) {
+  SsdMatch result;
+  patch &= cv::Rect(0, 0, left.cols, left.rows);
+  if (patch.area() < 9) return result;
+  const Eigen::Vector2d lo = offset_a.cwiseMin(offset_b), hi = offset_a.cwiseMax(offset_b);
+  const int ox0 = static_cast<int>(std::floor(lo.x())) - 1, oy0 = static_cast<int>(std::floor(lo.y())) - 1;
+  const int ox1 = static_cast<int>(std::ceil(hi.x())) + 1, oy1 = static_cast<int>(std::ceil(hi.y())) + 1;
+  const cv::Rect search(patch.x + ox0, patch.y + oy0, patch.width + ox1 - ox0,
+                        patch.height + oy1 - oy0);
+  if ((search & cv::Rect(0, 0, right.cols, right.rows)) != search) return result;
+  cv::Mat map;
+  cv::matchTemplate(right(search), left(patch), map, cv::TM_SQDIFF);
+  // map(y, x) is the SSD at offset (ox0 + x, oy0 + y); read it along the segment.
+  const double length = (offset_b - offset_a).norm();
+  const int steps = std::max(2, static_cast<int>(std::ceil(length / 0.25)));
+  auto ssd_at = [&](const Eigen::Vector2d& o) {
+    const double x = o.x() - ox0, y = o.y() - oy0;
+    const int x0 = std::clamp(static_cast<int>(std::floor(x)), 0, map.cols - 2);
+    const int y0 = std::clamp(static_cast<int>(std::floor(y)), 0, map.rows - 2);
+    const double fx = std::clamp(x - x0, 0.0, 1.0), fy = std::clamp(y - y0, 0.0, 1.0);
+    return (1 - fy) * ((1 - fx) * map.at<float>(y0, x0) + fx * map.at<float>(y0, x0 + 1)) +
+           fy * ((1 - fx) * map.at<float>(y0 + 1, x0) + fx * map.at<float>(y0 + 1, x0 + 1));
+  };
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= steps; ++i) {
+    const Eigen::Vector2d o = offset_a + (offset_b - offset_a) * (double(i) / steps);
+    const double v = ssd_at(o);
+    if (v < best) {
+      best = v;
+      result.offset = o;
+    }
+  }
+  result.ok = true;
+  result.rms = std::sqrt(std::max(0.0, best) / patch.area());
+  return result;
+}
+
+}  // namespace igms::object

@@ -1,0 +1,59 @@
+// Image measurements the locators are built from: smoothed gradients over a region,
+// bicubic sampling of them, strong boundary pixels inside a polygon, and the SSD window
+// matcher along an epipolar segment (Cooke, section 3.6).
+#pragma once
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+namespace igms::object {
+
+// The gradient of the image smoothed by a Gaussian of `sigma` pixels, over `region` (clipped
+// to the image) plus a border, in grey levels per pixel. Values are read at any sub-pixel
+// position by Catmull-Rom interpolation, so an edge's gradient peak can be located to a
+// small fraction of a pixel; outside the computed region they read as zero.
+class Gradients {
+ public:
+  Gradients() = default;
+  Gradients(const cv::Mat& gray, cv::Rect region, double sigma);
+
+  // Gradient at full-image pixel coordinates.
+  Eigen::Vector2d At(const Eigen::Vector2d& p) const;
+  // Magnitude at an integer pixel (no interpolation).
+  float MagnitudeAt(int x, int y) const;
+  cv::Rect region() const { return region_; }
+  bool empty() const { return gx_.empty(); }
+
+ private:
+  cv::Rect region_;  // where gx_, gy_ sit in the image
+  cv::Mat gx_, gy_;  // CV_32F
+};
+
+// Pixels inside `polygon` (image coordinates) whose gradient magnitude is above
+// max(min_gradient, fraction * strongest in the polygon) and, when `edges` is not empty,
+// set in the edge map. Returns them with the strongest magnitude seen.
+std::vector<cv::Point> StrongEdgePixels(const Gradients& grad, const std::vector<cv::Point2f>& polygon,
+                                        const cv::Mat& edges, double fraction, double min_gradient,
+                                        double* strongest = nullptr);
+
+// Sub-pixel position of the silhouette edge along the line p + s * normal (`normal` unit,
+// pointing out of the object), |s| <= range: the outermost local maximum of the gradient
+// along the normal that reaches 40% of the strongest on the line. False when the strongest
+// is under `min_gradient` or the chosen peak sits at the end of the range.
+bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& normal,
+                     double range, double min_gradient, double* s);
+
+struct SsdMatch {
+  bool ok = false;
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();  // right position - left position
+  double rms = 0;                                    // grey levels per pixel
+};
+
+// Matches the left patch `patch` (a rectangle of the left image) into the right image at
+// offsets on the segment from `offset_a` to `offset_b` (the epipolar segment of the depth
+// range, as offsets of the patch), by the smallest sum of squared differences (3.30).
+SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect patch,
+                           const Eigen::Vector2d& offset_a, const Eigen::Vector2d& offset_b);
+
+}  // namespace igms::object

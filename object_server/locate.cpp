@@ -1,0 +1,386 @@
+#include "object_server/locate.h"
+
+#include <Eigen/Dense>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include <spdlog/spdlog.h>
+
+#include "common/geometry/triangulation.h"
+#include "object_server/image_ops.h"
+#include "object_server/silhouette_fit.h"
+
+namespace igms::object {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+LocateResult Fail(LocateResult r, Failure reason, std::string detail) {
+  r.found = false;
+  r.reason = reason;
+  r.detail = std::move(detail);
+  return r;
+}
+
+std::string Fmt(double v, int precision = 2) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(precision);
+  s << v;
+  return s.str();
+}
+
+// The point on pixel p's ray at left-camera depth d.
+Eigen::Vector3d AtDepth(const geometry::ProjectiveCamera& cam, const Eigen::Vector2d& p, double d) {
+  const geometry::Ray ray = cam.PixelRay(p);
+  const double rate = cam.Depth(ray.origin + ray.direction);
+  return ray.origin + ray.direction * (d / rate);
+}
+
+// Midpoint triangulation of the match (Cooke, 3.7); only a starting depth, so the simplest.
+std::optional<Eigen::Vector3d> Triangulate(const geometry::ProjectiveCamera& l, const Eigen::Vector2d& pl,
+                                           const geometry::ProjectiveCamera& r, const Eigen::Vector2d& pr) {
+  geometry::TriangulationOptions options;
+  options.pixel_sigma = 0;
+  const auto t = geometry::Triangulate(l.P(), r.P(), pl, pr, geometry::TriangulationMethod::kMidpoint, options);
+  if (!t) return std::nullopt;
+  return t->point;
+}
+
+// The image in ideal pixels: a camera with lens distortion is undistorted first (P maps to
+// ideal pixels; the lens acts after it, as in OpenCV's model).
+cv::Mat Ideal(const cv::Mat& gray, const geometry::ProjectiveCamera& cam) {
+  if (gray.empty() || !cam.has_distortion()) return gray;
+  cv::Mat K, dist, out;
+  cv::eigen2cv(cam.lens()->K, K);
+  dist = cv::Mat(cam.lens()->dist, true);
+  cv::undistort(gray, out, K, dist, K);
+  return out;
+}
+
+cv::Mat Gray(const cv::Mat& img) {
+  if (img.type() == CV_8UC1) return img;
+  cv::Mat g;
+  if (img.type() == CV_8UC3) cv::cvtColor(img, g, cv::COLOR_BGR2GRAY);
+  return g;
+}
+
+std::vector<Eigen::Vector3d> CylinderOutline(const Eigen::VectorXd& x) {
+  const Eigen::Vector3d p0 = x.segment<3>(0), p1 = x.segment<3>(3);
+  const double r = std::abs(x[6]);
+  Eigen::Vector3d w = p1 - p0;
+  if (w.norm() < 1e-9) w = Eigen::Vector3d::UnitZ();
+  w.normalize();
+  const Eigen::Vector3d u = w.unitOrthogonal(), v = w.cross(u);
+  constexpr int kN = 64;
+  std::vector<Eigen::Vector3d> pts;
+  pts.reserve(2 * kN);
+  for (const Eigen::Vector3d& c : {p0, p1})
+    for (int i = 0; i < kN; ++i) {
+      const double a = 2 * M_PI * i / kN;
+      pts.push_back(c + r * (std::cos(a) * u + std::sin(a) * v));
+    }
+  return pts;
+}
+
+std::vector<Eigen::Vector3d> BoxOutline(const Eigen::VectorXd& x) {
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 8; ++i)
+    pts.emplace_back((i & 1) ? x[3] : x[0], (i & 2) ? x[4] : x[1], (i & 4) ? x[5] : x[2]);
+  return pts;
+}
+
+// Propagates the parameter covariance through f by a numeric Jacobian; returns the
+// standard deviations of f's outputs.
+Eigen::VectorXd Sigmas(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                       const Eigen::VectorXd& x, const Eigen::MatrixXd& cov) {
+  const Eigen::VectorXd f0 = f(x);
+  Eigen::MatrixXd J(f0.size(), x.size());
+  for (int k = 0; k < x.size(); ++k) {
+    Eigen::VectorXd xp = x;
+    xp[k] += 1e-6;
+    J.col(k) = (f(xp) - f0) / 1e-6;
+  }
+  return (J * cov * J.transpose()).diagonal().cwiseMax(0).cwiseSqrt();
+}
+
+}  // namespace
+
+const char* FailureName(Failure f) {
+  switch (f) {
+    case Failure::kNone: return "none";
+    case Failure::kBadInput: return "bad_input";
+    case Failure::kMarksDegenerate: return "marks_degenerate";
+    case Failure::kMarksBehindCamera: return "marks_behind_camera";
+    case Failure::kMarksOutsideImage: return "marks_outside_image";
+    case Failure::kNoEdgeNearMarks: return "no_edge_near_marks";
+    case Failure::kEdgeCountMismatch: return "edge_count_mismatch";
+    case Failure::kMatchOverThreshold: return "match_over_threshold";
+    case Failure::kLeftRightInconsistent: return "left_right_inconsistent";
+    case Failure::kFitFailed: return "fit_failed";
+  }
+  return "unknown";
+}
+
+std::string LocateOptions::Check() const {
+  if (!(depth_tolerance > 0)) return "depth_tolerance must be positive";
+  if (!(edge_sigma >= 0 && edge_sigma <= 10)) return "edge_sigma must be in 0..10";
+  if (!(edge_fraction > 0 && edge_fraction < 1)) return "edge_fraction must be in (0, 1)";
+  if (!(search_px >= 1 && search_px <= 20)) return "search_px must be in 1..20";
+  if (outer_iterations < 1 || inner_iterations < 1) return "iterations must be at least 1";
+  if (!(max_rms_px > 0) || !(max_ssd_rms > 0)) return "thresholds must be positive";
+  return "";
+}
+
+LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
+  const auto start = Clock::now();
+  LocateResult res;
+  res.type = in.type;
+  auto finish = [&](LocateResult r) {
+    r.elapsed_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    return r;
+  };
+  if (const std::string e = opt.Check(); !e.empty()) return finish(Fail(res, Failure::kBadInput, "options: " + e));
+  const cv::Mat left = Ideal(Gray(in.left), in.left_camera), right = Ideal(Gray(in.right), in.right_camera);
+  const auto lsize = in.left_camera.image_size(), rsize = in.right_camera.image_size();
+  if (left.empty() || right.empty())
+    return finish(Fail(res, Failure::kBadInput, "both images must be 8-bit grey or BGR and not empty"));
+  if (left.cols != lsize.width || left.rows != lsize.height || right.cols != rsize.width ||
+      right.rows != rsize.height)
+    return finish(Fail(res, Failure::kBadInput,
+                       "image sizes do not match the calibration (" + std::to_string(lsize.width) +
+                           "x" + std::to_string(lsize.height) + ")"));
+  for (const auto& m : in.marks)
+    if (!m.allFinite()) return finish(Fail(res, Failure::kBadInput, "a mark is not a finite point"));
+
+  // 1. Marks.
+  double depth_sum = 0;
+  std::vector<cv::Point2f> quad;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d& m = in.marks[i];
+    if (in.left_camera.Depth(m) <= 1e-6 || in.right_camera.Depth(m) <= 1e-6)
+      return finish(Fail(res, Failure::kMarksBehindCamera,
+                         "mark " + std::to_string(i + 1) + " is behind a camera"));
+    const Eigen::Vector2d p = *in.left_camera.Project(m);
+    quad.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+    depth_sum += in.left_camera.Depth(m);
+  }
+  const double mark_depth = depth_sum / 4;
+  std::vector<cv::Point2f> hull4;
+  cv::convexHull(quad, hull4);
+  const double area = cv::contourArea(hull4);
+  if (hull4.size() < 3 || area < 16.0)
+    return finish(Fail(res, Failure::kMarksDegenerate,
+                       "the marks bound " + Fmt(area, 1) + " square pixels in the left image; "
+                       "place them around the object's outline"));
+  const cv::Rect image_rect(0, 0, left.cols, left.rows);
+  const cv::Rect quad_rect = cv::boundingRect(hull4);
+  std::vector<cv::Point2f> clipped;
+  const std::vector<cv::Point2f> frame = {{-0.5f, -0.5f}, {left.cols - 0.5f, -0.5f},
+                                          {left.cols - 0.5f, left.rows - 0.5f}, {-0.5f, left.rows - 0.5f}};
+  const double inside_area = cv::intersectConvexConvex(hull4, frame, clipped);
+  if (inside_area < 0.5 * area)
+    return finish(Fail(res, Failure::kMarksOutsideImage,
+                       "most of the marked region lies outside the left image"));
+
+  // 2. Boundary in the left image.
+  const int pad = static_cast<int>(std::ceil(opt.search_px + opt.boundary_grow_px)) + 4;
+  const cv::Rect left_region =
+      cv::Rect(quad_rect.x - pad, quad_rect.y - pad, quad_rect.width + 2 * pad, quad_rect.height + 2 * pad) &
+      image_rect;
+  const Gradients grad_left(left, left_region, opt.edge_sigma);
+  double strongest = 0;
+  // The thesis searches up to 15 px outward from the marks (3.8.1): the region is grown by
+  // boundary_grow_px so an outline the marks graze is still whole.
+  std::vector<cv::Point2f> grown;
+  {
+    cv::Point2f centre(0, 0);
+    for (const auto& p : hull4) centre += p * (1.0f / hull4.size());
+    for (const auto& p : hull4) {
+      const cv::Point2f d = p - centre;
+      const float len = std::sqrt(d.dot(d));
+      grown.push_back(len > 0 ? p + d * (static_cast<float>(opt.boundary_grow_px) / len) : p);
+    }
+  }
+  const std::vector<cv::Point> boundary =
+      StrongEdgePixels(grad_left, grown, in.left_edges, opt.edge_fraction, opt.min_edge_gradient, &strongest);
+  res.boundary_pixels = static_cast<int>(boundary.size());
+  if (boundary.empty())
+    return finish(Fail(res, Failure::kNoEdgeNearMarks,
+                       "no edge stronger than " + Fmt(opt.min_edge_gradient, 1) +
+                           " grey levels per pixel inside the marked region of the left image "
+                           "(strongest " + Fmt(strongest, 1) + ")"));
+  const double perimeter = cv::arcLength(hull4, true);
+  if (boundary.size() < opt.min_boundary_share * perimeter)
+    return finish(Fail(res, Failure::kEdgeCountMismatch,
+                       std::to_string(boundary.size()) + " boundary pixels inside marks of perimeter " +
+                           Fmt(perimeter, 0) + " px: the marked region does not hold one object's outline"));
+  const cv::Rect object_rect = cv::boundingRect(boundary);
+
+  // 3. Depth by SSD along the epipolar segment of the marks' depth range.
+  const Eigen::Vector2d q_left(object_rect.x + 0.5 * (object_rect.width - 1),
+                               object_rect.y + 0.5 * (object_rect.height - 1));
+  const double d_near = std::max(0.5 * mark_depth, mark_depth - opt.depth_tolerance);
+  const double d_far = mark_depth + opt.depth_tolerance;
+  const auto qa = in.right_camera.Project(AtDepth(in.left_camera, q_left, d_near));
+  const auto qb = in.right_camera.Project(AtDepth(in.left_camera, q_left, d_far));
+  if (!qa || !qb) return finish(Fail(res, Failure::kMarksBehindCamera, "the marks' depth range reaches a camera's focal plane"));
+  const cv::Rect patch(object_rect.x - 3, object_rect.y - 3, object_rect.width + 6, object_rect.height + 6);
+  const SsdMatch match = MatchAlongSegment(left, right, patch & image_rect, *qa - q_left, *qb - q_left);
+  if (!match.ok)
+    return finish(Fail(res, Failure::kMatchOverThreshold,
+                       "the object's epipolar search region leaves the right image"));
+  res.ssd_rms = match.rms;
+  if (match.rms > opt.max_ssd_rms)
+    return finish(Fail(res, Failure::kMatchOverThreshold,
+                       "best right-image match within the marks' depth +/- " + Fmt(opt.depth_tolerance, 1) +
+                           " differs by " + Fmt(match.rms, 1) + " grey levels RMS (limit " +
+                           Fmt(opt.max_ssd_rms, 1) + "): check the marks' depth"));
+  const auto x_match = Triangulate(in.left_camera, q_left, in.right_camera, q_left + match.offset);
+  if (!x_match) return finish(Fail(res, Failure::kMatchOverThreshold, "the right-image match does not triangulate"));
+  const double depth0 = in.left_camera.Depth(*x_match);
+  const cv::Rect right_region =
+      cv::Rect(patch.x + static_cast<int>(std::round(match.offset.x())) - pad,
+               patch.y + static_cast<int>(std::round(match.offset.y())) - pad, patch.width + 2 * pad,
+               patch.height + 2 * pad) &
+      image_rect;
+  const Gradients grad_right(right, right_region, opt.edge_sigma);
+
+  // 4. Initial model from the left boundary at the matched depth, then the joint fit.
+  FitOptions fit;
+  fit.search_px = opt.search_px;
+  fit.min_gradient = std::max(opt.min_edge_gradient, 0.25 * strongest);
+  fit.outer_iterations = opt.outer_iterations;
+  fit.inner_iterations = opt.inner_iterations;
+  const std::array<FitView, 2> views = {FitView{&in.left_camera, &grad_left},
+                                        FitView{&in.right_camera, &grad_right}};
+  Eigen::VectorXd x0;
+  OutlineFn outline;
+  std::vector<cv::Point2f> bpts(boundary.begin(), boundary.end());
+  if (in.type == ObjectType::kCylinder) {
+    const cv::RotatedRect rr = cv::minAreaRect(bpts);
+    cv::Point2f c[4];
+    rr.points(c);
+    Eigen::Vector2d e01(c[1].x - c[0].x, c[1].y - c[0].y), e12(c[2].x - c[1].x, c[2].y - c[1].y);
+    if (e01.norm() < e12.norm()) std::swap(e01, e12);
+    const Eigen::Vector2d along = e01.normalized(), across = e12.normalized();
+    const double half_len = std::max(1.0, 0.5 * e01.norm() - 1.0);
+    const double half_width = std::max(0.5, 0.5 * e12.norm() - 1.0);
+    const Eigen::Vector2d mid(rr.center.x, rr.center.y);
+    const double radius = 0.5 * (AtDepth(in.left_camera, mid + half_width * across, depth0) -
+                                 AtDepth(in.left_camera, mid - half_width * across, depth0))
+                                    .norm();
+    const double axis_depth = depth0 + radius;
+    x0.resize(7);
+    // The silhouette's ends lie beyond the cap centres by up to the radius, depending on the
+    // view; start halfway and let the fit settle it.
+    x0.segment<3>(0) = AtDepth(in.left_camera, mid - (half_len - 0.5 * half_width) * along, axis_depth);
+    x0.segment<3>(3) = AtDepth(in.left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
+    x0[6] = radius;
+    outline = CylinderOutline;
+  } else {
+    // A world-axis-aligned block (3.8.2): the boundary back-projected onto its front plane
+    // gives the two extents across the view; the one along the view starts as their mean.
+    const Eigen::Vector3d view_dir = in.left_camera.P().block<1, 3>(2, 0).transpose().normalized() *
+                                     (in.left_camera.P().leftCols<3>().determinant() < 0 ? -1.0 : 1.0);
+    int k;
+    view_dir.cwiseAbs().maxCoeff(&k);
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e18), hi = -lo, sum = Eigen::Vector3d::Zero();
+    for (const auto& p : boundary) {
+      const Eigen::Vector3d X = AtDepth(in.left_camera, Eigen::Vector2d(p.x, p.y), depth0);
+      lo = lo.cwiseMin(X);
+      hi = hi.cwiseMax(X);
+      sum += X;
+    }
+    double across_mean = 0;
+    for (int i = 0; i < 3; ++i)
+      if (i != k) across_mean += 0.5 * (hi[i] - lo[i]);
+    const double front = sum[k] / boundary.size();
+    const double back = front + (view_dir[k] > 0 ? 1 : -1) * across_mean;
+    lo[k] = std::min(front, back);
+    hi[k] = std::max(front, back);
+    x0.resize(6);
+    x0 << lo, hi;
+    outline = BoxOutline;
+  }
+  fit.step = Eigen::VectorXd::Constant(x0.size(), 1e-4);
+  if (std::getenv("IGMS_LOCATE_DEBUG")) std::fprintf(stderr, "depth marks %.2f matched %.2f ssd %.1f boundary %zu init %.2f %.2f %.2f / %.2f %.2f %.2f r %.3f\n", mark_depth, depth0, match.rms, boundary.size(), x0[0], x0[1], x0[2], x0[3], x0[4], x0[5], x0.size() > 6 ? x0[6] : 0.0);
+  spdlog::debug("locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
+                mark_depth, depth0, match.rms, boundary.size(), Fmt(x0[0]) + " " + Fmt(x0[1]) + " " + Fmt(x0[2]) + " / " + Fmt(x0[3]) + " " + Fmt(x0[4]) + " " + Fmt(x0[5]));
+  const FitOutcome f = FitSilhouette(outline, x0, views, fit);
+  if (std::getenv("IGMS_LOCATE_DEBUG")) std::fprintf(stderr, "fit %d left %d/%d rms %.3f right %d/%d rms %.3f\n", f.ok, f.used[0], f.sampled[0], f.rms_px[0], f.used[1], f.sampled[1], f.rms_px[1]);
+  spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}", f.ok ? "ok" : f.error, f.used[0],
+                f.sampled[0], f.rms_px[0], f.used[1], f.sampled[1], f.rms_px[1]);
+  res.outline_samples = f.used[0] + f.used[1];
+  res.rms_left_px = f.rms_px[0];
+  res.rms_right_px = f.rms_px[1];
+  if (!f.ok) return finish(Fail(res, Failure::kFitFailed, "model fit: " + f.error));
+
+  // 5. Consistency between the views.
+  for (int v = 0; v < 2; ++v) {
+    const char* name = v == 0 ? "left" : "right";
+    const double share = f.sampled[v] ? double(f.used[v]) / f.sampled[v] : 0.0;
+    if (share < opt.min_inlier_share)
+      return finish(Fail(res, Failure::kLeftRightInconsistent,
+                         std::string("only ") + Fmt(100 * share, 0) + "% of the fitted outline has an edge in the " +
+                             name + " image: the object is not the same in both views"));
+    if (f.rms_px[v] > opt.max_rms_px)
+      return finish(Fail(res, Failure::kLeftRightInconsistent,
+                         std::string("the fitted outline misses the ") + name + " image's edges by " +
+                             Fmt(f.rms_px[v]) + " px RMS (limit " + Fmt(opt.max_rms_px) + ")"));
+  }
+  const Eigen::VectorXd& x = f.params;
+  if (in.type == ObjectType::kCylinder) {
+    auto outputs = [](const Eigen::VectorXd& p) {
+      Eigen::VectorXd o(5);
+      o.head<3>() = 0.5 * (p.segment<3>(0) + p.segment<3>(3));
+      o[3] = std::abs(p[6]);
+      o[4] = (p.segment<3>(3) - p.segment<3>(0)).norm();
+      return o;
+    };
+    const Eigen::VectorXd o = outputs(x), s = Sigmas(outputs, x, f.covariance);
+    CylinderResult& c = res.cylinder;
+    c.center = o.head<3>();
+    c.radius = o[3];
+    c.height = o[4];
+    c.center_sigma = s.head<3>();
+    c.radius_sigma = s[3];
+    c.height_sigma = s[4];
+    Eigen::Vector3d axis = x.segment<3>(3) - x.segment<3>(0);
+    if (c.height < 1e-6 || c.radius < 1e-6)
+      return finish(Fail(res, Failure::kFitFailed, "the fitted cylinder has no size"));
+    axis.normalize();
+    // A stable sign: pointing up, or along +x for a level axis.
+    if (axis.z() < -1e-9 || (std::abs(axis.z()) <= 1e-9 && axis.x() < 0)) axis = -axis;
+    c.axis = axis;
+  } else {
+    BoxResult& b = res.box;
+    b.min = x.head<3>().cwiseMin(x.tail<3>());
+    b.max = x.head<3>().cwiseMax(x.tail<3>());
+    const Eigen::VectorXd s = f.covariance.diagonal().cwiseMax(0).cwiseSqrt();
+    b.min_sigma = s.head<3>();
+    b.max_sigma = s.tail<3>();
+    if ((b.max - b.min).minCoeff() < 1e-6) return finish(Fail(res, Failure::kFitFailed, "the fitted box has no size"));
+    double u0 = 1e18, v0 = 1e18, u1 = -1e18, v1 = -1e18;
+    for (const auto& p : BoxOutline(x)) {
+      const auto px = in.left_camera.Project(p);
+      u0 = std::min(u0, px->x());
+      v0 = std::min(v0, px->y());
+      u1 = std::max(u1, px->x());
+      v1 = std::max(v1, px->y());
+    }
+    b.texture_rect = cv::Rect(cv::Point(static_cast<int>(std::floor(u0)), static_cast<int>(std::floor(v0))),
+                              cv::Point(static_cast<int>(std::ceil(u1)) + 1, static_cast<int>(std::ceil(v1)) + 1)) &
+                     image_rect;
+  }
+  res.found = true;
+  return finish(res);
+}
+
+}  // namespace igms::object

@@ -1,0 +1,112 @@
+// Locating a cylinder or a box from the operator's four marks and a stereo pair
+// (Cooke, "Interactive Graphical Model Building using Virtual Reality", sections 3.5-3.8),
+// shared by the offline `igms locate` and the object server.
+//
+// The pipeline, for both types:
+//  1. Marks: the four 3D marks (world units) are projected into the left image; their
+//     quadrilateral is the operator's segmentation (3.8). Their mean left-camera depth is the
+//     depth estimate, trusted to +/- depth_tolerance (3 in, as in 3.6).
+//  2. Boundary: the strong edges inside the marked quadrilateral (gradient of the image
+//     smoothed by edge_sigma, above a fraction of the region's strongest) and their convex
+//     hull, the object's silhouette to within a pixel. An optional edge map (the video
+//     server's Canny output) restricts the candidates to its edge pixels.
+//  3. Depth: the silhouette's patch is matched into the right image by the sum of squared
+//     differences (3.6, equation 3.30) along the epipolar segment of the marks' depth range;
+//     the match is triangulated (3.7) for a first 3D position.
+//  4. Model fit: the solid's silhouette, projected through both cameras, is fitted to
+//     sub-pixel edge positions measured along its outline in both images (a robust
+//     Levenberg-Marquardt over the model's parameters: for a cylinder both axis end points
+//     and the radius, any axis orientation; for a box its world-axis-aligned extent). Both
+//     silhouette lines of a cylinder are used along their whole length, not four corners.
+//  5. Consistency: the fit must explain both images (per-image RMS residual and inlier share),
+//     which rejects background edges picked up in only one view.
+//
+// Every failure is a result with a reason code and a detail for a person; nothing here
+// throws on bad input.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+
+#include "common/geometry/camera.h"
+
+namespace igms::object {
+
+enum class ObjectType { kCylinder, kBox };
+
+// Mirrors igms.object.FailureReason in proto/igms/object.proto.
+enum class Failure {
+  kNone = 0,
+  kBadInput = 1,            // images missing or of the wrong size, NaN marks, unknown type
+  kMarksDegenerate = 2,     // marks coincide or bound no area in the left image
+  kMarksBehindCamera = 3,   // a mark is behind (or on the focal plane of) a camera
+  kMarksOutsideImage = 4,   // the marked region is mostly outside the left image
+  kNoEdgeNearMarks = 5,     // no strong edge inside the marked region
+  kEdgeCountMismatch = 6,   // too few boundary pixels for the marked region's size
+  kMatchOverThreshold = 7,  // the right image has no match for the object within the depth range
+  kLeftRightInconsistent = 8,  // the fitted model does not explain one of the two images
+  kFitFailed = 9,           // the model fit diverged or gave an impossible solid
+};
+const char* FailureName(Failure f);
+
+struct LocateOptions {
+  double depth_tolerance = 3.0;     // marks' depth error allowed, world units (3.6)
+  double edge_sigma = 1.0;          // Gaussian smoothing before gradients, pixels
+  double edge_fraction = 0.35;      // boundary edges: gradient above this share of the max
+  double min_edge_gradient = 6.0;   // ... and above this, grey levels per pixel
+  double min_boundary_share = 0.25; // boundary pixels / marked region perimeter, at least
+  double max_ssd_rms = 30.0;        // grey levels: worse SSD matches are rejected
+  double boundary_grow_px = 4.0;    // the marked region is grown by this for the boundary
+  double search_px = 6.0;           // edge search either side of the predicted outline
+  int outer_iterations = 5;         // re-measure edges this many times
+  int inner_iterations = 6;         // Levenberg-Marquardt steps per measurement
+  double max_rms_px = 0.8;          // consistency: per-image RMS residual, pixels
+  double min_inlier_share = 0.6;    // consistency: share of outline samples with an edge
+  // Empty when valid, else what is wrong.
+  std::string Check() const;
+};
+
+struct LocateInput {
+  ObjectType type = ObjectType::kCylinder;
+  std::array<Eigen::Vector3d, 4> marks;
+  cv::Mat left, right;            // 8-bit grey (or BGR, converted), same size as the cameras
+  cv::Mat left_edges;             // optional: 8-bit edge map of the left image (non-zero = edge)
+  geometry::ProjectiveCamera left_camera, right_camera;  // P at the grab's platform pose
+};
+
+struct CylinderResult {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  // midpoint of the axis
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   // unit
+  double radius = 0, height = 0;
+  // One standard deviation, from the fit's covariance.
+  Eigen::Vector3d center_sigma = Eigen::Vector3d::Zero();
+  double radius_sigma = 0, height_sigma = 0;
+};
+
+struct BoxResult {
+  Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();
+  Eigen::Vector3d min_sigma = Eigen::Vector3d::Zero(), max_sigma = Eigen::Vector3d::Zero();
+  cv::Rect texture_rect;  // the box's pixels in the left image (min/max u, v), for texturing
+};
+
+struct LocateResult {
+  bool found = false;
+  ObjectType type = ObjectType::kCylinder;
+  Failure reason = Failure::kNone;
+  std::string detail;  // for a person: what failed and what to try
+  CylinderResult cylinder;
+  BoxResult box;
+  // What was used.
+  int boundary_pixels = 0;    // strong edge pixels inside the marked region
+  double ssd_rms = 0;         // grey levels, the right-image match
+  int outline_samples = 0;    // edge measurements in the final fit (both images)
+  double rms_left_px = 0, rms_right_px = 0;
+  double elapsed_ms = 0;
+};
+
+LocateResult Locate(const LocateInput& input, const LocateOptions& options = {});
+
+}  // namespace igms::object

@@ -1,0 +1,59 @@
+// Fitting a convex solid's silhouette to both images at once.
+//
+// A model is a parameter vector and a function giving 3D points whose projections' convex
+// hull is the solid's silhouette (cap circles of a cylinder, corners of a box). Each outer
+// iteration projects the model into each view, samples its outline every pixel (skipping
+// sharp corners, where edges are blurred), and measures the sub-pixel image edge along the
+// outline's normal (image_ops.h: EdgeAlongNormal). The inner iterations move the parameters
+// by Levenberg-Marquardt to bring the outlines onto the measured edge points (residual: the
+// signed distance, in pixels, from each measured point to the projected outline), with
+// Huber weights so stray edges (table holes, a neighbour) pull little.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "common/geometry/camera.h"
+#include "object_server/image_ops.h"
+
+namespace igms::object {
+
+using OutlineFn = std::function<std::vector<Eigen::Vector3d>(const Eigen::VectorXd&)>;
+
+struct FitView {
+  const geometry::ProjectiveCamera* camera = nullptr;
+  const Gradients* gradients = nullptr;
+};
+
+struct FitOptions {
+  double search_px = 4.0;      // first outer iteration's search range; later ones use half
+  double min_gradient = 6.0;   // edges weaker than this are not measured
+  int outer_iterations = 5;
+  int inner_iterations = 6;
+  double huber_px = 0.5;
+  double outlier_px = 2.0;     // measurements farther than this after a pass are dropped
+  Eigen::VectorXd step;        // finite-difference step per parameter (world units)
+};
+
+struct FitOutcome {
+  bool ok = false;
+  std::string error;
+  Eigen::VectorXd params;
+  Eigen::MatrixXd covariance;  // of params, from the weighted residuals
+  std::array<double, 2> rms_px{0, 0};
+  std::array<int, 2> used{0, 0};     // measurements kept in the final pass, per view
+  std::array<int, 2> sampled{0, 0};  // outline samples, per view
+};
+
+FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initial,
+                         const std::array<FitView, 2>& views, const FitOptions& options);
+
+// Convex hull (counter-clockwise in the u-v plane) of 2D points; exposed for tests.
+std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> points);
+// Signed distance from p to a convex counter-clockwise polygon: positive outside.
+double SignedDistance(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vector2d& p);
+
+}  // namespace igms::object

@@ -1,0 +1,47 @@
+// A seeded subset of the accuracy benchmark: 20 generated testbed scenes (upright and lying
+// cylinders, a block, 3-7 ft, default noise and blur, operator marks as modelled), asserting
+// the project's targets so accuracy cannot silently regress.
+#include <gtest/gtest.h>
+
+#include <opencv2/core/utility.hpp>
+
+#include "common/site/testbed.h"
+#include "object_server/evaluation.h"
+
+namespace igms::object {
+namespace {
+
+TEST(Accuracy, TwentySeededScenesMeetTheTargets) {
+  std::vector<ObjectEvaluation> all;
+  for (int seed = 500; seed < 520; ++seed) {
+    const auto scene = site::RandomTestbedScene(seed);
+    const auto evals = EvaluateScene(scene, "scene_" + std::to_string(seed), seed);
+    all.insert(all.end(), evals.begin(), evals.end());
+  }
+  std::vector<ObjectEvaluation> cylinders;
+  for (const auto& e : all)
+    if (e.kind != "box") cylinders.push_back(e);
+  const Summary c = Summarize(cylinders, "");
+  const Summary b = Summarize(all, "box");
+  const Summary every = Summarize(all, "");
+  std::printf("cylinders n=%d found %.1f%%: radius median %.4f, height median %.4f, position median %.3f\n",
+              c.count, 100 * c.found_rate, c.radius_median, c.height_median, c.position_median);
+  std::printf("boxes n=%d found %.1f%%: size median %.3f %.3f %.3f, position median %.3f\n", b.count,
+              100 * b.found_rate, b.size_median.x(), b.size_median.y(), b.size_median.z(), b.position_median);
+  ASSERT_GE(c.count, 50);
+  ASSERT_GE(b.count, 15);
+  EXPECT_GT(every.found_rate, 0.95);
+  EXPECT_LT(c.radius_median, 0.03);
+  EXPECT_LT(c.height_median, 0.03);
+  EXPECT_LT(c.position_median, 0.3);
+  EXPECT_LT(b.position_median, 0.3);
+  // Across the view (x) and vertically (z) a block's size meets the 0.1 in target. Along the
+  // view (y) its back is seen only as a sliver of the top or a side face 3.7 in above the
+  // table, and the target is not met: this bound records what is reached (docs/site.md).
+  EXPECT_LT(b.size_median.x(), 0.1);
+  EXPECT_LT(b.size_median.z(), 0.1);
+  EXPECT_LT(b.size_median.y(), 0.5);
+}
+
+}  // namespace
+}  // namespace igms::object

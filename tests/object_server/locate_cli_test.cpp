@@ -1,0 +1,131 @@
+// `igms-locate` as a real process: JSON on stdout and exit status 0 found, 1 not found,
+// 2 bad input, on a rendered scene written to files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "common/site/marks.h"
+#include "common/site/renderer.h"
+#include "common/site/testbed.h"
+#include "common/calibration/calibration_file.h"
+
+namespace fs = std::filesystem;
+
+namespace igms::object {
+namespace {
+
+struct ProcessRun {
+  int status = -1;
+  std::string out;
+};
+
+ProcessRun Exec(const std::string& args) {
+  const char* bin = std::getenv("IGMS_BIN_DIR");
+  const std::string cmd = std::string(bin ? bin : ".") + "/igms-locate " + args + " 2>/dev/null";
+  ProcessRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string MarkArgs(const site::Marks& marks) {
+  std::ostringstream s;
+  s.precision(10);
+  for (const auto& m : marks) s << " --mark " << m.x() << "," << m.y() << "," << m.z();
+  return s.str();
+}
+
+double JsonNumber(const std::string& json, const std::string& key) {
+  const auto at = json.find("\"" + key + "\": ");
+  if (at == std::string::npos) return std::nan("");
+  return std::atof(json.c_str() + at + key.size() + 4);
+}
+
+class LocateCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("igms_locate_cli_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+    scene_ = site::RandomTestbedScene(77);
+    const auto images = site::RenderStereo(scene_);
+    cv::imwrite((dir_ / "left.png").string(), images.left);
+    cv::imwrite((dir_ / "right.png").string(), images.right);
+    calibration::StereoCalibration cal;
+    cal.left.P = scene_.cameras.left.P();
+    cal.left.image_size = scene_.cameras.left.image_size();
+    cal.right.P = scene_.cameras.right.P();
+    cal.right.image_size = scene_.cameras.right.image_size();
+    std::string error;
+    ASSERT_TRUE(calibration::SaveCalibration(cal, (dir_ / "cal.yaml").string(), &error)) << error;
+    base_ = "--calibration " + (dir_ / "cal.yaml").string() + " --left " + (dir_ / "left.png").string() +
+            " --right " + (dir_ / "right.png").string();
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+  site::Scene scene_;
+  std::string base_;
+};
+
+TEST_F(LocateCli, FindsEachObjectAndPrintsJson) {
+  int checked = 0;
+  for (size_t i = 0; i < scene_.objects.size(); ++i) {
+    const auto& shape = scene_.objects[i].shape;
+    const auto marks = *site::GenerateMarks(shape, scene_.cameras.left, 31 + i);
+    if (const auto* c = std::get_if<site::Cylinder>(&shape)) {
+      const ProcessRun r = Exec(base_ + " --type cylinder --json" + MarkArgs(marks));
+      ASSERT_EQ(r.status, 0) << r.out;
+      EXPECT_EQ(r.out.rfind("{\"found\": true, \"type\": \"cylinder\"", 0), 0u) << r.out;
+      EXPECT_NEAR(JsonNumber(r.out, "radius"), c->radius, 0.05) << r.out;
+      EXPECT_NEAR(JsonNumber(r.out, "height"), c->height, 0.3) << r.out;
+      EXPECT_NE(r.out.find("\"axis\": ["), std::string::npos);
+      ++checked;
+    } else if (std::holds_alternative<site::Box>(shape)) {
+      const ProcessRun r = Exec(base_ + " --type box --json" + MarkArgs(marks));
+      ASSERT_EQ(r.status, 0) << r.out;
+      EXPECT_NE(r.out.find("\"min\": ["), std::string::npos) << r.out;
+      EXPECT_NE(r.out.find("\"max\": ["), std::string::npos) << r.out;
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 3);
+}
+
+TEST_F(LocateCli, NotFoundExitsOne) {
+  const Eigen::Vector3d c = scene_.cameras.left.Center();
+  const double y = c.y() - 200;
+  const std::string marks = " --mark " + std::to_string(c.x() - 3) + "," + std::to_string(y) + ",33" +
+                            " --mark " + std::to_string(c.x() + 3) + "," + std::to_string(y) + ",33" +
+                            " --mark " + std::to_string(c.x() + 3) + "," + std::to_string(y) + ",27" +
+                            " --mark " + std::to_string(c.x() - 3) + "," + std::to_string(y) + ",27";
+  const ProcessRun r = Exec(base_ + " --type box --json" + marks);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_EQ(r.out.rfind("{\"found\": false", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find("\"reason\": \"no_edge_near_marks\""), std::string::npos) << r.out;
+}
+
+TEST_F(LocateCli, BadInputExitsTwo) {
+  const std::string four = " --mark 1,-50,1 --mark 2,-50,1 --mark 2,-50,2 --mark 1,-50,2";
+  EXPECT_EQ(Exec(base_ + " --type cylinder --mark 1,2,3").status, 2);                 // one mark
+  EXPECT_EQ(Exec(base_ + " --type cone" + four).status, 2);                          // unknown type
+  EXPECT_EQ(Exec(base_ + " --type box --mark 1,2 --mark 1,2,3 --mark 1,2,3 --mark 1,2,3").status, 2);
+  EXPECT_EQ(Exec(base_ + " --type box --mark nan,2,3 --mark 1,2,3 --mark 1,2,3 --mark 1,2,3").status, 2);
+  EXPECT_EQ(Exec("--calibration /nonexistent.yaml --left a.png --right b.png --type box" + four).status, 2);
+  std::FILE* f = std::fopen((dir_ / "junk.yaml").c_str(), "w");
+  std::fputs("this: [is not, a calibration", f);
+  std::fclose(f);
+  EXPECT_EQ(Exec("--calibration " + (dir_ / "junk.yaml").string() + " --left a.png --right b.png --type box" + four).status, 2);
+  EXPECT_EQ(Exec("--calibration " + (dir_ / "cal.yaml").string() + " --left /nonexistent.png --right b.png --type box" + four).status, 2);
+  EXPECT_EQ(Exec("--bogus-flag").status, 2);
+}
+
+}  // namespace
+}  // namespace igms::object
