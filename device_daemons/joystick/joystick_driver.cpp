@@ -105,8 +105,13 @@ void JoystickDriver::ArmInitTimer() {
   });
 }
 
+// Deadlines advance by whole periods, so timer lateness does not lower the rate.
 void JoystickDriver::ArmPollTimer() {
-  poll_timer_.expires_after(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / options_.poll_hz)));
+  const auto period = std::chrono::nanoseconds(static_cast<int64_t>(1e9 / options_.poll_hz));
+  const auto now = std::chrono::steady_clock::now();
+  auto next = poll_timer_.expiry() + period;
+  if (next < now || next > now + period) next = now + period;
+  poll_timer_.expires_at(next);
   poll_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec || phase_ != Phase::kRun) return;
     link_.Write("p");
