@@ -1,0 +1,47 @@
+// The command line every IGMS process shares, and its section of the lab configuration.
+//
+//   PROGRAM --config lab.yaml --name video [--set processes.video.port=7400]...
+//           [--host H] [--port P] [--bind ADDRESS] [--log-level debug] [component flags]
+//
+// --host, --port and --bind are shorthands for processes.NAME.host, .port and .bind;
+// --set overrides any key. Flags win over the file. Without --config the process runs on
+// its built-in defaults.
+#pragma once
+
+#include <boost/program_options.hpp>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "common/config/lab_config.h"
+
+namespace igms::config {
+
+struct ProcessOptions {
+  LabConfig config;
+  std::string name;       // the process's entry under "processes"
+  std::string log_level;  // already applied by Parse
+  boost::program_options::variables_map flags;
+
+  std::string Key(const std::string& sub) const { return "processes." + name + "." + sub; }
+  template <class T>
+  T Get(const std::string& sub, const T& fallback) const {
+    return config.Get<T>(Key(sub), fallback);
+  }
+  // Where this process listens (bind address and port).
+  std::string BindAddress() const { return Get<std::string>("bind", "127.0.0.1"); }
+  std::uint16_t Port(std::uint16_t fallback) const;
+  std::string Token() const { return config.Get<std::string>("lab.token", ""); }
+  // Host and port of another process of the lab, for clients.
+  std::string HostOf(const std::string& process) const;
+  std::uint16_t PortOf(const std::string& process) const;
+};
+
+// Parses the shared flags plus `extra`, loads the configuration, applies overrides and
+// starts logging. Returns nullopt after printing help (exit 0) or an error (exit 2):
+// *exit_code says which.
+std::optional<ProcessOptions> ParseProcessOptions(
+    int argc, char** argv, const std::string& default_name, const std::string& summary,
+    const boost::program_options::options_description& extra, int* exit_code);
+
+}  // namespace igms::config

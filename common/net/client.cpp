@@ -1,0 +1,462 @@
+#include "common/net/client.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <atomic>
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/strand.hpp>
+#include <boost/asio/write.hpp>
+#include <condition_variable>
+#include <deque>
+#include <map>
+
+#include "common/net/clock.h"
+#include "common/net/framing.h"
+
+namespace igms::net {
+
+namespace asio = boost::asio;
+using asio::ip::tcp;
+
+struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
+  struct Pending {
+    std::string method;
+    std::string payload;
+    RawDone done;
+    std::unique_ptr<asio::steady_timer> timer;
+    bool sent = false;
+  };
+  struct Subscription {
+    std::string method;
+    std::string payload;
+    RawStream on_message;
+    std::function<void(const Status&)> on_error;
+  };
+
+  Impl(asio::io_context& io, ClientOptions o)
+      : options(std::move(o)),
+        strand(asio::make_strand(io)),
+        socket(strand),
+        resolver(strand),
+        connect_timer(strand),
+        retry_timer(strand),
+        heartbeat_timer(strand) {}
+
+  ClientOptions options;
+  asio::strand<asio::io_context::executor_type> strand;
+  tcp::socket socket;
+  tcp::resolver resolver;
+  asio::steady_timer connect_timer, retry_timer, heartbeat_timer;
+  std::atomic<std::uint64_t> next_id{1};
+
+  // Touched only on the strand.
+  std::map<std::uint64_t, Pending> pending;
+  std::map<std::uint64_t, Subscription> subscriptions;
+  std::deque<std::string> out;
+  bool writing = false;
+  std::string in;
+  std::size_t in_used = 0;
+  std::chrono::milliseconds backoff{100};
+  std::uint64_t generation = 0;  // bumps on every (re)connection attempt
+  std::string last_server_error;
+  bool sent_since_heartbeat = false;
+  std::function<void(ConnectionState, const std::string&)> on_state;
+
+  // Read from any thread.
+  std::mutex state_mutex;
+  std::condition_variable state_cv;
+  ConnectionState state = ConnectionState::kDisconnected;
+  bool stopped = false;
+
+  void SetState(ConnectionState s, const std::string& why) {
+    {
+      std::lock_guard lock(state_mutex);
+      state = s;
+    }
+    state_cv.notify_all();
+    if (on_state) on_state(s, why);
+  }
+
+  std::string Where() const { return options.host + ":" + std::to_string(options.port); }
+
+  igms::Envelope Make(igms::Envelope::Kind kind, std::uint64_t id, const std::string& method) {
+    igms::Envelope e;
+    e.set_kind(kind);
+    e.set_method(method);
+    auto* h = e.mutable_header();
+    h->set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
+    h->set_correlation_id(id);
+    h->set_send_time_unix_ns(UnixNanos());
+    h->set_sender(options.name);
+    return e;
+  }
+
+  void Write(const igms::Envelope& e) {
+    out.push_back(EncodeFrame(e));
+    sent_since_heartbeat = true;
+    if (!writing) WriteNext(generation);
+  }
+
+  void WriteNext(std::uint64_t gen) {
+    if (out.empty() || gen != generation) {
+      writing = false;
+      return;
+    }
+    writing = true;
+    auto bytes = std::make_shared<std::string>(std::move(out.front()));
+    out.pop_front();
+    asio::async_write(socket, asio::buffer(*bytes),
+                      [self = shared_from_this(), bytes, gen](boost::system::error_code ec,
+                                                              std::size_t) {
+                        if (gen != self->generation) return;
+                        if (ec) {
+                          self->writing = false;
+                          self->Drop("write failed: " + ec.message());
+                          return;
+                        }
+                        self->WriteNext(gen);
+                      });
+  }
+
+  void Connect() {
+    if (IsStopped()) return;
+    ++generation;
+    const auto gen = generation;
+    SetState(ConnectionState::kConnecting, "connecting to " + Where());
+    connect_timer.expires_after(options.connect_timeout);
+    connect_timer.async_wait([self = shared_from_this(), gen](boost::system::error_code ec) {
+      if (ec || gen != self->generation) return;
+      boost::system::error_code ignored;
+      self->resolver.cancel();
+      self->socket.close(ignored);  // the pending connect completes with operation_aborted
+    });
+    resolver.async_resolve(
+        options.host, std::to_string(options.port),
+        [self = shared_from_this(), gen](boost::system::error_code ec,
+                                         tcp::resolver::results_type results) {
+          if (gen != self->generation) return;
+          if (ec) {
+            self->Drop("cannot resolve " + self->options.host + ": " + ec.message());
+            return;
+          }
+          asio::async_connect(self->socket, results,
+                              [self, gen](boost::system::error_code ec, const tcp::endpoint&) {
+                                if (gen != self->generation) return;
+                                self->connect_timer.cancel();
+                                if (ec) {
+                                  self->Drop(ec == asio::error::operation_aborted
+                                                 ? "connect timed out"
+                                                 : ec.message());
+                                  return;
+                                }
+                                self->OnConnected();
+                              });
+        });
+  }
+
+  void OnConnected() {
+    boost::system::error_code ignored;
+    socket.set_option(tcp::no_delay(true), ignored);
+    backoff = std::chrono::milliseconds(100);
+    last_server_error.clear();
+    in.clear();
+    in_used = 0;
+    out.clear();
+    writing = false;
+    igms::Envelope hello = Make(igms::Envelope::HELLO, 0, "");
+    hello.set_token(options.token);
+    Write(hello);
+    for (auto& [id, p] : pending) {
+      if (!p.sent) {
+        auto e = Make(igms::Envelope::REQUEST, id, p.method);
+        e.set_payload(p.payload);
+        Write(e);
+        p.sent = true;
+      }
+    }
+    for (auto& [id, s] : subscriptions) {
+      auto e = Make(igms::Envelope::SUBSCRIBE, id, s.method);
+      e.set_payload(s.payload);
+      Write(e);
+    }
+    SetState(ConnectionState::kConnected, "connected to " + Where());
+    Read(generation);
+    Heartbeat(generation);
+  }
+
+  void Heartbeat(std::uint64_t gen) {
+    heartbeat_timer.expires_after(options.heartbeat_interval);
+    heartbeat_timer.async_wait([self = shared_from_this(), gen](boost::system::error_code ec) {
+      if (ec || gen != self->generation || self->IsStopped()) return;
+      if (!self->sent_since_heartbeat) self->Write(self->Make(igms::Envelope::HEARTBEAT, 0, ""));
+      self->sent_since_heartbeat = false;
+      self->Heartbeat(gen);
+    });
+  }
+
+  void Read(std::uint64_t gen) {
+    if (in_used > 0) {
+      in.erase(0, in_used);
+      in_used = 0;
+    }
+    const std::size_t have = in.size();
+    const std::size_t chunk = 64 * 1024;
+    in.resize(have + chunk);
+    socket.async_read_some(
+        asio::buffer(in.data() + have, chunk),
+        [self = shared_from_this(), gen, have](boost::system::error_code ec, std::size_t n) {
+          if (gen != self->generation) return;
+          self->in.resize(have + n);
+          if (ec) {
+            self->Drop(ec == asio::error::eof ? "server closed the connection" : ec.message());
+            return;
+          }
+          for (;;) {
+            std::string_view rest(self->in.data() + self->in_used, self->in.size() - self->in_used);
+            DecodeResult r = DecodeFrame(rest, self->options.max_frame_bytes);
+            if (r.status == DecodeStatus::kNeedMore) break;
+            if (r.status == DecodeStatus::kError) {
+              self->Drop("bad frame from server: " + r.error);
+              return;
+            }
+            self->in_used += r.consumed;
+            igms::Envelope e;
+            std::string error;
+            if (!ParseEnvelope(r.frame, &e, &error)) {
+              self->Drop("bad frame from server: " + error);
+              return;
+            }
+            self->OnEnvelope(e);
+            if (gen != self->generation) return;
+          }
+          self->Read(gen);
+        });
+  }
+
+  void OnEnvelope(igms::Envelope& e) {
+    const auto id = e.header().correlation_id();
+    switch (e.kind()) {
+      case igms::Envelope::RESPONSE:
+      case igms::Envelope::ERROR: {
+        Status status;
+        if (e.kind() == igms::Envelope::ERROR) {
+          status = Status::Error(e.error().code() == igms::ERROR_CODE_UNSPECIFIED
+                                     ? igms::INTERNAL
+                                     : e.error().code(),
+                                 e.error().message());
+        }
+        if (auto it = pending.find(id); it != pending.end()) {
+          auto done = std::move(it->second.done);
+          it->second.timer->cancel();
+          pending.erase(it);
+          done(status, e.payload());
+        } else if (auto s = subscriptions.find(id); s != subscriptions.end() && !status.ok()) {
+          // The server refused the stream: don't ask again on reconnect.
+          auto on_error = std::move(s->second.on_error);
+          subscriptions.erase(s);
+          spdlog::warn("{}: subscription to {} refused: {}", options.name, e.method(),
+                       status.ToString());
+          if (on_error) on_error(status);
+        } else if (!status.ok()) {
+          last_server_error = status.ToString();
+          spdlog::warn("{}: {} says {}", options.name, Where(), last_server_error);
+        }
+        return;
+      }
+      case igms::Envelope::STREAM:
+        if (auto s = subscriptions.find(id); s != subscriptions.end()) {
+          s->second.on_message(e.payload(), e.header().send_time_unix_ns());
+        }
+        return;
+      default:
+        spdlog::debug("{}: ignoring {} from server", options.name,
+                      igms::Envelope::Kind_Name(e.kind()));
+    }
+  }
+
+  // The connection is gone: fail what was in flight, keep what can be resent, retry.
+  void Drop(const std::string& why) {
+    ++generation;
+    boost::system::error_code ignored;
+    socket.close(ignored);
+    connect_timer.cancel();
+    heartbeat_timer.cancel();
+    out.clear();
+    writing = false;
+    const std::string reason =
+        why + (last_server_error.empty() ? "" : " (" + last_server_error + ")");
+    std::vector<RawDone> failed;
+    for (auto it = pending.begin(); it != pending.end();) {
+      if (it->second.sent) {
+        it->second.timer->cancel();
+        failed.push_back(std::move(it->second.done));
+        it = pending.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    const bool was_connected = [&] {
+      std::lock_guard lock(state_mutex);
+      return state == ConnectionState::kConnected;
+    }();
+    SetState(ConnectionState::kDisconnected, reason);
+    if (was_connected) spdlog::warn("{}: lost {}: {}", options.name, Where(), reason);
+    for (auto& done : failed) {
+      done(Status::Error(igms::UNAVAILABLE, "connection to " + Where() + " lost: " + reason), "");
+    }
+    if (options.reconnect && !IsStopped()) {
+      retry_timer.expires_after(backoff);
+      backoff = std::min(backoff * 2, options.max_backoff);
+      retry_timer.async_wait([self = shared_from_this()](boost::system::error_code ec) {
+        if (!ec) self->Connect();
+      });
+    } else {
+      FailAll("not connected to " + Where() + ": " + reason);
+    }
+  }
+
+  void FailAll(const std::string& why) {
+    auto all = std::move(pending);
+    pending.clear();
+    for (auto& [id, p] : all) {
+      p.timer->cancel();
+      p.done(Status::Error(igms::UNAVAILABLE, why), "");
+    }
+  }
+
+  bool IsStopped() {
+    std::lock_guard lock(state_mutex);
+    return stopped;
+  }
+};
+
+Client::Client(asio::io_context& io, ClientOptions options)
+    : impl_(std::make_shared<Impl>(io, std::move(options))) {}
+
+Client::~Client() { Stop(); }
+
+void Client::Start() {
+  asio::post(impl_->strand, [impl = impl_] { impl->Connect(); });
+}
+
+void Client::Stop() {
+  {
+    std::lock_guard lock(impl_->state_mutex);
+    if (impl_->stopped) return;
+    impl_->stopped = true;
+  }
+  asio::post(impl_->strand, [impl = impl_] {
+    ++impl->generation;
+    boost::system::error_code ignored;
+    impl->socket.close(ignored);
+    impl->resolver.cancel();
+    impl->connect_timer.cancel();
+    impl->retry_timer.cancel();
+    impl->heartbeat_timer.cancel();
+    impl->FailAll("client stopped");
+    impl->subscriptions.clear();
+    impl->SetState(ConnectionState::kDisconnected, "client stopped");
+  });
+}
+
+bool Client::connected() const {
+  std::lock_guard lock(impl_->state_mutex);
+  return impl_->state == ConnectionState::kConnected;
+}
+
+void Client::OnStateChange(std::function<void(ConnectionState, const std::string&)> fn) {
+  asio::post(impl_->strand, [impl = impl_, fn = std::move(fn)] { impl->on_state = fn; });
+}
+
+bool Client::WaitConnected(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(impl_->state_mutex);
+  return impl_->state_cv.wait_for(
+      lock, timeout, [&] { return impl_->state == ConnectionState::kConnected; });
+}
+
+void Client::CallRaw(const std::string& method, std::string payload,
+                     std::chrono::milliseconds timeout, RawDone done) {
+  const auto id = impl_->next_id.fetch_add(1);
+  asio::post(impl_->strand, [impl = impl_, id, method, payload = std::move(payload), timeout,
+                             done = std::move(done)]() mutable {
+    if (impl->IsStopped()) {
+      done(Status::Error(igms::UNAVAILABLE, "client stopped"), "");
+      return;
+    }
+    Impl::Pending p;
+    p.method = method;
+    p.done = std::move(done);
+    p.timer = std::make_unique<asio::steady_timer>(impl->strand);
+    p.timer->expires_after(timeout);
+    p.timer->async_wait([impl, id, method, timeout](boost::system::error_code ec) {
+      if (ec) return;
+      auto it = impl->pending.find(id);
+      if (it == impl->pending.end()) return;
+      auto d = std::move(it->second.done);
+      const bool sent = it->second.sent;
+      impl->pending.erase(it);
+      d(Status::Error(igms::TIMEOUT,
+                      method + ": no " + (sent ? "answer" : "connection") + " from " +
+                          impl->Where() + " within " + std::to_string(timeout.count()) + " ms"),
+        "");
+    });
+    const bool is_connected = [&] {
+      std::lock_guard lock(impl->state_mutex);
+      return impl->state == ConnectionState::kConnected;
+    }();
+    if (is_connected) {
+      auto e = impl->Make(igms::Envelope::REQUEST, id, method);
+      e.set_payload(payload);
+      p.sent = true;
+      impl->pending.emplace(id, std::move(p));
+      impl->Write(e);
+    } else {
+      p.payload = std::move(payload);
+      impl->pending.emplace(id, std::move(p));
+    }
+  });
+}
+
+std::uint64_t Client::SubscribeRaw(const std::string& method, std::string payload,
+                                   RawStream on_message,
+                                   std::function<void(const Status&)> on_error) {
+  const auto id = impl_->next_id.fetch_add(1);
+  asio::post(impl_->strand, [impl = impl_, id, method, payload = std::move(payload),
+                             on_message = std::move(on_message),
+                             on_error = std::move(on_error)]() mutable {
+    if (impl->IsStopped()) return;
+    auto& s = impl->subscriptions[id];
+    s.method = method;
+    s.payload = std::move(payload);
+    s.on_message = std::move(on_message);
+    s.on_error = std::move(on_error);
+    const bool is_connected = [&] {
+      std::lock_guard lock(impl->state_mutex);
+      return impl->state == ConnectionState::kConnected;
+    }();
+    if (is_connected) {
+      auto e = impl->Make(igms::Envelope::SUBSCRIBE, id, method);
+      e.set_payload(s.payload);
+      impl->Write(e);
+    }
+  });
+  return id;
+}
+
+void Client::Unsubscribe(std::uint64_t id) {
+  asio::post(impl_->strand, [impl = impl_, id] {
+    if (impl->subscriptions.erase(id) == 0) return;
+    bool is_connected;
+    {
+      std::lock_guard lock(impl->state_mutex);
+      is_connected = impl->state == ConnectionState::kConnected;
+    }
+    if (is_connected) impl->Write(impl->Make(igms::Envelope::UNSUBSCRIBE, id, ""));
+  });
+}
+
+}  // namespace igms::net

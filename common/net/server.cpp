@@ -1,0 +1,426 @@
+#include "common/net/server.h"
+
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/read.hpp>
+#include <boost/asio/strand.hpp>
+#include <boost/asio/write.hpp>
+#include <stdexcept>
+
+#include "common/net/clock.h"
+#include "common/net/framing.h"
+#include "common/net/session.h"
+
+namespace igms::net {
+
+namespace asio = boost::asio;
+using asio::ip::tcp;
+
+struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
+  Impl(asio::io_context& io, const ServerOptions& o)
+      : io(io), options(o), acceptor(asio::make_strand(io)) {}
+
+  asio::io_context& io;
+  ServerOptions options;
+  tcp::acceptor acceptor;
+  std::map<std::string, MethodFn> methods;
+  std::map<std::string, StreamFn> streams;
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+
+  std::mutex mutex;  // guards sessions and stopped
+  std::set<std::shared_ptr<Session>> sessions;
+  bool stopped = false;
+
+  void Accept() {
+    acceptor.async_accept(asio::make_strand(io), [self = shared_from_this()](
+                                                     boost::system::error_code ec,
+                                                     tcp::socket socket) {
+      if (ec == asio::error::operation_aborted) return;
+      if (ec) {
+        // Out of file descriptors and the like: log, keep serving the others.
+        spdlog::warn("{}: accept failed: {}", self->options.name, ec.message());
+      } else {
+        auto session = std::make_shared<Session>(std::move(socket), self);
+        {
+          std::lock_guard lock(self->mutex);
+          if (self->stopped) return;
+          self->sessions.insert(session);
+        }
+        session->Start();
+      }
+      self->Accept();
+    });
+  }
+
+  void Forget(const std::shared_ptr<Session>& s) {
+    std::lock_guard lock(mutex);
+    sessions.erase(s);
+  }
+};
+
+Server::Server(asio::io_context& io, ServerOptions options)
+    : options_(std::move(options)), impl_(std::make_shared<Impl>(io, options_)) {
+  AddMethod("igms.Server.Ping", [this](const std::string&, std::weak_ptr<Session> s,
+                                       std::uint64_t id) {
+    igms::PingResponse r;
+    r.set_server_name(options_.name);
+    r.set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
+    r.set_uptime_ms(std::chrono::duration_cast<std::chrono::milliseconds>(
+                        std::chrono::steady_clock::now() - impl_->started)
+                        .count());
+    Reply<igms::PingResponse>(s, id, "igms.Server.Ping")(Status::Ok(), r);
+  });
+}
+
+Server::~Server() { Stop(); }
+
+void Server::AddMethod(const std::string& method, MethodFn fn) {
+  impl_->methods[method] = std::move(fn);
+}
+
+void Server::AddStream(const std::string& method, StreamFn fn) {
+  impl_->streams[method] = std::move(fn);
+}
+
+void Server::Start() {
+  boost::system::error_code ec;
+  const auto address = asio::ip::make_address(options_.bind_address, ec);
+  if (ec) {
+    throw std::runtime_error(options_.name + ": bad bind address '" + options_.bind_address +
+                             "': " + ec.message());
+  }
+  const tcp::endpoint endpoint(address, options_.port);
+  auto& acceptor = impl_->acceptor;
+  acceptor.open(endpoint.protocol(), ec);
+  if (!ec) acceptor.set_option(tcp::acceptor::reuse_address(true), ec);
+  if (!ec) acceptor.bind(endpoint, ec);
+  if (!ec) acceptor.listen(asio::socket_base::max_listen_connections, ec);
+  if (ec) {
+    throw std::runtime_error(options_.name + ": cannot listen on " + options_.bind_address +
+                             ":" + std::to_string(options_.port) + ": " + ec.message());
+  }
+  port_ = acceptor.local_endpoint().port();
+  spdlog::info("{}: listening on {}:{}", options_.name, options_.bind_address, port_);
+  impl_->Accept();
+}
+
+void Server::Stop() {
+  std::set<std::shared_ptr<Session>> sessions;
+  {
+    std::lock_guard lock(impl_->mutex);
+    if (impl_->stopped) return;
+    impl_->stopped = true;
+    sessions.swap(impl_->sessions);
+  }
+  asio::post(impl_->acceptor.get_executor(), [impl = impl_] {
+    boost::system::error_code ignored;
+    impl->acceptor.close(ignored);
+  });
+  for (auto& s : sessions) s->Close("server shutting down");
+}
+
+std::size_t Server::session_count() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->sessions.size();
+}
+
+// ---------------------------------------------------------------------------------------
+// Session
+
+namespace detail {
+
+bool Send(const std::weak_ptr<Session>& session, igms::Envelope envelope, bool latest_only) {
+  auto s = session.lock();
+  return s && s->Send(std::move(envelope), latest_only);
+}
+
+bool SubscriptionOpen(const std::weak_ptr<Session>& session, std::uint64_t id) {
+  auto s = session.lock();
+  return s && s->SubscriptionOpen(id);
+}
+
+igms::Envelope MakeEnvelope(igms::Envelope::Kind kind, std::uint64_t correlation_id,
+                            const std::string& method) {
+  igms::Envelope e;
+  e.set_kind(kind);
+  e.set_method(method);
+  auto* h = e.mutable_header();
+  h->set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
+  h->set_correlation_id(correlation_id);
+  h->set_send_time_unix_ns(UnixNanos());
+  return e;
+}
+
+}  // namespace detail
+
+Session::Session(tcp::socket socket, std::shared_ptr<Server::Impl> server)
+    : socket_(std::move(socket)),
+      server_(std::move(server)),
+      idle_timer_(socket_.get_executor()),
+      authenticated_(server_->options.token.empty()) {
+  boost::system::error_code ec;
+  const auto remote = socket_.remote_endpoint(ec);
+  peer_ = ec ? "unknown peer" : remote.address().to_string() + ":" + std::to_string(remote.port());
+  socket_.set_option(tcp::no_delay(true), ec);
+}
+
+void Session::Start() {
+  asio::dispatch(socket_.get_executor(), [self = shared_from_this()] {
+    self->ArmIdleTimer();
+    self->ReadMore();
+  });
+}
+
+void Session::ArmIdleTimer() {
+  idle_timer_.expires_after(server_->options.idle_timeout);
+  idle_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
+    if (ec) return;
+    if (auto self = weak.lock()) self->Close("idle for longer than the idle timeout");
+  });
+}
+
+void Session::ReadMore() {
+  // Compact the buffer, then read into its free tail.
+  if (in_used_ > 0) {
+    in_.erase(0, in_used_);
+    in_used_ = 0;
+  }
+  const std::size_t have = in_.size();
+  const std::size_t chunk = 64 * 1024;
+  in_.resize(have + chunk);
+  socket_.async_read_some(
+      asio::buffer(in_.data() + have, chunk),
+      [self = shared_from_this(), have](boost::system::error_code ec, std::size_t n) {
+        self->in_.resize(have + n);
+        if (ec) {
+          self->Close(ec == asio::error::eof ? "peer closed the connection" : ec.message());
+          return;
+        }
+        self->ArmIdleTimer();
+        for (;;) {
+          const std::string_view pending(self->in_.data() + self->in_used_,
+                                         self->in_.size() - self->in_used_);
+          DecodeResult r = DecodeFrame(pending, self->server_->options.max_frame_bytes);
+          if (r.status == DecodeStatus::kNeedMore) break;
+          if (r.status == DecodeStatus::kError) {
+            self->Close("bad frame: " + r.error);
+            return;
+          }
+          self->OnFrame(r.frame);
+          self->in_used_ += r.consumed;
+          {
+            std::lock_guard lock(self->mutex_);
+            if (self->closed_) return;
+          }
+        }
+        // Reserve room for a large frame in one step rather than 64 KiB at a time.
+        self->ReadMore();
+      });
+}
+
+void Session::OnFrame(std::string_view frame) {
+  igms::Envelope envelope;
+  std::string error;
+  if (!ParseEnvelope(frame, &envelope, &error)) {
+    Close("bad frame: " + error);
+    return;
+  }
+  Dispatch(envelope);
+}
+
+void Session::Dispatch(igms::Envelope& e) {
+  const auto id = e.header().correlation_id();
+  const auto& options = server_->options;
+  if (e.kind() == igms::Envelope::HELLO) {
+    const auto version = e.header().protocol_version();
+    if (version != 0 && version != igms::PROTOCOL_VERSION_CURRENT) {
+      SendError(id, "", igms::VERSION_MISMATCH,
+                "protocol version " + std::to_string(version) + " is not supported (this server "
+                "speaks " + std::to_string(igms::PROTOCOL_VERSION_CURRENT) + ")", true);
+      return;
+    }
+    if (!options.token.empty() && e.token() != options.token) {
+      spdlog::warn("{}: {} presented a wrong token", options.name, peer_);
+      SendError(id, "", igms::UNAUTHENTICATED, "the lab token is missing or wrong", true);
+      return;
+    }
+    authenticated_ = true;
+    return;
+  }
+  if (!authenticated_) {
+    spdlog::warn("{}: {} sent {} before authenticating", options.name, peer_,
+                 igms::Envelope::Kind_Name(e.kind()));
+    SendError(id, e.method(), igms::UNAUTHENTICATED,
+              "this lab requires a token: send HELLO with it first", true);
+    return;
+  }
+  switch (e.kind()) {
+    case igms::Envelope::HEARTBEAT:
+      return;
+    case igms::Envelope::REQUEST: {
+      auto it = server_->methods.find(e.method());
+      if (it == server_->methods.end()) {
+        SendError(id, e.method(), igms::UNKNOWN_METHOD,
+                  "no method '" + e.method() + "' on " + options.name, false);
+        return;
+      }
+      try {
+        it->second(e.payload(), weak_from_this(), id);
+      } catch (const std::exception& ex) {
+        spdlog::error("{}: {} threw: {}", options.name, e.method(), ex.what());
+        SendError(id, e.method(), igms::INTERNAL, ex.what(), false);
+      }
+      return;
+    }
+    case igms::Envelope::SUBSCRIBE: {
+      auto it = server_->streams.find(e.method());
+      if (it == server_->streams.end()) {
+        SendError(id, e.method(), igms::UNKNOWN_METHOD,
+                  "no stream '" + e.method() + "' on " + options.name, false);
+        return;
+      }
+      {
+        std::lock_guard lock(mutex_);
+        subscriptions_.insert(id);
+      }
+      Status status;
+      try {
+        status = it->second(e.payload(), weak_from_this(), id);
+      } catch (const std::exception& ex) {
+        status = Status::Error(igms::INTERNAL, ex.what());
+      }
+      if (!status.ok()) {
+        {
+          std::lock_guard lock(mutex_);
+          subscriptions_.erase(id);
+        }
+        SendError(id, e.method(), status.code, status.message, false);
+      }
+      return;
+    }
+    case igms::Envelope::UNSUBSCRIBE: {
+      std::lock_guard lock(mutex_);
+      subscriptions_.erase(id);
+      return;
+    }
+    default:
+      SendError(id, e.method(), igms::BAD_REQUEST,
+                "a client may not send " + igms::Envelope::Kind_Name(e.kind()), false);
+  }
+}
+
+void Session::SendError(std::uint64_t id, const std::string& method, igms::ErrorCode code,
+                        const std::string& message, bool close_after) {
+  igms::Envelope e = detail::MakeEnvelope(igms::Envelope::ERROR, id, method);
+  e.mutable_error()->set_code(code);
+  e.mutable_error()->set_message(message);
+  if (close_after) {
+    close_after_write_ = true;
+    // Stop reading: nothing more from this peer is served.
+    boost::system::error_code ignored;
+    socket_.shutdown(tcp::socket::shutdown_receive, ignored);
+  }
+  Send(std::move(e), false);
+}
+
+bool Session::Send(igms::Envelope envelope, bool latest_only) {
+  Outgoing out;
+  AppendFrame(envelope, &out.bytes);
+  out.stream_id = latest_only ? envelope.header().correlation_id() : 0;
+  bool start = false;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return false;
+    bool replaced = false;
+    if (out.stream_id != 0) {
+      for (auto& q : queue_) {
+        if (q.stream_id == out.stream_id) {
+          queued_bytes_ = queued_bytes_ - q.bytes.size() + out.bytes.size();
+          q.bytes.swap(out.bytes);
+          replaced = true;
+          break;
+        }
+      }
+    }
+    if (!replaced) {
+      queued_bytes_ += out.bytes.size();
+      queue_.push_back(std::move(out));
+    }
+    if (queued_bytes_ > server_->options.max_write_queue_bytes) {
+      // The peer stopped reading; it must not hold memory or the others hostage.
+      asio::post(socket_.get_executor(), [self = shared_from_this()] {
+        self->Close("write queue over its limit: the client is not reading");
+      });
+      return false;
+    }
+    if (!writing_) {
+      writing_ = true;
+      start = true;
+    }
+  }
+  if (start) asio::post(socket_.get_executor(), [self = shared_from_this()] { self->WriteNext(); });
+  return true;
+}
+
+void Session::WriteNext() {
+  auto current = std::make_shared<std::string>();
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    if (queue_.empty()) {
+      writing_ = false;
+      if (close_after_write_) {
+        // The error that ends this session has been written.
+        asio::post(socket_.get_executor(),
+                   [self = shared_from_this()] { self->Close("rejected"); });
+      }
+      return;
+    }
+    current->swap(queue_.front().bytes);
+    queued_bytes_ -= current->size();
+    queue_.pop_front();
+  }
+  asio::async_write(socket_, asio::buffer(*current),
+                    [self = shared_from_this(), current](boost::system::error_code ec,
+                                                         std::size_t) {
+                      if (ec) {
+                        self->Close("write failed: " + ec.message());
+                        return;
+                      }
+                      self->WriteNext();
+                    });
+}
+
+bool Session::SubscriptionOpen(std::uint64_t id) {
+  std::lock_guard lock(mutex_);
+  return !closed_ && subscriptions_.count(id) > 0;
+}
+
+void Session::Close(const std::string& reason) {
+  asio::dispatch(socket_.get_executor(), [self = shared_from_this(), reason] {
+    {
+      std::lock_guard lock(self->mutex_);
+      if (self->closed_) return;
+      self->closed_ = true;
+      self->subscriptions_.clear();
+      self->queue_.clear();
+      self->queued_bytes_ = 0;
+    }
+    const bool normal = reason == "peer closed the connection" || reason == "rejected" ||
+                        reason == "server shutting down";
+    if (normal) {
+      spdlog::debug("{}: {} closed: {}", self->server_->options.name, self->peer_, reason);
+    } else {
+      spdlog::warn("{}: closing {}: {}", self->server_->options.name, self->peer_, reason);
+    }
+    boost::system::error_code ignored;
+    self->idle_timer_.cancel();
+    self->socket_.shutdown(tcp::socket::shutdown_both, ignored);
+    self->socket_.close(ignored);
+    self->server_->Forget(self);
+  });
+}
+
+}  // namespace igms::net

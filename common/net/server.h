@@ -1,0 +1,169 @@
+// The server base every IGMS process builds on (Boost.Asio, one session object per client).
+//
+// A server registers methods by their full protobuf name ("igms.video.VideoService.Grab"):
+//  - Handle: a quick handler run on the network thread, returning a Status.
+//  - HandleAsync: the handler gets a Reply it may call later from any thread (exactly once);
+//    slow work (locating an object, waiting for edges) goes to a worker this way.
+//  - HandleStream: a subscription; the handler keeps a Publisher and sends from any thread
+//    until Publisher::closed(). With latest_only, a message not yet written is replaced by a
+//    newer one, so a slow subscriber gets the newest frame and never a growing queue.
+// Every server answers "igms.Server.Ping".
+//
+// Each session has its own write queue with one write in flight; a session whose queue
+// passes max_write_queue_bytes (a client that stopped reading) is closed, so it cannot stall
+// or exhaust the others. A frame over max_frame_bytes, or one that does not parse, closes
+// that session with a logged reason. When a token is set, a client must present it in its
+// HELLO before anything else; otherwise it gets UNAUTHENTICATED and is disconnected.
+// Sessions idle (nothing received) longer than idle_timeout are closed; clients send
+// heartbeats. Stop() closes the acceptor and every session.
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+
+#include "common/net/status.h"
+
+namespace igms::net {
+
+struct ServerOptions {
+  std::string name = "server";           // for logs and Ping
+  std::string bind_address = "127.0.0.1";  // loopback unless the lab says otherwise
+  std::uint16_t port = 0;                  // 0: any free port (tests)
+  std::size_t max_frame_bytes = 4u << 20;
+  std::size_t max_write_queue_bytes = 64u << 20;
+  std::chrono::milliseconds idle_timeout{30000};
+  std::string token;  // empty: no authentication
+};
+
+class Session;
+
+namespace detail {
+// Queues an envelope on a session from any thread; false if the session is gone.
+bool Send(const std::weak_ptr<Session>& session, igms::Envelope envelope, bool latest_only);
+bool SubscriptionOpen(const std::weak_ptr<Session>& session, std::uint64_t id);
+igms::Envelope MakeEnvelope(igms::Envelope::Kind kind, std::uint64_t correlation_id,
+                            const std::string& method);
+}  // namespace detail
+
+// Answers one request, once, from any thread.
+template <class Resp>
+class Reply {
+ public:
+  Reply(std::weak_ptr<Session> s, std::uint64_t id, std::string method)
+      : session_(std::move(s)), id_(id), method_(std::move(method)) {}
+  void operator()(const Status& status, const Resp& response = Resp()) const {
+    igms::Envelope e = detail::MakeEnvelope(
+        status.ok() ? igms::Envelope::RESPONSE : igms::Envelope::ERROR, id_, method_);
+    if (status.ok()) {
+      response.SerializeToString(e.mutable_payload());
+    } else {
+      e.mutable_error()->set_code(status.code);
+      e.mutable_error()->set_message(status.message);
+    }
+    detail::Send(session_, std::move(e), false);
+  }
+
+ private:
+  std::weak_ptr<Session> session_;
+  std::uint64_t id_;
+  std::string method_;
+};
+
+// One subscriber's end of a stream. Thread-safe.
+template <class Msg>
+class Publisher {
+ public:
+  Publisher(std::weak_ptr<Session> s, std::uint64_t id, std::string method, bool latest_only)
+      : session_(std::move(s)), id_(id), method_(std::move(method)), latest_only_(latest_only) {}
+  // False once the subscriber is gone or unsubscribed: drop the publisher then.
+  bool Send(const Msg& message) const {
+    if (closed()) return false;
+    igms::Envelope e = detail::MakeEnvelope(igms::Envelope::STREAM, id_, method_);
+    message.SerializeToString(e.mutable_payload());
+    return detail::Send(session_, std::move(e), latest_only_);
+  }
+  bool closed() const { return !detail::SubscriptionOpen(session_, id_); }
+
+ private:
+  std::weak_ptr<Session> session_;
+  std::uint64_t id_;
+  std::string method_;
+  bool latest_only_;
+};
+
+class Server {
+ public:
+  Server(boost::asio::io_context& io, ServerOptions options);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  template <class Req, class Resp>
+  void Handle(const std::string& method, std::function<Status(const Req&, Resp&)> fn) {
+    HandleAsync<Req, Resp>(method, [fn](const Req& req, Reply<Resp> reply) {
+      Resp resp;
+      Status status = fn(req, resp);
+      reply(status, resp);
+    });
+  }
+
+  template <class Req, class Resp>
+  void HandleAsync(const std::string& method, std::function<void(const Req&, Reply<Resp>)> fn) {
+    AddMethod(method, [fn, method](const std::string& payload, std::weak_ptr<Session> s,
+                                   std::uint64_t id) {
+      Req req;
+      if (!req.ParseFromString(payload)) {
+        Reply<Resp>(s, id, method)(Status::Error(igms::BAD_REQUEST,
+                                                 "payload is not a " + req.GetTypeName()));
+        return;
+      }
+      fn(req, Reply<Resp>(s, id, method));
+    });
+  }
+
+  template <class Req, class Msg>
+  void HandleStream(const std::string& method,
+                    std::function<Status(const Req&, std::shared_ptr<Publisher<Msg>>)> fn,
+                    bool latest_only = false) {
+    AddStream(method, [fn, method, latest_only](const std::string& payload,
+                                                std::weak_ptr<Session> s, std::uint64_t id) {
+      Req req;
+      if (!req.ParseFromString(payload)) {
+        return Status::Error(igms::BAD_REQUEST, "payload is not a " + req.GetTypeName());
+      }
+      return fn(req, std::make_shared<Publisher<Msg>>(s, id, method, latest_only));
+    });
+  }
+
+  // Binds and starts accepting. Throws std::runtime_error naming the address if it cannot.
+  void Start();
+  // Closes the acceptor and every session; safe from any thread, and more than once.
+  void Stop();
+  std::uint16_t port() const { return port_; }
+  std::size_t session_count() const;
+  const ServerOptions& options() const { return options_; }
+
+  // Used by sessions.
+  struct Impl;
+
+ private:
+  using MethodFn =
+      std::function<void(const std::string&, std::weak_ptr<Session>, std::uint64_t)>;
+  using StreamFn =
+      std::function<Status(const std::string&, std::weak_ptr<Session>, std::uint64_t)>;
+  void AddMethod(const std::string& method, MethodFn fn);
+  void AddStream(const std::string& method, StreamFn fn);
+
+  ServerOptions options_;
+  std::shared_ptr<Impl> impl_;
+  std::uint16_t port_ = 0;
+};
+
+}  // namespace igms::net

@@ -1,0 +1,61 @@
+// One connected client of a Server. Internal to common/net.
+#pragma once
+
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/strand.hpp>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+
+#include "common/net/server.h"
+
+namespace igms::net {
+
+class Session : public std::enable_shared_from_this<Session> {
+ public:
+  using Strand = boost::asio::strand<boost::asio::io_context::executor_type>;
+  Session(boost::asio::ip::tcp::socket socket, std::shared_ptr<Server::Impl> server);
+
+  void Start();
+  // Thread-safe: queue a frame; latest_only replaces a queued, unwritten frame of the same
+  // stream. Returns false if the session is closing.
+  bool Send(igms::Envelope envelope, bool latest_only);
+  // Thread-safe: close the socket and forget every subscription.
+  void Close(const std::string& reason);
+  bool SubscriptionOpen(std::uint64_t id);
+  const std::string& peer() const { return peer_; }
+
+ private:
+  struct Outgoing {
+    std::string bytes;
+    std::uint64_t stream_id = 0;  // non-zero for a latest-only stream frame
+  };
+  void ReadMore();
+  void OnFrame(std::string_view frame);
+  void Dispatch(igms::Envelope& envelope);
+  void SendError(std::uint64_t id, const std::string& method, igms::ErrorCode code,
+                 const std::string& message, bool close_after);
+  void WriteNext();
+  void ArmIdleTimer();
+
+  boost::asio::ip::tcp::socket socket_;
+  std::shared_ptr<Server::Impl> server_;
+  boost::asio::steady_timer idle_timer_;
+  std::string peer_;
+  std::string in_;  // received bytes not yet framed
+  std::size_t in_used_ = 0;
+  bool authenticated_ = false;
+  bool close_after_write_ = false;
+
+  std::mutex mutex_;  // guards everything below
+  bool closed_ = false;
+  std::deque<Outgoing> queue_;
+  std::size_t queued_bytes_ = 0;
+  bool writing_ = false;
+  std::set<std::uint64_t> subscriptions_;
+};
+
+}  // namespace igms::net

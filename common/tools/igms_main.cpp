@@ -1,0 +1,84 @@
+// igms: the lab's command, git-style. `igms SUB ARGS...` runs `igms-SUB ARGS...`, looked up
+// beside this executable first and then on PATH; `igms help` lists what is installed.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<fs::path> SearchDirs() {
+  std::vector<fs::path> dirs;
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) dirs.push_back(self.parent_path());
+  if (const char* path = std::getenv("PATH")) {
+    std::stringstream ss(path);
+    std::string dir;
+    while (std::getline(ss, dir, ':')) {
+      if (!dir.empty()) dirs.emplace_back(dir);
+    }
+  }
+  return dirs;
+}
+
+bool Executable(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec) && access(p.c_str(), X_OK) == 0;
+}
+
+int Help() {
+  std::set<std::string> subs;
+  for (const auto& dir : SearchDirs()) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("igms-", 0) == 0 && Executable(entry.path())) subs.insert(name.substr(5));
+    }
+  }
+  std::cout << "usage: igms COMMAND [ARGS...]   (igms COMMAND --help for its options)\n\n"
+               "Installed commands:\n";
+  for (const auto& s : subs) std::cout << "  " << s << "\n";
+  std::cout << "\nThe fake client of every server is igmsctl.\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help" ||
+      std::string(argv[1]) == "-h") {
+    return Help();
+  }
+  const std::string sub = argv[1];
+  if (sub.find('/') != std::string::npos || sub.empty() || sub[0] == '-') {
+    std::cerr << "igms: '" << sub << "' is not a command (see igms help)\n";
+    return 2;
+  }
+  for (const auto& dir : SearchDirs()) {
+    const fs::path candidate = dir / ("igms-" + sub);
+    if (Executable(candidate)) {
+      std::vector<char*> args;
+      std::string arg0 = "igms-" + sub;
+      args.push_back(arg0.data());
+      for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
+      args.push_back(nullptr);
+      execv(candidate.c_str(), args.data());
+      std::cerr << "igms: cannot run " << candidate << ": " << std::strerror(errno) << "\n";
+      return 2;
+    }
+  }
+  std::cerr << "igms: no command '" << sub << "' (looked for igms-" << sub
+            << " beside igms and on PATH; see igms help)\n";
+  return 2;
+}

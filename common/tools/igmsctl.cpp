@@ -1,0 +1,336 @@
+#include "common/tools/igmsctl.h"
+
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/dynamic_message.h>
+#include <google/protobuf/util/json_util.h>
+
+#include <algorithm>
+#include <atomic>
+#include <boost/asio/executor_work_guard.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <condition_variable>
+#include <csignal>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "common/config/lab_config.h"
+#include "common/log/log.h"
+#include "common/net/client.h"
+#include "common/net/clock.h"
+
+namespace igms::tools {
+
+namespace po = boost::program_options;
+namespace pb = google::protobuf;
+using namespace std::chrono_literals;
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: igmsctl [OPTIONS] COMMAND [ARGS]
+
+Commands:
+  list                       every service, method and stream igmsctl knows
+  describe METHOD            a method's request and response messages
+  ping                       igms.Server.Ping: is the server there, who is it
+  call METHOD [JSON]         send one request, print the response as JSON
+  subscribe METHOD [JSON]    print each stream message as one line of JSON; with --count
+                             or --duration it stops and prints the rate and the latency
+
+METHOD is a full name (igms.video.VideoService.Grab) or a unique suffix (VideoService.Grab,
+Grab). JSON is the request in protobuf's JSON form ('{}' when omitted).
+Exit status: 0 ok, 1 the server answered with an error, 2 bad input or no server.
+)";
+
+std::vector<std::string> ProtoFiles() {
+  std::vector<std::string> files;
+  std::stringstream ss(IGMS_PROTO_FILES);
+  std::string f;
+  while (std::getline(ss, f, ',')) files.push_back(f);
+  return files;
+}
+
+std::vector<const pb::MethodDescriptor*> AllMethods() {
+  std::vector<const pb::MethodDescriptor*> out;
+  for (const auto& name : ProtoFiles()) {
+    const pb::FileDescriptor* file = pb::DescriptorPool::generated_pool()->FindFileByName(name);
+    if (!file) continue;
+    for (int s = 0; s < file->service_count(); ++s) {
+      for (int m = 0; m < file->service(s)->method_count(); ++m) {
+        out.push_back(file->service(s)->method(m));
+      }
+    }
+  }
+  return out;
+}
+
+const pb::MethodDescriptor* FindMethod(const std::string& name, std::string* error) {
+  std::vector<const pb::MethodDescriptor*> matches;
+  for (const auto* m : AllMethods()) {
+    const std::string& full = m->full_name();
+    if (full == name) return m;
+    if (full.size() > name.size() && full.compare(full.size() - name.size(), name.size(), name) == 0 &&
+        full[full.size() - name.size() - 1] == '.') {
+      matches.push_back(m);
+    }
+  }
+  if (matches.size() == 1) return matches[0];
+  if (matches.empty()) {
+    *error = "no method '" + name + "' (igmsctl list shows them all)";
+  } else {
+    *error = "'" + name + "' is ambiguous:";
+    for (const auto* m : matches) *error += " " + m->full_name();
+  }
+  return nullptr;
+}
+
+std::unique_ptr<pb::Message> NewMessage(const pb::Descriptor* type) {
+  const pb::Message* prototype = pb::MessageFactory::generated_factory()->GetPrototype(type);
+  return std::unique_ptr<pb::Message>(prototype->New());
+}
+
+std::string ToJson(const pb::Message& m) {
+  std::string out;
+  pb::util::JsonPrintOptions options;
+  options.always_print_primitive_fields = true;
+  options.preserve_proto_field_names = true;
+  const auto status = pb::util::MessageToJsonString(m, &out, options);
+  if (!status.ok()) return "{\"error\": \"cannot print as JSON\"}";
+  return out;
+}
+
+std::string Describe(const pb::Descriptor* d) {
+  std::string out = d->full_name() + " {";
+  for (int i = 0; i < d->field_count(); ++i) {
+    const auto* f = d->field(i);
+    out += std::string(i ? ", " : " ") + (f->is_repeated() ? "repeated " : "") +
+           (f->message_type() ? f->message_type()->full_name()
+            : f->enum_type()  ? f->enum_type()->full_name()
+                              : f->type_name()) +
+           " " + f->name();
+  }
+  return out + " }";
+}
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const std::size_t i = static_cast<std::size_t>(std::min<double>(v.size() - 1, p * v.size()));
+  return v[i];
+}
+
+std::atomic<bool> g_interrupted{false};
+
+}  // namespace
+
+int IgmsctlMain(int argc, char** argv) {
+  po::options_description opts("Options");
+  opts.add_options()("help,h", "show this help")(
+      "host", po::value<std::string>()->default_value("127.0.0.1"), "server host")(
+      "port,p", po::value<int>(), "server port")(
+      "config", po::value<std::string>(), "lab configuration: take host, port and token from it")(
+      "to", po::value<std::string>(), "with --config: the process to talk to (its name)")(
+      "token", po::value<std::string>(), "the lab token, when the lab has one")(
+      "timeout", po::value<int>()->default_value(5000), "per-request timeout, ms")(
+      "count,n", po::value<long>()->default_value(0), "subscribe: stop after N messages")(
+      "duration", po::value<double>()->default_value(0), "subscribe: stop after S seconds")(
+      "quiet,q", "subscribe: print only the summary")(
+      "max-frame", po::value<std::size_t>()->default_value(64u << 20), "largest frame accepted, bytes")(
+      "log-level", po::value<std::string>()->default_value("warn"), "igmsctl's own log level");
+  po::options_description hidden;
+  hidden.add_options()("args", po::value<std::vector<std::string>>(), "");
+  po::options_description all;
+  all.add(opts).add(hidden);
+  po::positional_options_description pos;
+  pos.add("args", -1);
+  po::variables_map vm;
+  try {
+    po::store(po::command_line_parser(argc, argv).options(all).positional(pos).run(), vm);
+    po::notify(vm);
+  } catch (const po::error& e) {
+    std::cerr << "igmsctl: " << e.what() << "\n";
+    return 2;
+  }
+  std::vector<std::string> args;
+  if (vm.count("args")) args = vm["args"].as<std::vector<std::string>>();
+  if (vm.count("help") || args.empty()) {
+    std::cout << kUsage << "\n" << opts << "\n";
+    return args.empty() && !vm.count("help") ? 2 : 0;
+  }
+  igms::log::Init("igmsctl", vm["log-level"].as<std::string>());
+  const std::string command = args[0];
+
+  if (command == "list") {
+    for (const auto* m : AllMethods()) {
+      std::cout << m->full_name() << (m->server_streaming() ? "  (stream)" : "") << "\n";
+    }
+    return 0;
+  }
+
+  std::string method_name = command == "ping" ? "igms.Server.Ping" : "";
+  if (command == "call" || command == "subscribe" || command == "describe") {
+    if (args.size() < 2) {
+      std::cerr << "igmsctl: " << command << " needs a METHOD\n";
+      return 2;
+    }
+    method_name = args[1];
+  } else if (command != "ping") {
+    std::cerr << "igmsctl: unknown command '" << command << "' (see igmsctl --help)\n";
+    return 2;
+  }
+  std::string error;
+  const pb::MethodDescriptor* method = FindMethod(method_name, &error);
+  if (!method) {
+    std::cerr << "igmsctl: " << error << "\n";
+    return 2;
+  }
+  if (command == "describe") {
+    std::cout << method->full_name() << (method->server_streaming() ? " (stream)" : "") << "\n"
+              << "  request:  " << Describe(method->input_type()) << "\n"
+              << "  response: " << Describe(method->output_type()) << "\n";
+    return 0;
+  }
+  if (command == "subscribe" && !method->server_streaming()) {
+    std::cerr << "igmsctl: " << method->full_name() << " is not a stream; use call\n";
+    return 2;
+  }
+  if (command == "call" && method->server_streaming()) {
+    std::cerr << "igmsctl: " << method->full_name() << " is a stream; use subscribe\n";
+    return 2;
+  }
+
+  auto request = NewMessage(method->input_type());
+  const std::string json = args.size() > 2 ? args[2] : "{}";
+  if (auto s = pb::util::JsonStringToMessage(json, request.get()); !s.ok()) {
+    std::cerr << "igmsctl: the request is not a " << method->input_type()->full_name() << ": "
+              << s.message() << "\n";
+    return 2;
+  }
+
+  net::ClientOptions co;
+  co.name = "igmsctl";
+  co.reconnect = command == "subscribe";
+  co.max_frame_bytes = vm["max-frame"].as<std::size_t>();
+  co.host = vm["host"].as<std::string>();
+  try {
+    if (vm.count("config")) {
+      const auto config = config::LabConfig::Load(vm["config"].as<std::string>());
+      co.token = config.Get<std::string>("lab.token", "");
+      if (!vm.count("to")) {
+        std::cerr << "igmsctl: --config needs --to NAME (one of the lab's processes)\n";
+        return 2;
+      }
+      const std::string to = vm["to"].as<std::string>();
+      co.host = config.Get<std::string>("processes." + to + ".host", "127.0.0.1");
+      co.port = static_cast<std::uint16_t>(config.Get<int>("processes." + to + ".port"));
+    }
+  } catch (const config::ConfigError& e) {
+    std::cerr << "igmsctl: " << e.what() << "\n";
+    return 2;
+  }
+  if (vm.count("port")) co.port = static_cast<std::uint16_t>(vm["port"].as<int>());
+  if (vm.count("token")) co.token = vm["token"].as<std::string>();
+  if (co.port == 0) {
+    std::cerr << "igmsctl: say which server: --port P (and --host H), or --config FILE --to NAME\n";
+    return 2;
+  }
+  const auto timeout = std::chrono::milliseconds(vm["timeout"].as<int>());
+
+  boost::asio::io_context io;
+  auto work = boost::asio::make_work_guard(io);
+  std::thread io_thread([&] { io.run(); });
+  net::Client client(io, co);
+  client.Start();
+  int rc = 0;
+
+  if (command != "subscribe") {
+    std::mutex m;
+    std::condition_variable cv;
+    bool done = false;
+    client.CallRaw(method->full_name(), request->SerializeAsString(), timeout,
+                   [&](const net::Status& status, const std::string& payload) {
+                     if (!status.ok()) {
+                       std::cerr << "igmsctl: " << method->full_name() << ": " << status.ToString() << "\n";
+                       rc = status.code == igms::TIMEOUT || status.code == igms::UNAVAILABLE ? 2 : 1;
+                     } else {
+                       auto response = NewMessage(method->output_type());
+                       if (!response->ParseFromString(payload)) {
+                         std::cerr << "igmsctl: the response is not a "
+                                   << method->output_type()->full_name() << "\n";
+                         rc = 2;
+                       } else {
+                         std::cout << ToJson(*response) << std::endl;
+                       }
+                     }
+                     std::lock_guard lock(m);
+                     done = true;
+                     cv.notify_all();
+                   });
+    std::unique_lock lock(m);
+    cv.wait(lock, [&] { return done; });
+  } else {
+    const long count = vm["count"].as<long>();
+    const double duration = vm["duration"].as<double>();
+    const bool quiet = vm.count("quiet") > 0;
+    std::mutex m;
+    std::condition_variable cv;
+    std::vector<double> latencies_ms;
+    long received = 0;
+    bool failed = false;
+    std::int64_t first_ns = 0, last_ns = 0;
+    auto response = NewMessage(method->output_type());
+    client.SubscribeRaw(
+        method->full_name(), request->SerializeAsString(),
+        [&](const std::string& payload, std::int64_t sent_ns) {
+          const std::int64_t now = net::UnixNanos();
+          std::lock_guard lock(m);
+          if (count > 0 && received >= count) return;
+          ++received;
+          if (first_ns == 0) first_ns = now;
+          last_ns = now;
+          if (sent_ns > 0) latencies_ms.push_back((now - sent_ns) / 1e6);
+          if (!quiet) {
+            if (response->ParseFromString(payload)) std::cout << ToJson(*response) << std::endl;
+          }
+          if (count > 0 && received >= count) cv.notify_all();
+        },
+        [&](const net::Status& status) {
+          std::cerr << "igmsctl: " << method->full_name() << ": " << status.ToString() << "\n";
+          std::lock_guard lock(m);
+          failed = true;
+          cv.notify_all();
+        });
+    std::signal(SIGINT, [](int) { g_interrupted = true; });
+    const auto t0 = std::chrono::steady_clock::now();
+    std::unique_lock lock(m);
+    while (!failed && !g_interrupted && !(count > 0 && received >= count) &&
+           !(duration > 0 && std::chrono::steady_clock::now() - t0 >
+                                 std::chrono::duration<double>(duration))) {
+      cv.wait_for(lock, 50ms);
+    }
+    if (failed) rc = 1;
+    if (count > 0 || duration > 0 || quiet) {
+      const double span_s = (last_ns - first_ns) / 1e9;
+      std::cerr << "igmsctl: " << received << " messages";
+      if (received > 1 && span_s > 0) std::cerr << ", " << (received - 1) / span_s << " per second";
+      if (!latencies_ms.empty()) {
+        std::cerr << ", latency p50 " << Percentile(latencies_ms, 0.5) << " ms, p99 "
+                  << Percentile(latencies_ms, 0.99) << " ms";
+      }
+      std::cerr << "\n";
+    }
+    if (count > 0 && received < count && !failed) rc = 2;
+  }
+  client.Stop();
+  work.reset();
+  io.stop();
+  io_thread.join();
+  return rc;
+}
+
+}  // namespace igms::tools

@@ -1,0 +1,3 @@
+#include "common/tools/igmsctl.h"
+
+int main(int argc, char** argv) { return igms::tools::IgmsctlMain(argc, argv); }

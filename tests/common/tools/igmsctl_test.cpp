@@ -1,0 +1,115 @@
+// igmsctl and igms as real processes against a real server on loopback.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <boost/asio/executor_work_guard.hpp>
+#include <boost/asio/io_context.hpp>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <sys/wait.h>
+#include <thread>
+
+#include "common/net/server.h"
+
+namespace {
+
+struct Outcome {
+  int status;
+  std::string out;
+};
+
+// Runs a command line, capturing stdout (stderr goes to stdout with 2>&1 in the command).
+Outcome Shell(const std::string& cmd) {
+  Outcome r{};
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  std::size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int raw = pclose(p);
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return r;
+}
+
+std::string Bin(const std::string& name) { return std::string(std::getenv("IGMS_BIN_DIR")) + "/" + name; }
+
+class IgmsctlTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    igms::net::ServerOptions o;
+    o.name = "pingable";
+    o.token = "tok";
+    server_ = std::make_unique<igms::net::Server>(io_, o);
+    server_->Start();
+    thread_ = std::thread([this] { io_.run(); });
+  }
+  void TearDown() override {
+    server_->Stop();
+    work_.reset();
+    io_.stop();
+    thread_.join();
+  }
+  std::string Port() const { return std::to_string(server_->port()); }
+
+  boost::asio::io_context io_;
+  boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_ =
+      boost::asio::make_work_guard(io_);
+  std::unique_ptr<igms::net::Server> server_;
+  std::thread thread_;
+};
+
+TEST_F(IgmsctlTest, PingPrintsTheServersJson) {
+  const Outcome r = Shell(Bin("igmsctl") + " --port " + Port() + " --token tok ping 2>&1");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("\"server_name\":\"pingable\""), std::string::npos) << r.out;
+}
+
+TEST_F(IgmsctlTest, CallByUniqueSuffix) {
+  const Outcome r = Shell(Bin("igmsctl") + " --port " + Port() + " --token tok call Server.Ping '{}' 2>&1");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("\"protocol_version\":1"), std::string::npos) << r.out;
+}
+
+TEST_F(IgmsctlTest, WrongTokenIsRefused) {
+  const Outcome r = Shell(Bin("igmsctl") + " --port " + Port() + " --token nope ping 2>&1");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.out.find("UNAUTHENTICATED"), std::string::npos) << r.out;
+}
+
+TEST_F(IgmsctlTest, BadInputExitsTwoWithAMessage) {
+  Outcome r = Shell(Bin("igmsctl") + " --port " + Port() + " call No.Such.Method 2>&1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("no method"), std::string::npos) << r.out;
+  r = Shell(Bin("igmsctl") + " --port " + Port() + " call igms.Server.Ping '{\"nofield\": 1}' 2>&1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("not a igms.PingRequest"), std::string::npos) << r.out;
+  r = Shell(Bin("igmsctl") + " ping 2>&1");
+  EXPECT_EQ(r.status, 2);
+}
+
+TEST_F(IgmsctlTest, AbsentServerTimesOut) {
+  server_->Stop();
+  const Outcome r = Shell(Bin("igmsctl") + " --port " + Port() + " --timeout 300 ping 2>&1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("TIMEOUT"), std::string::npos) << r.out;
+}
+
+TEST(Igms, DispatchesToSiblingsAndListsThem) {
+  Outcome r = Shell(Bin("igms") + " help 2>&1");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("  config\n"), std::string::npos) << r.out;
+  r = Shell(Bin("igms") + " no-such-thing 2>&1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("no command 'no-such-thing'"), std::string::npos) << r.out;
+  const std::string file = ::testing::TempDir() + "/igms_dispatch_lab.yaml";
+  FILE* f = fopen(file.c_str(), "w");
+  fputs("processes:\n  video:\n    port: 7301\n", f);
+  fclose(f);
+  r = Shell(Bin("igms") + " config get processes.video.port --config " + file + " 2>&1");
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out, "7301\n");
+  r = Shell(Bin("igms") + " config get processes.sound.port --config " + file + " 2>&1");
+  EXPECT_EQ(r.status, 1) << r.out;
+}
+
+}  // namespace
