@@ -90,6 +90,7 @@ void PtyHost::InjectGarbage(uint32_t bytes) {
     junk.push_back(static_cast<char>(rng_ >> 24));
   }
   stats_.garbage_bytes += bytes;
+  if (queue_.empty()) next_slot_ns_ = std::max(next_slot_ns_, MonotonicNs());
   queue_.push_back({std::move(junk), 0});
 }
 
@@ -126,6 +127,7 @@ PtyHostStats PtyHost::stats() const {
 void PtyHost::Enqueue(std::vector<std::string> chunks) {
   for (auto& chunk : chunks) {
     if (chunk.empty()) continue;
+    if (queue_.empty()) next_slot_ns_ = std::max(next_slot_ns_, MonotonicNs());
     if (truncate_next_) {
       chunk.resize(chunk.size() / 2);
       truncate_next_ = false;
@@ -134,27 +136,28 @@ void PtyHost::Enqueue(std::vector<std::string> chunks) {
   }
 }
 
-// Writes every byte whose slot on the simulated line has come. A byte is allowed to start
-// at most one byte-time late before the line counts as having gone idle.
+// Writes every byte whose slot on the simulated line has come. Slots follow each other at
+// the line's byte time from when the line last went busy, so a late wake-up (a loaded
+// machine) writes the overdue bytes at once and the line keeps its average rate.
 void PtyHost::WriteDue(int64_t now_ns) {
   const int64_t byte_ns = options_.baud == 0 ? 0 : ByteTime(options_.baud).count();
   while (!queue_.empty() && now_ns >= stall_until_ns_ && now_ns >= next_slot_ns_) {
     Pending& p = queue_.front();
-    const int64_t base = next_slot_ns_ < now_ns - byte_ns ? now_ns : next_slot_ns_;
     const ssize_t n = ::write(master_, p.bytes.data() + p.written, 1);
     if (n == 1) {
       ++stats_.bytes_out;
     } else {
       ++stats_.dropped_bytes;  // nobody is draining the slave: the byte is lost, as on a line
     }
-    next_slot_ns_ = base + byte_ns;
+    next_slot_ns_ += byte_ns;
     if (++p.written == p.bytes.size()) {
       ++stats_.chunks_out;
       if (on_chunk_written_) on_chunk_written_(MonotonicNs());
       queue_.pop_front();
     }
-    if (byte_ns > 0) break;  // one byte per slot
   }
+  // An idle line starts its next byte whenever one comes.
+  if (queue_.empty() || now_ns < stall_until_ns_) next_slot_ns_ = std::max(next_slot_ns_, now_ns);
 }
 
 void PtyHost::Run() {
