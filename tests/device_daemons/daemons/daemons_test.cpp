@@ -227,6 +227,43 @@ TEST(PlatformDaemon, SetOrientationResetZeroAndBadRequests) {
   EXPECT_EQ(daemon.Stop(), 0);
 }
 
+TEST(RangerDaemon, RangesTheSceneAndTurnsWithThePlatform) {
+  DaemonProcess platform("igms-platformd", {"--simulate", "--port", "0"});
+  const uint16_t platform_port = platform.WaitForPort();
+  ASSERT_NE(platform_port, 0) << platform.Log();
+  DaemonProcess ranger("igms-rangerd",
+                       {"--simulate", "--port", "0", "--follow-platform", std::to_string(platform_port)});
+  const uint16_t port = ranger.WaitForPort();
+  ASSERT_NE(port, 0) << ranger.Log();
+  Connected client(port);
+  Connected platform_client(platform_port);
+  const auto range = [&] {
+    return client->CallSync<RangerState>("igms.devices.RangerService.Range", RangeRequest(), 3s);
+  };
+  // Level: the wall of the stand-in scene at 10 ft.
+  auto r = range();
+  ASSERT_TRUE(r.ok()) << r.status.ToString();
+  ASSERT_TRUE(r.value.valid());
+  EXPECT_NEAR(r.value.range_in(), 120.0, 2.0);
+  // The platform tilts 20 degrees down: the beam now meets the cylinder (about 48.5 in).
+  SetOrientationRequest tilt;
+  tilt.set_pitch_ticks(static_cast<int32_t>(std::lround(-20.0 / (360.0 / 4000 / 5.14))));
+  ASSERT_TRUE(platform_client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", tilt, 3s).ok());
+  ASSERT_TRUE(WaitFor([&] {
+    const auto x = range();
+    return x.ok() && x.value.valid() && std::abs(x.value.range_in() - 48.5) < 0.6;
+  }, 10s));
+  // An injected answer overrides the scene; no echo is reported as such.
+  SimInjectRequest none;
+  none.mutable_ranger()->set_valid(false);
+  ASSERT_TRUE(Inject(*client, none).ok());
+  r = range();
+  ASSERT_TRUE(r.ok());
+  EXPECT_FALSE(r.value.valid());
+  EXPECT_EQ(ranger.Stop(), 0);
+  EXPECT_EQ(platform.Stop(), 0);
+}
+
 TEST(Daemons, BadCommandLinesFailWithAMessage) {
   DaemonProcess none("igms-joystickd", {"--port", "0"});
   EXPECT_EQ(none.WaitExit(), 2);
