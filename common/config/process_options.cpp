@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <malloc.h>
+
 #include <iostream>
 
 #include "common/log/log.h"
@@ -27,6 +29,14 @@ std::uint16_t ProcessOptions::PortOf(const std::string& process) const {
   const int port = config.Get<int>(key);
   if (port <= 0 || port > 65535) throw config.Error(key, config.Find(key), "must be 1-65535");
   return static_cast<std::uint16_t>(port);
+}
+
+void TuneAllocator() {
+  // Frames of images and large requests are allocated and freed many times a second; above
+  // glibc's default mmap threshold each one is a fresh mapping whose pages fault in on every
+  // copy. Keeping them on the heap more than halved the time of a 500 KB request.
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
 }
 
 std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
@@ -85,6 +95,7 @@ std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
     return std::nullopt;
   }
   igms::log::Init(out.name, out.log_level);
+  TuneAllocator();
   *exit_code = 0;
   return out;
 }

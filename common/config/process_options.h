@@ -37,6 +37,10 @@ struct ProcessOptions {
   std::uint16_t PortOf(const std::string& process) const;
 };
 
+// Keeps large message buffers on the heap (see the .cpp). ParseProcessOptions calls it;
+// programs that don't use it (benchmarks) call it themselves.
+void TuneAllocator();
+
 // Parses the shared flags plus `extra`, loads the configuration, applies overrides and
 // starts logging. Returns nullopt after printing help (exit 0) or an error (exit 2):
 // *exit_code says which.

@@ -16,6 +16,7 @@
 
 #include "common/net/clock.h"
 #include "common/net/framing.h"
+#include "common/net/read_buffer.h"
 
 namespace igms::net {
 
@@ -25,14 +26,14 @@ using asio::ip::tcp;
 struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   struct Pending {
     std::string method;
-    std::string payload;
+    std::string frame;  // kept until sent
     RawDone done;
-    std::unique_ptr<asio::steady_timer> timer;
+    std::chrono::steady_clock::time_point deadline;
+    std::chrono::milliseconds timeout;
     bool sent = false;
   };
   struct Subscription {
-    std::string method;
-    std::string payload;
+    std::string frame;  // the SUBSCRIBE, sent again after every reconnect
     RawStream on_message;
     std::function<void(const Status&)> on_error;
   };
@@ -44,13 +45,18 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
         resolver(strand),
         connect_timer(strand),
         retry_timer(strand),
-        heartbeat_timer(strand) {}
+        heartbeat_timer(strand),
+        deadline_timer(strand) {}
 
   ClientOptions options;
   asio::strand<asio::io_context::executor_type> strand;
   tcp::socket socket;
   tcp::resolver resolver;
   asio::steady_timer connect_timer, retry_timer, heartbeat_timer;
+  // Fires at the earliest deadline of the calls in flight; one timer for all of them, so a
+  // call costs no timer system calls of its own.
+  asio::steady_timer deadline_timer;
+  std::chrono::steady_clock::time_point deadline_armed = std::chrono::steady_clock::time_point::max();
   std::atomic<std::uint64_t> next_id{1};
 
   // Touched only on the strand.
@@ -58,8 +64,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   std::map<std::uint64_t, Subscription> subscriptions;
   std::deque<std::string> out;
   bool writing = false;
-  std::string in;
-  std::size_t in_used = 0;
+  ReadBuffer in;
   std::chrono::milliseconds backoff{100};
   std::uint64_t generation = 0;  // bumps on every (re)connection attempt
   std::string last_server_error;
@@ -95,8 +100,9 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     return e;
   }
 
-  void Write(const igms::Envelope& e) {
-    out.push_back(EncodeFrame(e));
+  void Write(const igms::Envelope& e) { WriteFrame(EncodeFrame(e)); }
+  void WriteFrame(std::string frame) {
+    out.push_back(std::move(frame));
     sent_since_heartbeat = true;
     if (!writing) WriteNext(generation);
   }
@@ -163,8 +169,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     socket.set_option(tcp::no_delay(true), ignored);
     backoff = std::chrono::milliseconds(100);
     last_server_error.clear();
-    in.clear();
-    in_used = 0;
+    in = ReadBuffer();
     out.clear();
     writing = false;
     igms::Envelope hello = Make(igms::Envelope::HELLO, 0, "");
@@ -172,17 +177,11 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     Write(hello);
     for (auto& [id, p] : pending) {
       if (!p.sent) {
-        auto e = Make(igms::Envelope::REQUEST, id, p.method);
-        e.set_payload(p.payload);
-        Write(e);
+        WriteFrame(std::move(p.frame));
         p.sent = true;
       }
     }
-    for (auto& [id, s] : subscriptions) {
-      auto e = Make(igms::Envelope::SUBSCRIBE, id, s.method);
-      e.set_payload(s.payload);
-      Write(e);
-    }
+    for (auto& [id, s] : subscriptions) WriteFrame(s.frame);
     SetState(ConnectionState::kConnected, "connected to " + Where());
     Read(generation);
     Heartbeat(generation);
@@ -199,45 +198,41 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   }
 
   void Read(std::uint64_t gen) {
-    if (in_used > 0) {
-      in.erase(0, in_used);
-      in_used = 0;
-    }
-    const std::size_t have = in.size();
-    const std::size_t chunk = 64 * 1024;
-    in.resize(have + chunk);
+    in.shrink_if_idle(1u << 20);
+    const std::size_t need = std::max<std::size_t>(BytesStillNeeded(in.pending()), 4096);
+    char* at = in.prepare(need);
     socket.async_read_some(
-        asio::buffer(in.data() + have, chunk),
-        [self = shared_from_this(), gen, have](boost::system::error_code ec, std::size_t n) {
+        asio::buffer(at, in.room()),
+        [self = shared_from_this(), gen](boost::system::error_code ec, std::size_t n) {
           if (gen != self->generation) return;
-          self->in.resize(have + n);
           if (ec) {
             self->Drop(ec == asio::error::eof ? "server closed the connection" : ec.message());
             return;
           }
+          self->in.commit(n);
           for (;;) {
-            std::string_view rest(self->in.data() + self->in_used, self->in.size() - self->in_used);
-            DecodeResult r = DecodeFrame(rest, self->options.max_frame_bytes);
+            DecodeResult r = DecodeFrame(self->in.pending(), self->options.max_frame_bytes);
             if (r.status == DecodeStatus::kNeedMore) break;
             if (r.status == DecodeStatus::kError) {
               self->Drop("bad frame from server: " + r.error);
               return;
             }
-            self->in_used += r.consumed;
             igms::Envelope e;
+            std::string_view payload;
             std::string error;
-            if (!ParseEnvelope(r.frame, &e, &error)) {
+            if (!ParseEnvelopeView(r.frame, &e, &payload, &error)) {
               self->Drop("bad frame from server: " + error);
               return;
             }
-            self->OnEnvelope(e);
+            self->OnEnvelope(e, payload);
+            self->in.consume(r.consumed);
             if (gen != self->generation) return;
           }
           self->Read(gen);
         });
   }
 
-  void OnEnvelope(igms::Envelope& e) {
+  void OnEnvelope(igms::Envelope& e, std::string_view payload) {
     const auto id = e.header().correlation_id();
     switch (e.kind()) {
       case igms::Envelope::RESPONSE:
@@ -251,14 +246,13 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
         }
         if (auto it = pending.find(id); it != pending.end()) {
           auto done = std::move(it->second.done);
-          it->second.timer->cancel();
           pending.erase(it);
-          done(status, e.payload());
+          done(status, payload);
         } else if (auto s = subscriptions.find(id); s != subscriptions.end() && !status.ok()) {
           // The server refused the stream: don't ask again on reconnect.
           auto on_error = std::move(s->second.on_error);
           subscriptions.erase(s);
-          spdlog::warn("{}: subscription to {} refused: {}", options.name, e.method(),
+          spdlog::warn("{}: a subscription to {} was refused: {}", options.name, e.method(),
                        status.ToString());
           if (on_error) on_error(status);
         } else if (!status.ok()) {
@@ -269,7 +263,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
       }
       case igms::Envelope::STREAM:
         if (auto s = subscriptions.find(id); s != subscriptions.end()) {
-          s->second.on_message(e.payload(), e.header().send_time_unix_ns());
+          s->second.on_message(payload, e.header().send_time_unix_ns());
         }
         return;
       default:
@@ -292,7 +286,6 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     std::vector<RawDone> failed;
     for (auto it = pending.begin(); it != pending.end();) {
       if (it->second.sent) {
-        it->second.timer->cancel();
         failed.push_back(std::move(it->second.done));
         it = pending.erase(it);
       } else {
@@ -323,9 +316,41 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     auto all = std::move(pending);
     pending.clear();
     for (auto& [id, p] : all) {
-      p.timer->cancel();
       p.done(Status::Error(igms::UNAVAILABLE, why), "");
     }
+  }
+
+  void ArmDeadline(std::chrono::steady_clock::time_point when) {
+    if (when >= deadline_armed) return;
+    deadline_armed = when;
+    deadline_timer.expires_at(when);
+    deadline_timer.async_wait([self = shared_from_this()](boost::system::error_code ec) {
+      if (ec) return;
+      self->deadline_armed = std::chrono::steady_clock::time_point::max();
+      self->ExpireCalls();
+    });
+  }
+
+  void ExpireCalls() {
+    const auto now = std::chrono::steady_clock::now();
+    auto next = std::chrono::steady_clock::time_point::max();
+    std::vector<std::pair<RawDone, Status>> expired;
+    for (auto it = pending.begin(); it != pending.end();) {
+      if (it->second.deadline <= now) {
+        const auto& p = it->second;
+        expired.emplace_back(
+            std::move(it->second.done),
+            Status::Error(igms::TIMEOUT, p.method + ": no " + (p.sent ? "answer" : "connection") +
+                                             " from " + Where() + " within " +
+                                             std::to_string(p.timeout.count()) + " ms"));
+        it = pending.erase(it);
+      } else {
+        next = std::min(next, it->second.deadline);
+        ++it;
+      }
+    }
+    if (next != std::chrono::steady_clock::time_point::max()) ArmDeadline(next);
+    for (auto& [done, status] : expired) done(status, "");
   }
 
   bool IsStopped() {
@@ -357,6 +382,7 @@ void Client::Stop() {
     impl->connect_timer.cancel();
     impl->retry_timer.cancel();
     impl->heartbeat_timer.cancel();
+    impl->deadline_timer.cancel();
     impl->FailAll("client stopped");
     impl->subscriptions.clear();
     impl->SetState(ConnectionState::kDisconnected, "client stopped");
@@ -378,10 +404,27 @@ bool Client::WaitConnected(std::chrono::milliseconds timeout) {
       lock, timeout, [&] { return impl_->state == ConnectionState::kConnected; });
 }
 
+std::uint64_t Client::NextId() { return impl_->next_id.fetch_add(1); }
+
+std::string Client::FrameFor(igms::Envelope::Kind kind, std::uint64_t id,
+                             const std::string& method,
+                             const google::protobuf::MessageLite& payload) const {
+  std::string frame;
+  AppendFrame(impl_->Make(kind, id, method), payload, &frame);
+  return frame;
+}
+
 void Client::CallRaw(const std::string& method, std::string payload,
                      std::chrono::milliseconds timeout, RawDone done) {
-  const auto id = impl_->next_id.fetch_add(1);
-  asio::post(impl_->strand, [impl = impl_, id, method, payload = std::move(payload), timeout,
+  const auto id = NextId();
+  auto e = impl_->Make(igms::Envelope::REQUEST, id, method);
+  e.set_payload(std::move(payload));
+  SendCall(id, method, EncodeFrame(e), timeout, std::move(done));
+}
+
+void Client::SendCall(std::uint64_t id, const std::string& method, std::string frame,
+                      std::chrono::milliseconds timeout, RawDone done) {
+  asio::post(impl_->strand, [impl = impl_, id, method, frame = std::move(frame), timeout,
                              done = std::move(done)]() mutable {
     if (impl->IsStopped()) {
       done(Status::Error(igms::UNAVAILABLE, "client stopped"), "");
@@ -390,32 +433,19 @@ void Client::CallRaw(const std::string& method, std::string payload,
     Impl::Pending p;
     p.method = method;
     p.done = std::move(done);
-    p.timer = std::make_unique<asio::steady_timer>(impl->strand);
-    p.timer->expires_after(timeout);
-    p.timer->async_wait([impl, id, method, timeout](boost::system::error_code ec) {
-      if (ec) return;
-      auto it = impl->pending.find(id);
-      if (it == impl->pending.end()) return;
-      auto d = std::move(it->second.done);
-      const bool sent = it->second.sent;
-      impl->pending.erase(it);
-      d(Status::Error(igms::TIMEOUT,
-                      method + ": no " + (sent ? "answer" : "connection") + " from " +
-                          impl->Where() + " within " + std::to_string(timeout.count()) + " ms"),
-        "");
-    });
+    p.timeout = timeout;
+    p.deadline = std::chrono::steady_clock::now() + timeout;
+    impl->ArmDeadline(p.deadline);
     const bool is_connected = [&] {
       std::lock_guard lock(impl->state_mutex);
       return impl->state == ConnectionState::kConnected;
     }();
     if (is_connected) {
-      auto e = impl->Make(igms::Envelope::REQUEST, id, method);
-      e.set_payload(payload);
       p.sent = true;
       impl->pending.emplace(id, std::move(p));
-      impl->Write(e);
+      impl->WriteFrame(std::move(frame));
     } else {
-      p.payload = std::move(payload);
+      p.frame = std::move(frame);
       impl->pending.emplace(id, std::move(p));
     }
   });
@@ -424,27 +454,29 @@ void Client::CallRaw(const std::string& method, std::string payload,
 std::uint64_t Client::SubscribeRaw(const std::string& method, std::string payload,
                                    RawStream on_message,
                                    std::function<void(const Status&)> on_error) {
-  const auto id = impl_->next_id.fetch_add(1);
-  asio::post(impl_->strand, [impl = impl_, id, method, payload = std::move(payload),
+  const auto id = NextId();
+  auto e = impl_->Make(igms::Envelope::SUBSCRIBE, id, method);
+  e.set_payload(std::move(payload));
+  SendSubscribe(id, EncodeFrame(e), std::move(on_message), std::move(on_error));
+  return id;
+}
+
+void Client::SendSubscribe(std::uint64_t id, std::string frame, RawStream on_message,
+                           std::function<void(const Status&)> on_error) {
+  asio::post(impl_->strand, [impl = impl_, id, frame = std::move(frame),
                              on_message = std::move(on_message),
                              on_error = std::move(on_error)]() mutable {
     if (impl->IsStopped()) return;
     auto& s = impl->subscriptions[id];
-    s.method = method;
-    s.payload = std::move(payload);
+    s.frame = std::move(frame);
     s.on_message = std::move(on_message);
     s.on_error = std::move(on_error);
     const bool is_connected = [&] {
       std::lock_guard lock(impl->state_mutex);
       return impl->state == ConnectionState::kConnected;
     }();
-    if (is_connected) {
-      auto e = impl->Make(igms::Envelope::SUBSCRIBE, id, method);
-      e.set_payload(s.payload);
-      impl->Write(e);
-    }
+    if (is_connected) impl->WriteFrame(s.frame);
   });
-  return id;
 }
 
 void Client::Unsubscribe(std::uint64_t id) {

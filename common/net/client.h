@@ -20,6 +20,9 @@
 #include <future>
 #include <memory>
 #include <string>
+#include <string_view>
+
+#include <google/protobuf/message_lite.h>
 
 #include "common/net/status.h"
 
@@ -41,8 +44,9 @@ enum class ConnectionState { kConnecting, kConnected, kDisconnected };
 
 class Client {
  public:
-  using RawDone = std::function<void(const Status&, const std::string& payload)>;
-  using RawStream = std::function<void(const std::string& payload, std::int64_t send_time_ns)>;
+  // Payload views are valid only during the callback.
+  using RawDone = std::function<void(const Status&, std::string_view payload)>;
+  using RawStream = std::function<void(std::string_view payload, std::int64_t send_time_ns)>;
 
   Client(boost::asio::io_context& io, ClientOptions options);
   ~Client();
@@ -68,11 +72,14 @@ class Client {
   template <class Resp, class Req>
   void Call(const std::string& method, const Req& req, std::chrono::milliseconds timeout,
             std::function<void(Result<Resp>)> done) {
-    CallRaw(method, req.SerializeAsString(), timeout,
-            [done = std::move(done)](const Status& status, const std::string& payload) {
+    // The request is framed here, on the caller's thread, in one copy.
+    const std::uint64_t id = NextId();
+    SendCall(id, method, FrameFor(igms::Envelope::REQUEST, id, method, req), timeout,
+            [done = std::move(done)](const Status& status, std::string_view payload) {
               Result<Resp> r;
               r.status = status;
-              if (status.ok() && !r.value.ParseFromString(payload)) {
+              if (status.ok() &&
+                  !r.value.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
                 r.status = Status::Error(igms::BAD_REQUEST,
                                          "response is not a " + r.value.GetTypeName());
               }
@@ -93,14 +100,25 @@ class Client {
   std::uint64_t Subscribe(const std::string& method, const Req& req,
                           std::function<void(const Msg&)> on_message,
                           std::function<void(const Status&)> on_error = nullptr) {
-    return SubscribeRaw(
-        method, req.SerializeAsString(),
-        [on_message = std::move(on_message)](const std::string& payload, std::int64_t) {
+    const std::uint64_t id = NextId();
+    SendSubscribe(
+        id, FrameFor(igms::Envelope::SUBSCRIBE, id, method, req),
+        [on_message = std::move(on_message)](std::string_view payload, std::int64_t) {
           Msg m;
-          if (m.ParseFromString(payload)) on_message(m);
+          if (m.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) on_message(m);
         },
         std::move(on_error));
+    return id;
   }
+
+  // The pieces the typed calls are made of.
+  std::uint64_t NextId();
+  std::string FrameFor(igms::Envelope::Kind kind, std::uint64_t id, const std::string& method,
+                       const google::protobuf::MessageLite& payload) const;
+  void SendCall(std::uint64_t id, const std::string& method, std::string frame,
+                std::chrono::milliseconds timeout, RawDone done);
+  void SendSubscribe(std::uint64_t id, std::string frame, RawStream on_message,
+                     std::function<void(const Status&)> on_error);
 
   struct Impl;
 

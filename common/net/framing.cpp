@@ -1,8 +1,10 @@
 #include "common/net/framing.h"
 
 #include <google/protobuf/io/coded_stream.h>
+#include <google/protobuf/wire_format_lite.h>
 
 #include <limits>
+#include <stdexcept>
 
 namespace igms::net {
 
@@ -39,6 +41,19 @@ DecodeResult DecodeFrame(std::string_view input, std::size_t max_frame_bytes) {
   return result;
 }
 
+std::size_t BytesStillNeeded(std::string_view input) {
+  std::uint64_t length = 0;
+  for (std::size_t i = 0; i < input.size() && i < kMaxVarintBytes; ++i) {
+    const auto byte = static_cast<std::uint8_t>(input[i]);
+    length |= static_cast<std::uint64_t>(byte & 0x7f) << (7 * i);
+    if ((byte & 0x80) == 0) {
+      const std::uint64_t total = i + 1 + length;
+      return total > input.size() ? static_cast<std::size_t>(total - input.size()) : 0;
+    }
+  }
+  return 0;
+}
+
 void AppendFrame(const google::protobuf::MessageLite& message, std::string* out) {
   const std::size_t size = message.ByteSizeLong();
   if (size > std::numeric_limits<std::uint32_t>::max()) {
@@ -57,6 +72,74 @@ std::string EncodeFrame(const google::protobuf::MessageLite& message) {
   std::string out;
   AppendFrame(message, &out);
   return out;
+}
+
+void AppendFrame(const igms::Envelope& envelope, const google::protobuf::MessageLite& payload,
+                 std::string* out) {
+  using google::protobuf::io::CodedOutputStream;
+  const std::size_t head = envelope.ByteSizeLong();
+  const std::size_t body = payload.ByteSizeLong();
+  constexpr std::uint32_t kPayloadTag = (igms::Envelope::kPayloadFieldNumber << 3) | 2;
+  const std::size_t total = head + CodedOutputStream::VarintSize32(kPayloadTag) +
+                            CodedOutputStream::VarintSize64(body) + body;
+  if (total > std::numeric_limits<std::uint32_t>::max()) {
+    throw std::length_error("message too large to frame");
+  }
+  const std::size_t at = out->size();
+  out->resize(at + CodedOutputStream::VarintSize32(static_cast<std::uint32_t>(total)) + total);
+  auto* p = reinterpret_cast<std::uint8_t*>(out->data() + at);
+  p = CodedOutputStream::WriteVarint32ToArray(static_cast<std::uint32_t>(total), p);
+  p = envelope.SerializeWithCachedSizesToArray(p);
+  p = CodedOutputStream::WriteVarint32ToArray(kPayloadTag, p);
+  p = CodedOutputStream::WriteVarint64ToArray(body, p);
+  payload.SerializeWithCachedSizesToArray(p);
+}
+
+bool ParseEnvelopeView(std::string_view frame, igms::Envelope* envelope,
+                       std::string_view* payload, std::string* error) {
+  using google::protobuf::internal::WireFormatLite;
+  if (frame.empty()) {
+    *error = "empty frame";
+    return false;
+  }
+  // Walk the top-level fields: the payload is remembered as a view, everything else (a few
+  // dozen bytes) is gathered and parsed as usual.
+  google::protobuf::io::CodedInputStream in(reinterpret_cast<const std::uint8_t*>(frame.data()),
+                                            static_cast<int>(frame.size()));
+  std::string rest;
+  *payload = {};
+  for (;;) {
+    const int start = in.CurrentPosition();
+    const std::uint32_t tag = in.ReadTag();
+    if (tag == 0) {
+      if (in.CurrentPosition() != static_cast<int>(frame.size())) {
+        *error = "frame of " + std::to_string(frame.size()) + " bytes is not an igms.Envelope";
+        return false;
+      }
+      break;
+    }
+    if (WireFormatLite::GetTagFieldNumber(tag) == igms::Envelope::kPayloadFieldNumber &&
+        WireFormatLite::GetTagWireType(tag) == WireFormatLite::WIRETYPE_LENGTH_DELIMITED) {
+      std::uint32_t length = 0;
+      if (!in.ReadVarint32(&length) || length > frame.size() - in.CurrentPosition()) {
+        *error = "envelope payload runs past the end of its frame";
+        return false;
+      }
+      *payload = frame.substr(in.CurrentPosition(), length);
+      in.Skip(static_cast<int>(length));
+      continue;
+    }
+    if (!WireFormatLite::SkipField(&in, tag)) {
+      *error = "frame of " + std::to_string(frame.size()) + " bytes is not an igms.Envelope";
+      return false;
+    }
+    rest.append(frame.data() + start, in.CurrentPosition() - start);
+  }
+  if (rest.empty()) {
+    *error = "envelope without a valid kind";
+    return false;
+  }
+  return ParseEnvelope(rest, envelope, error);
 }
 
 bool ParseEnvelope(std::string_view frame, igms::Envelope* envelope, std::string* error) {

@@ -38,12 +38,25 @@ struct DecodeResult {
 // Looks for one frame at the start of `input`.
 DecodeResult DecodeFrame(std::string_view input, std::size_t max_frame_bytes);
 
+// How many more bytes the frame at the start of `input` needs (0 when it is complete or its
+// length is not known yet), so a reader can size its buffer once for a large frame.
+std::size_t BytesStillNeeded(std::string_view input);
+
 // Appends the varint length prefix and the serialized message to `out`.
 void AppendFrame(const google::protobuf::MessageLite& message, std::string* out);
 std::string EncodeFrame(const google::protobuf::MessageLite& message);
 
+// Frames `envelope` (whose own payload must be empty) with `payload` serialized straight
+// into the frame as the envelope's payload field: one copy instead of two.
+void AppendFrame(const igms::Envelope& envelope, const google::protobuf::MessageLite& payload,
+                 std::string* out);
+
 // Parses a frame body into an envelope and checks the fields every peer relies on.
 // Returns false with a reason for a frame that does not parse or makes no sense.
 bool ParseEnvelope(std::string_view frame, igms::Envelope* envelope, std::string* error);
+// The same, except that the payload is not copied: *payload points into `frame` and
+// envelope->payload() stays empty.
+bool ParseEnvelopeView(std::string_view frame, igms::Envelope* envelope,
+                       std::string_view* payload, std::string* error);
 
 }  // namespace igms::net

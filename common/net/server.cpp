@@ -7,6 +7,7 @@
 #include <boost/asio/read.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/write.hpp>
+#include <algorithm>
 #include <stdexcept>
 
 #include "common/net/clock.h"
@@ -62,7 +63,7 @@ struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
 
 Server::Server(asio::io_context& io, ServerOptions options)
     : options_(std::move(options)), impl_(std::make_shared<Impl>(io, options_)) {
-  AddMethod("igms.Server.Ping", [this](const std::string&, std::weak_ptr<Session> s,
+  AddMethod("igms.Server.Ping", [this](std::string_view, std::weak_ptr<Session> s,
                                        std::uint64_t id) {
     igms::PingResponse r;
     r.set_server_name(options_.name);
@@ -131,10 +132,18 @@ std::size_t Server::session_count() const {
 
 namespace detail {
 
-bool Send(const std::weak_ptr<Session>& session, igms::Envelope envelope, bool latest_only) {
+bool Send(const std::weak_ptr<Session>& session, std::string frame, std::uint64_t key) {
   auto s = session.lock();
-  return s && s->Send(std::move(envelope), latest_only);
+  return s && s->Send(std::move(frame), key);
 }
+
+std::string Frame(const igms::Envelope& envelope, const google::protobuf::MessageLite& payload) {
+  std::string out;
+  AppendFrame(envelope, payload, &out);
+  return out;
+}
+
+std::string Frame(const igms::Envelope& envelope) { return EncodeFrame(envelope); }
 
 bool SubscriptionOpen(const std::weak_ptr<Session>& session, std::uint64_t id) {
   auto s = session.lock();
@@ -174,63 +183,67 @@ void Session::Start() {
 }
 
 void Session::ArmIdleTimer() {
-  idle_timer_.expires_after(server_->options.idle_timeout);
+  // One timer per session that checks the time of the last frame, rather than re-arming a
+  // timer on every read (two system calls a frame on a busy session).
+  const auto timeout = server_->options.idle_timeout;
+  const auto since = std::chrono::steady_clock::now() - last_activity_;
+  idle_timer_.expires_after(since >= timeout ? timeout : timeout - since);
   idle_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
     if (ec) return;
-    if (auto self = weak.lock()) self->Close("idle for longer than the idle timeout");
+    auto self = weak.lock();
+    if (!self) return;
+    if (std::chrono::steady_clock::now() - self->last_activity_ >= self->server_->options.idle_timeout) {
+      self->Close("idle for longer than the idle timeout");
+    } else {
+      self->ArmIdleTimer();
+    }
   });
 }
 
 void Session::ReadMore() {
-  // Compact the buffer, then read into its free tail.
-  if (in_used_ > 0) {
-    in_.erase(0, in_used_);
-    in_used_ = 0;
-  }
-  const std::size_t have = in_.size();
-  const std::size_t chunk = 64 * 1024;
-  in_.resize(have + chunk);
+  // Idle sessions keep a small buffer; a large frame gets room for all of it at once.
+  in_.shrink_if_idle(1u << 20);
+  const std::size_t need = std::max<std::size_t>(BytesStillNeeded(in_.pending()), 4096);
+  char* at = in_.prepare(need);
   socket_.async_read_some(
-      asio::buffer(in_.data() + have, chunk),
-      [self = shared_from_this(), have](boost::system::error_code ec, std::size_t n) {
-        self->in_.resize(have + n);
+      asio::buffer(at, in_.room()), [self = shared_from_this()](boost::system::error_code ec,
+                                                                std::size_t n) {
         if (ec) {
           self->Close(ec == asio::error::eof ? "peer closed the connection" : ec.message());
           return;
         }
-        self->ArmIdleTimer();
+        self->in_.commit(n);
+        self->last_activity_ = std::chrono::steady_clock::now();
         for (;;) {
-          const std::string_view pending(self->in_.data() + self->in_used_,
-                                         self->in_.size() - self->in_used_);
-          DecodeResult r = DecodeFrame(pending, self->server_->options.max_frame_bytes);
+          DecodeResult r = DecodeFrame(self->in_.pending(), self->server_->options.max_frame_bytes);
           if (r.status == DecodeStatus::kNeedMore) break;
           if (r.status == DecodeStatus::kError) {
             self->Close("bad frame: " + r.error);
             return;
           }
           self->OnFrame(r.frame);
-          self->in_used_ += r.consumed;
+          self->in_.consume(r.consumed);
           {
             std::lock_guard lock(self->mutex_);
             if (self->closed_) return;
           }
         }
-        // Reserve room for a large frame in one step rather than 64 KiB at a time.
         self->ReadMore();
       });
 }
 
 void Session::OnFrame(std::string_view frame) {
   igms::Envelope envelope;
+  std::string_view payload;
   std::string error;
-  if (!ParseEnvelope(frame, &envelope, &error)) {
+  if (!ParseEnvelopeView(frame, &envelope, &payload, &error)) {
     Close("bad frame: " + error);
     return;
   }
-  Dispatch(envelope);
+  Dispatch(envelope, payload);
 }
 
-void Session::Dispatch(igms::Envelope& e) {
+void Session::Dispatch(igms::Envelope& e, std::string_view payload) {
   const auto id = e.header().correlation_id();
   const auto& options = server_->options;
   if (e.kind() == igms::Envelope::HELLO) {
@@ -267,7 +280,7 @@ void Session::Dispatch(igms::Envelope& e) {
         return;
       }
       try {
-        it->second(e.payload(), weak_from_this(), id);
+        it->second(payload, weak_from_this(), id);
       } catch (const std::exception& ex) {
         spdlog::error("{}: {} threw: {}", options.name, e.method(), ex.what());
         SendError(id, e.method(), igms::INTERNAL, ex.what(), false);
@@ -287,7 +300,7 @@ void Session::Dispatch(igms::Envelope& e) {
       }
       Status status;
       try {
-        status = it->second(e.payload(), weak_from_this(), id);
+        status = it->second(payload, weak_from_this(), id);
       } catch (const std::exception& ex) {
         status = Status::Error(igms::INTERNAL, ex.what());
       }
@@ -322,13 +335,13 @@ void Session::SendError(std::uint64_t id, const std::string& method, igms::Error
     boost::system::error_code ignored;
     socket_.shutdown(tcp::socket::shutdown_receive, ignored);
   }
-  Send(std::move(e), false);
+  Send(EncodeFrame(e), 0);
 }
 
-bool Session::Send(igms::Envelope envelope, bool latest_only) {
+bool Session::Send(std::string frame, std::uint64_t latest_only_key) {
   Outgoing out;
-  AppendFrame(envelope, &out.bytes);
-  out.stream_id = latest_only ? envelope.header().correlation_id() : 0;
+  out.bytes = std::move(frame);
+  out.stream_id = latest_only_key;
   bool start = false;
   {
     std::lock_guard lock(mutex_);
@@ -360,7 +373,8 @@ bool Session::Send(igms::Envelope envelope, bool latest_only) {
       start = true;
     }
   }
-  if (start) asio::post(socket_.get_executor(), [self = shared_from_this()] { self->WriteNext(); });
+  // dispatch: a handler answering on the session's own strand writes without a hop.
+  if (start) asio::dispatch(socket_.get_executor(), [self = shared_from_this()] { self->WriteNext(); });
   return true;
 }
 

@@ -27,6 +27,9 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <string_view>
+
+#include <google/protobuf/message_lite.h>
 
 #include "common/net/status.h"
 
@@ -45,8 +48,12 @@ struct ServerOptions {
 class Session;
 
 namespace detail {
-// Queues an envelope on a session from any thread; false if the session is gone.
-bool Send(const std::weak_ptr<Session>& session, igms::Envelope envelope, bool latest_only);
+// Queues a frame on a session from any thread; false if the session is gone. A non-zero
+// latest_only_key replaces a queued, unwritten frame with the same key.
+bool Send(const std::weak_ptr<Session>& session, std::string frame, std::uint64_t latest_only_key);
+// Frames an envelope around a message (serialized once, straight into the frame).
+std::string Frame(const igms::Envelope& envelope, const google::protobuf::MessageLite& payload);
+std::string Frame(const igms::Envelope& envelope);
 bool SubscriptionOpen(const std::weak_ptr<Session>& session, std::uint64_t id);
 igms::Envelope MakeEnvelope(igms::Envelope::Kind kind, std::uint64_t correlation_id,
                             const std::string& method);
@@ -62,12 +69,12 @@ class Reply {
     igms::Envelope e = detail::MakeEnvelope(
         status.ok() ? igms::Envelope::RESPONSE : igms::Envelope::ERROR, id_, method_);
     if (status.ok()) {
-      response.SerializeToString(e.mutable_payload());
+      detail::Send(session_, detail::Frame(e, response), 0);
     } else {
       e.mutable_error()->set_code(status.code);
       e.mutable_error()->set_message(status.message);
+      detail::Send(session_, detail::Frame(e), 0);
     }
-    detail::Send(session_, std::move(e), false);
   }
 
  private:
@@ -85,9 +92,8 @@ class Publisher {
   // False once the subscriber is gone or unsubscribed: drop the publisher then.
   bool Send(const Msg& message) const {
     if (closed()) return false;
-    igms::Envelope e = detail::MakeEnvelope(igms::Envelope::STREAM, id_, method_);
-    message.SerializeToString(e.mutable_payload());
-    return detail::Send(session_, std::move(e), latest_only_);
+    const igms::Envelope e = detail::MakeEnvelope(igms::Envelope::STREAM, id_, method_);
+    return detail::Send(session_, detail::Frame(e, message), latest_only_ ? id_ : 0);
   }
   bool closed() const { return !detail::SubscriptionOpen(session_, id_); }
 
@@ -116,10 +122,10 @@ class Server {
 
   template <class Req, class Resp>
   void HandleAsync(const std::string& method, std::function<void(const Req&, Reply<Resp>)> fn) {
-    AddMethod(method, [fn, method](const std::string& payload, std::weak_ptr<Session> s,
+    AddMethod(method, [fn, method](std::string_view payload, std::weak_ptr<Session> s,
                                    std::uint64_t id) {
       Req req;
-      if (!req.ParseFromString(payload)) {
+      if (!req.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
         Reply<Resp>(s, id, method)(Status::Error(igms::BAD_REQUEST,
                                                  "payload is not a " + req.GetTypeName()));
         return;
@@ -132,10 +138,10 @@ class Server {
   void HandleStream(const std::string& method,
                     std::function<Status(const Req&, std::shared_ptr<Publisher<Msg>>)> fn,
                     bool latest_only = false) {
-    AddStream(method, [fn, method, latest_only](const std::string& payload,
+    AddStream(method, [fn, method, latest_only](std::string_view payload,
                                                 std::weak_ptr<Session> s, std::uint64_t id) {
       Req req;
-      if (!req.ParseFromString(payload)) {
+      if (!req.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
         return Status::Error(igms::BAD_REQUEST, "payload is not a " + req.GetTypeName());
       }
       return fn(req, std::make_shared<Publisher<Msg>>(s, id, method, latest_only));
@@ -154,10 +160,8 @@ class Server {
   struct Impl;
 
  private:
-  using MethodFn =
-      std::function<void(const std::string&, std::weak_ptr<Session>, std::uint64_t)>;
-  using StreamFn =
-      std::function<Status(const std::string&, std::weak_ptr<Session>, std::uint64_t)>;
+  using MethodFn = std::function<void(std::string_view, std::weak_ptr<Session>, std::uint64_t)>;
+  using StreamFn = std::function<Status(std::string_view, std::weak_ptr<Session>, std::uint64_t)>;
   void AddMethod(const std::string& method, MethodFn fn);
   void AddStream(const std::string& method, StreamFn fn);
 

@@ -10,6 +10,7 @@
 #include <set>
 #include <string>
 
+#include "common/net/read_buffer.h"
 #include "common/net/server.h"
 
 namespace igms::net {
@@ -22,7 +23,7 @@ class Session : public std::enable_shared_from_this<Session> {
   void Start();
   // Thread-safe: queue a frame; latest_only replaces a queued, unwritten frame of the same
   // stream. Returns false if the session is closing.
-  bool Send(igms::Envelope envelope, bool latest_only);
+  bool Send(std::string frame, std::uint64_t latest_only_key);
   // Thread-safe: close the socket and forget every subscription.
   void Close(const std::string& reason);
   bool SubscriptionOpen(std::uint64_t id);
@@ -35,7 +36,7 @@ class Session : public std::enable_shared_from_this<Session> {
   };
   void ReadMore();
   void OnFrame(std::string_view frame);
-  void Dispatch(igms::Envelope& envelope);
+  void Dispatch(igms::Envelope& envelope, std::string_view payload);
   void SendError(std::uint64_t id, const std::string& method, igms::ErrorCode code,
                  const std::string& message, bool close_after);
   void WriteNext();
@@ -44,9 +45,9 @@ class Session : public std::enable_shared_from_this<Session> {
   boost::asio::ip::tcp::socket socket_;
   std::shared_ptr<Server::Impl> server_;
   boost::asio::steady_timer idle_timer_;
+  std::chrono::steady_clock::time_point last_activity_ = std::chrono::steady_clock::now();
   std::string peer_;
-  std::string in_;  // received bytes not yet framed
-  std::size_t in_used_ = 0;
+  ReadBuffer in_;
   bool authenticated_ = false;
   bool close_after_write_ = false;
 

@@ -253,13 +253,13 @@ int IgmsctlMain(int argc, char** argv) {
     std::condition_variable cv;
     bool done = false;
     client.CallRaw(method->full_name(), request->SerializeAsString(), timeout,
-                   [&](const net::Status& status, const std::string& payload) {
+                   [&](const net::Status& status, std::string_view payload) {
                      if (!status.ok()) {
                        std::cerr << "igmsctl: " << method->full_name() << ": " << status.ToString() << "\n";
                        rc = status.code == igms::TIMEOUT || status.code == igms::UNAVAILABLE ? 2 : 1;
                      } else {
                        auto response = NewMessage(method->output_type());
-                       if (!response->ParseFromString(payload)) {
+                       if (!response->ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
                          std::cerr << "igmsctl: the response is not a "
                                    << method->output_type()->full_name() << "\n";
                          rc = 2;
@@ -286,7 +286,7 @@ int IgmsctlMain(int argc, char** argv) {
     auto response = NewMessage(method->output_type());
     client.SubscribeRaw(
         method->full_name(), request->SerializeAsString(),
-        [&](const std::string& payload, std::int64_t sent_ns) {
+        [&](std::string_view payload, std::int64_t sent_ns) {
           const std::int64_t now = net::UnixNanos();
           std::lock_guard lock(m);
           if (count > 0 && received >= count) return;
@@ -295,7 +295,7 @@ int IgmsctlMain(int argc, char** argv) {
           last_ns = now;
           if (sent_ns > 0) latencies_ms.push_back((now - sent_ns) / 1e6);
           if (!quiet) {
-            if (response->ParseFromString(payload)) std::cout << ToJson(*response) << std::endl;
+            if (response->ParseFromArray(payload.data(), static_cast<int>(payload.size()))) std::cout << ToJson(*response) << std::endl;
           }
           if (count > 0 && received >= count) cv.notify_all();
         },

@@ -16,6 +16,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (r.consumed == 0 || r.consumed > rest.size()) __builtin_trap();
     igms::Envelope e;
     std::string error;
+    igms::Envelope head;
+    std::string_view payload;
+    const bool viewed = ParseEnvelopeView(r.frame, &head, &payload, &error);
+    if (viewed && (payload.data() < r.frame.data() ||
+                   payload.data() + payload.size() > r.frame.data() + r.frame.size())) {
+      __builtin_trap();
+    }
     if (ParseEnvelope(r.frame, &e, &error)) {
       // What parsed must frame again and decode to the same bytes.
       const std::string again = EncodeFrame(e);

@@ -106,5 +106,43 @@ TEST(Framing, GarbageAndTruncatedBodiesAreRejected) {
   EXPECT_FALSE(ParseEnvelope(odd.SerializeAsString(), &e, &error));
 }
 
+TEST(Framing, ViewParseMatchesFullParseWithoutCopyingThePayload) {
+  igms::Envelope e = Sample(9, 100000);
+  const std::string bytes = EncodeFrame(e);
+  DecodeResult r = DecodeFrame(bytes, kDefaultMaxFrameBytes);
+  ASSERT_EQ(r.status, DecodeStatus::kFrame);
+  igms::Envelope head;
+  std::string_view payload;
+  std::string error;
+  ASSERT_TRUE(ParseEnvelopeView(r.frame, &head, &payload, &error)) << error;
+  EXPECT_TRUE(head.payload().empty());
+  EXPECT_EQ(payload, e.payload());
+  EXPECT_GE(payload.data(), bytes.data());
+  EXPECT_LE(payload.data() + payload.size(), bytes.data() + bytes.size());
+  EXPECT_EQ(head.header().correlation_id(), 9u);
+  EXPECT_EQ(head.method(), e.method());
+  // Truncated and empty frames are refused like the full parse refuses them.
+  EXPECT_FALSE(ParseEnvelopeView(r.frame.substr(0, r.frame.size() - 10), &head, &payload, &error));
+  EXPECT_FALSE(ParseEnvelopeView({}, &head, &payload, &error));
+}
+
+TEST(Framing, SingleCopyFramingEqualsFramingAFilledEnvelope) {
+  igms::Envelope head = Sample(4, 0);
+  igms::PingResponse body;
+  body.set_server_name("video");
+  body.set_program(std::string(70000, 'p'));
+  std::string framed;
+  AppendFrame(head, body, &framed);
+  igms::Envelope full = head;
+  full.set_payload(body.SerializeAsString());
+  DecodeResult a = DecodeFrame(framed, kDefaultMaxFrameBytes);
+  ASSERT_EQ(a.status, DecodeStatus::kFrame);
+  EXPECT_EQ(a.consumed, framed.size());
+  igms::Envelope back;
+  std::string error;
+  ASSERT_TRUE(ParseEnvelope(a.frame, &back, &error)) << error;
+  EXPECT_EQ(back.SerializeAsString(), full.SerializeAsString());
+}
+
 }  // namespace
 }  // namespace igms::net

@@ -1,0 +1,44 @@
+// igms-sound-bank: generates the sound bank's audio from its manifest (see bank_generator.h).
+//   igms-sound-bank --manifest sound_server/bank/manifest.yaml --out build/share/igms/sounds
+#include <spdlog/spdlog.h>
+
+#include <boost/program_options.hpp>
+#include <fstream>
+#include <iostream>
+
+#include "sound_server/bank_generator.h"
+
+namespace po = boost::program_options;
+
+int main(int argc, char** argv) {
+  try {
+    std::string manifest_path, out_dir, stamp;
+    po::options_description flags("igms-sound-bank: generate the sound bank from its manifest");
+    flags.add_options()("help,h", "this help")(
+        "manifest", po::value(&manifest_path)->required(), "the bank's manifest.yaml")(
+        "out", po::value(&out_dir)->required(), "folder to write the bank into")(
+        "stamp", po::value(&stamp), "file touched when every sound was generated");
+    po::variables_map vm;
+    po::store(po::parse_command_line(argc, argv, flags), vm);
+    if (vm.count("help")) {
+      std::cout << flags << "\n";
+      return 0;
+    }
+    po::notify(vm);
+    const igms::sound::ManifestResult loaded = igms::sound::LoadManifest(manifest_path);
+    if (!loaded.manifest) {
+      spdlog::error("{}", loaded.error);
+      return 2;
+    }
+    const igms::sound::GenerateResult result =
+        igms::sound::GenerateBank(*loaded.manifest, out_dir);
+    for (const std::string& error : result.errors) spdlog::error("{}", error);
+    if (!result.ok()) return 1;
+    spdlog::info("generated {} sounds into {}", result.generated, out_dir);
+    if (!stamp.empty()) std::ofstream(stamp) << result.generated << "\n";
+    return 0;
+  } catch (const std::exception& e) {
+    spdlog::error("igms-sound-bank: {}", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,82 @@
+// igms-sound-server: plays the lab's sounds and spoken messages (Cooke, section 2.2.1).
+//   igms-sound-server --config lab.yaml --name sound
+//   igms-sound-server --port 7303 --output wave --wave-file out.wav
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <filesystem>
+
+#include "common/config/process_options.h"
+#include "common/net/server.h"
+#include "sound_server/server_options.h"
+#include "sound_server/sound_service.h"
+
+namespace sound = igms::sound;
+
+int Run(int argc, char** argv) {
+  int exit_code = 0;
+  auto process = igms::config::ParseProcessOptions(
+      argc, argv, "sound", "igms-sound-server: plays the lab's sounds and spoken messages",
+      sound::SoundFlags(), &exit_code);
+  if (!process) return exit_code;
+  sound::ServerSettings settings;
+  if (std::string error = sound::ReadSettings(*process, std::filesystem::canonical("/proc/self/exe"),
+                                              settings);
+      !error.empty()) {
+    spdlog::error("{}", error);
+    return 2;
+  }
+  sound::ManifestResult manifest = sound::LoadManifest(settings.manifest);
+  if (!manifest.manifest) {
+    spdlog::error("{}", manifest.error);
+    return 2;
+  }
+  sound::OutputResult output = sound::OpenOutput(settings.output);
+  if (!output.warning.empty()) spdlog::warn("{}", output.warning);
+  if (!output.output) {
+    spdlog::error("{}", output.error);
+    return 3;
+  }
+  spdlog::info("playing on the {} output '{}' at {} Hz", output.output->output(),
+               output.output->device_name(), output.output->sample_rate());
+  sound::EngineResult engine =
+      sound::Engine::Create(std::move(*manifest.manifest), std::move(output.output),
+                            settings.engine);
+  for (const std::string& warning : engine.warnings) spdlog::warn("{}", warning);
+  if (!engine.engine) {
+    spdlog::error("{}", engine.error);
+    return 3;
+  }
+  spdlog::info("sound bank {}: {} sounds, {} playable", settings.manifest.string(),
+               engine.engine->Bank().size(),
+               engine.engine->Bank().size() - engine.warnings.size());
+
+  boost::asio::io_context io;
+  igms::net::ServerOptions server_options;
+  server_options.name = process->name;
+  server_options.bind_address = process->BindAddress();
+  server_options.port = process->Port(sound::kDefaultPort);
+  server_options.token = process->Token();
+  igms::net::Server server(io, server_options);
+  sound::RegisterSoundService(server, *engine.engine);
+  server.Start();
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const boost::system::error_code&, int signal) {
+    spdlog::info("signal {}: stopping", signal);
+    server.Stop();
+    io.stop();
+  });
+  io.run();
+  engine.engine->Stop(0);
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return Run(argc, argv);
+  } catch (const std::exception& e) {
+    spdlog::error("igms-sound-server: {}", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,71 @@
+#include "sound_server/server_options.h"
+
+namespace igms::sound {
+
+namespace po = boost::program_options;
+
+po::options_description SoundFlags() {
+  po::options_description flags("Sound server options (each also processes.NAME.<key>)");
+  flags.add_options()("bank", po::value<std::string>(), "the bank's manifest.yaml")(
+      "output", po::value<std::string>(), "default, null or wave")(
+      "device", po::value<std::string>(), "OpenAL device name for the default output")(
+      "wave-file", po::value<std::string>(), "where the wave output writes")(
+      "wave-rate", po::value<int>(), "Hz of the null and wave outputs (22050)")(
+      "period-frames", po::value<int>(), "mixing period of the null and wave outputs (256)")(
+      "fallback", po::value<std::string>(), "none, null or wave: when no device opens")(
+      "cue-sources", po::value<int>(), "sources for cues (4)")(
+      "speech-queue", po::value<int>(), "messages that may wait (16)")(
+      "volume", po::value<float>(), "master volume 0..1 (1)");
+  return flags;
+}
+
+namespace {
+
+// A flag if given, else the configuration key, else the fallback.
+template <class T>
+T Setting(const config::ProcessOptions& p, const char* flag, const char* key, T fallback) {
+  if (p.flags.count(flag)) return p.flags[flag].as<T>();
+  return p.Get<T>(key, fallback);
+}
+
+// `output: null` and `fallback: null` in YAML are a null value, not the word: read them as
+// the null output, which is what a person writing them means.
+std::string Mode(const config::ProcessOptions& p, const char* flag, const char* key,
+                 const std::string& fallback) {
+  if (p.flags.count(flag)) return p.flags[flag].as<std::string>();
+  const YAML::Node node = p.config.Find(p.Key(key));
+  if (node.IsDefined() && node.IsNull()) return "null";
+  return p.Get<std::string>(key, fallback);
+}
+
+}  // namespace
+
+std::string ReadSettings(const config::ProcessOptions& p, const std::filesystem::path& executable,
+                         ServerSettings& s) {
+  const std::filesystem::path default_bank =
+      executable.parent_path() / ".." / "share" / "igms" / "sounds" / "manifest.yaml";
+  std::string bank = Setting<std::string>(p, "bank", "bank", "");
+  if (bank.empty()) {
+    s.manifest = default_bank.lexically_normal();
+  } else {
+    s.manifest = p.flags.count("bank") ? bank : p.config.ResolvePath(bank);
+  }
+  s.output.output = Mode(p, "output", "output", "default");
+  s.output.device = Setting<std::string>(p, "device", "device", "");
+  s.output.wave_file = Setting<std::string>(p, "wave-file", "wave_file", "");
+  if (!s.output.wave_file.empty() && !p.flags.count("wave-file")) {
+    s.output.wave_file = p.config.ResolvePath(s.output.wave_file);
+  }
+  s.output.wave_rate = Setting<int>(p, "wave-rate", "wave_rate", 22050);
+  s.output.period_frames = Setting<int>(p, "period-frames", "period_frames", 256);
+  s.output.fallback = Mode(p, "fallback", "fallback", "none");
+  s.engine.cue_sources = Setting<int>(p, "cue-sources", "cue_sources", 4);
+  const int queue = Setting<int>(p, "speech-queue", "speech_queue", 16);
+  if (queue < 1) return "the speech queue must hold at least 1 message";
+  s.engine.speech_queue_limit = static_cast<size_t>(queue);
+  s.engine.master_volume = Setting<float>(p, "volume", "volume", 1.0f);
+  if (std::string error = s.output.Check(); !error.empty()) return error;
+  return s.engine.Check();
+}
+
+}  // namespace igms::sound
