@@ -19,6 +19,7 @@
 #include "common/net/client.h"
 #include "device_daemons/joystick/flybox_sim.h"
 #include "device_daemons/platform/molly_sim.h"
+#include "device_daemons/ranger/ranger_sim.h"
 #include "device_daemons/serial/clock.h"
 #include "device_daemons/serial/pty_host.h"
 #include "device_daemons/serial/serial_link.h"
@@ -212,5 +213,9 @@ int main(int argc, char** argv) {
   const Figures platform_base = Baseline(std::make_unique<MollySim>(), "", molly::EncodeQuery(), 50, 9, seconds);
   RunDevice<igms::devices::PlatformState>("platform", "igms-platformd", {}, std::make_unique<MollySim>(),
                                           "igms.devices.PlatformService.Live", seconds, platform_base);
+
+  const Figures ranger_base = Baseline(std::make_unique<RangerSim>(), "", "R", 6, 5, seconds);
+  RunDevice<igms::devices::RangerState>("ranger", "igms-rangerd", {"--poll-hz", "6"}, std::make_unique<RangerSim>(),
+                                        "igms.devices.RangerService.Live", seconds, ranger_base);
   return 0;
 }
