@@ -26,7 +26,7 @@ RangerDriver::RangerDriver(boost::asio::io_context& io, RangerDriverOptions opti
 
 void RangerDriver::OnOpened() {
   parser_.Reset();
-  if (options_.poll_hz > 0) {
+  if (options_.poll_hz > 0 && options_.poll_hz < udm::kMaxRateHz) {
     StartPolling(options_.poll_hz, std::string(1, udm::kMeasure));
   } else {
     Write(std::string(1, udm::kMeasure));
@@ -60,6 +60,9 @@ void RangerDriver::OnSerialBytes(const uint8_t* data, size_t size, int64_t now_n
     state.set_valid(answer->has_value());
     if (*answer) state.set_range_in(**answer);
     StampReading(state.mutable_stamp(), now_ns);
+    // At the full rate the next request goes out with each answer: the ranger paces itself,
+    // and a timer of the same period would keep colliding with its measurements.
+    if (options_.poll_hz >= udm::kMaxRateHz) Write(std::string(1, udm::kMeasure));
     on_reading_(state);
     // One answer serves every request waiting for it: they asked during one measurement.
     auto waiters = std::move(waiters_);

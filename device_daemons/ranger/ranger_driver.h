@@ -1,6 +1,7 @@
 // RangerDriver: the serial side of igms-rangerd. The ranger is polled on request (thesis
 // 2.1.5): Range() writes 'R' and completes with the answer, or fails after
-// options.timeout; with options.poll_hz > 0 it also ranges continuously (at most 6 Hz).
+// options.timeout; with options.poll_hz > 0 it also ranges continuously (at most 6 Hz;
+// at 6 Hz each answer triggers the next request).
 // Every answer is published as a RangerState. On every (re)open one range is taken to
 // check the device answers. Threading as DeviceDriver.
 #pragma once

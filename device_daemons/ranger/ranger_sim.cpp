@@ -13,7 +13,7 @@ std::optional<double> RangerSim::TrueRange() const {
 
 std::vector<std::string> RangerSim::OnInput(std::string_view bytes, int64_t now_ns) {
   for (char c : bytes) {
-    if (c == udm::kMeasure && answer_at_ns_ < 0) answer_at_ns_ = now_ns + static_cast<int64_t>(1e9 / udm::kMaxRateHz);
+    if (c == udm::kMeasure && answer_at_ns_ < 0) answer_at_ns_ = now_ns + udm::kMeasureNs;
   }
   return {};
 }

@@ -1,7 +1,7 @@
 // A simulated UDM-FL ranger (udm_protocol.h): on each 'R' it measures the scene
 // (ranger_scene.h) from its current pose, which follows the camera platform, and answers
-// after the measurement time (1/6 s: at most 6 ranges a second; requests while measuring
-// are ignored), with Gaussian noise of noise_fraction of the range. An injected fixed range
+// after the measurement time (udm::kMeasureNs: at most 6 ranges a second; requests while
+// measuring are ignored), with Gaussian noise of noise_fraction of the range. An injected fixed range
 // overrides the scene.
 #pragma once
 

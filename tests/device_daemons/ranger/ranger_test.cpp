@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <future>
 #include <mutex>
@@ -68,7 +69,7 @@ TEST(RangerSim, AnswersOncePerMeasurementTime) {
   EXPECT_TRUE(sim.OnInput("RRR", 0).empty());  // one measurement under way
   int64_t wake = INT64_MAX;
   EXPECT_TRUE(sim.Poll(100'000'000, &wake).empty());
-  EXPECT_EQ(wake, 166'666'666);
+  EXPECT_EQ(wake, udm::kMeasureNs);
   const auto out = sim.Poll(170'000'000, &wake);
   ASSERT_EQ(out.size(), 1u);
   const auto r = ParseOne(out[0]);
@@ -119,7 +120,30 @@ TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
   // Ten back-to-back requests take at least 9 measurement times.
   const auto start = std::chrono::steady_clock::now();
   for (int i = 0; i < 10; ++i) range();
-  EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 9 / 6.0 - 0.05);
+  EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 9 * udm::kMeasureNs * 1e-9);
+  driver.Stop();
+  io.Stop();
+}
+
+TEST(RangerPty, ContinuousRangingAtTheFullRate) {
+  PtyHost host(std::make_unique<RangerSim>(), {testing::TempPath("udm6"), 9600});
+  std::string error;
+  ASSERT_TRUE(host.Start(&error)) << error;
+  testing::IoThread io;
+  std::atomic<int> count{0};
+  RangerDriverOptions options;
+  options.link.port = host.port();
+  options.poll_hz = 6;
+  RangerDriver driver(io.io(), options, [&](const RangerState& s) {
+    if (s.valid()) ++count;
+  });
+  driver.Start();
+  ASSERT_TRUE(testing::WaitFor([&] { return count > 0; }));
+  const int first = count;
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  const double rate = (count - first) / 2.0;
+  EXPECT_GT(rate, 4.5);  // 6 less the wake-ups of a loaded machine
+  EXPECT_LE(rate, 6.5);
   driver.Stop();
   io.Stop();
 }
