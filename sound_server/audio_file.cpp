@@ -21,7 +21,8 @@ AudioFileResult ReadAudioFile(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path, ec)) return {std::nullopt, name + ": file is missing"};
   SF_INFO info{};
   std::unique_ptr<SNDFILE, SndfileCloser> file(sf_open(name.c_str(), SFM_READ, &info));
-  if (!file) return {std::nullopt, name + ": not a readable sound file (" + sf_strerror(nullptr) + ")"};
+  if (!file)
+    return {std::nullopt, name + ": not a readable sound file (" + sf_strerror(nullptr) + ")"};
   if (info.channels < 1 || info.samplerate < 1000 || info.samplerate > 384000) {
     return {std::nullopt, name + ": unsupported channel count or sample rate"};
   }

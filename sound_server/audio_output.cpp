@@ -1,5 +1,6 @@
 #include "sound_server/audio_output.h"
 
+#include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -35,6 +36,9 @@ bool DefaultDeviceOpens(const std::string& device) {
   const pid_t pid = fork();
   if (pid < 0) return true;  // cannot probe: let the real open report the failure
   if (pid == 0) {
+    // The real open, later, reports the failure; the probe's backend chatter is noise.
+    const int null_fd = open("/dev/null", O_WRONLY);
+    if (null_fd >= 0) dup2(null_fd, STDERR_FILENO);
     ALCdevice* opened = alcOpenDevice(device.empty() ? nullptr : device.c_str());
     _exit(opened != nullptr ? 0 : 1);
   }
@@ -97,8 +101,8 @@ OutputResult OpenOutput(const OutputOptions& options) {
   }
   std::string mode = options.output;
   if (mode == "default" && options.fallback != "none" && !DefaultDeviceOpens(options.device)) {
-    result.warning = NoDeviceMessage(options) + "; falling back to the " + options.fallback +
-                     " output";
+    result.warning =
+        NoDeviceMessage(options) + "; falling back to the " + options.fallback + " output";
     mode = options.fallback;
   }
   std::unique_ptr<AudioOutput> out(new AudioOutput());
@@ -112,14 +116,14 @@ OutputResult OpenOutput(const OutputOptions& options) {
     setenv("ALSOFT_CONF", out->config_file_.c_str(), 1);
     setenv("ALSOFT_DRIVERS", mode.c_str(), 1);
   }
-  const char* name = (mode == "default" && !options.device.empty()) ? options.device.c_str()
-                                                                     : nullptr;
+  const char* name =
+      (mode == "default" && !options.device.empty()) ? options.device.c_str() : nullptr;
   out->device_ = alcOpenDevice(name);
   if (out->device_ == nullptr) {
     result.error = mode == "default" ? NoDeviceMessage(options)
                    : mode == "wave"  ? "audio output: OpenAL cannot write the wave file '" +
                                           options.wave_file + "'"
-                                     : "audio output: OpenAL's null output cannot be opened";
+                                    : "audio output: OpenAL's null output cannot be opened";
     return result;
   }
   out->context_ = alcCreateContext(out->device_, nullptr);

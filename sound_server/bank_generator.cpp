@@ -40,12 +40,12 @@ std::string GenerateEntry(const Manifest& manifest, const SoundEntry& entry,
   const std::string rate = std::to_string(manifest.sample_rate);
   std::vector<std::string> make;
   if (entry.kind == SoundKind::kCue) {
-    make = {options.sox, "-q", "-n", "-r", rate, "-b", "16", "-c",
-            std::to_string(entry.channels), raw.string()};
+    make = {options.sox, "-q", "-n", "-r", rate, "-b", "16", "-c", std::to_string(entry.channels),
+            raw.string()};
     for (std::string& word : SplitWords(entry.sox)) make.push_back(std::move(word));
   } else {
-    make = {options.espeak, "-v", manifest.voice, "-s", std::to_string(manifest.speed),
-            "-w", raw.string(), entry.text};
+    make = {options.espeak, "-v",         manifest.voice, "-s", std::to_string(manifest.speed),
+            "-w",           raw.string(), entry.text};
   }
   std::string error = RunProgram(make);
   if (error.empty()) {

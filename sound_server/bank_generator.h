@@ -17,7 +17,7 @@
 namespace igms::sound {
 
 struct GenerateOptions {
-  std::string sox = "sox";           // programs, looked up on PATH
+  std::string sox = "sox";  // programs, looked up on PATH
   std::string espeak = "espeak-ng";
   bool verbose = false;
 };

@@ -13,11 +13,14 @@ namespace po = boost::program_options;
 int main(int argc, char** argv) {
   try {
     std::string manifest_path, out_dir, stamp;
+    igms::sound::GenerateOptions options;
     po::options_description flags("igms-sound-bank: generate the sound bank from its manifest");
-    flags.add_options()("help,h", "this help")(
-        "manifest", po::value(&manifest_path)->required(), "the bank's manifest.yaml")(
+    flags.add_options()("help,h", "this help")("manifest", po::value(&manifest_path)->required(),
+                                               "the bank's manifest.yaml")(
         "out", po::value(&out_dir)->required(), "folder to write the bank into")(
-        "stamp", po::value(&stamp), "file touched when every sound was generated");
+        "stamp", po::value(&stamp), "file touched when every sound was generated")(
+        "sox", po::value(&options.sox)->default_value("sox"), "the sox program")(
+        "espeak", po::value(&options.espeak)->default_value("espeak-ng"), "the espeak-ng program");
     po::variables_map vm;
     po::store(po::parse_command_line(argc, argv, flags), vm);
     if (vm.count("help")) {
@@ -31,7 +34,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     const igms::sound::GenerateResult result =
-        igms::sound::GenerateBank(*loaded.manifest, out_dir);
+        igms::sound::GenerateBank(*loaded.manifest, out_dir, options);
     for (const std::string& error : result.errors) spdlog::error("{}", error);
     if (!result.ok()) return 1;
     spdlog::info("generated {} sounds into {}", result.generated, out_dir);

@@ -1,5 +1,7 @@
 #include "sound_server/engine.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -44,9 +46,12 @@ std::string Describe(const SoundEntry& entry) {
 
 const char* PriorityName(PlayPriority priority) {
   switch (priority) {
-    case PlayPriority::kLow: return "low";
-    case PlayPriority::kNormal: return "normal";
-    case PlayPriority::kHigh: return "high";
+    case PlayPriority::kLow:
+      return "low";
+    case PlayPriority::kNormal:
+      return "normal";
+    case PlayPriority::kHigh:
+      return "high";
   }
   return "?";
 }
@@ -83,8 +88,7 @@ EngineResult Engine::Create(Manifest manifest, std::unique_ptr<AudioOutput> outp
       const AudioClip& clip = *file.clip;
       alGenBuffers(1, &sound->buffer);
       alBufferData(sound->buffer, AL_FORMAT_MONO16, clip.samples.data(),
-                   static_cast<ALsizei>(clip.samples.size() * sizeof(int16_t)),
-                   clip.sample_rate);
+                   static_cast<ALsizei>(clip.samples.size() * sizeof(int16_t)), clip.sample_rate);
       if (alGetError() != AL_NO_ERROR) {
         if (sound->buffer != 0) alDeleteBuffers(1, &sound->buffer);
         sound->buffer = 0;
@@ -103,8 +107,8 @@ EngineResult Engine::Create(Manifest manifest, std::unique_ptr<AudioOutput> outp
   std::vector<ALuint> sources(options.cue_sources + 1);
   alGenSources(static_cast<ALsizei>(sources.size()), sources.data());
   if (alGetError() != AL_NO_ERROR) {
-    result.error = "sound engine: OpenAL cannot make " + std::to_string(sources.size()) +
-                   " sources";
+    result.error =
+        "sound engine: OpenAL cannot make " + std::to_string(sources.size()) + " sources";
     return result;
   }
   engine->cues_.resize(options.cue_sources);
@@ -152,11 +156,11 @@ const Engine::Sound* Engine::Resolve(const SoundRef& ref, Outcome& outcome) cons
     if (ref.id == 0 && ref.key.empty()) {
       outcome = Outcome::Error(Failure::kBadRequest, "name a sound: give an id or a key");
     } else {
-      outcome = Outcome::Error(
-          Failure::kNotFound,
-          (ref.id != 0 ? "no sound with id " + std::to_string(ref.id)
-                       : "no sound with key '" + ref.key + "'") +
-              " in the bank " + manifest_.path.string() + " (ListBank lists them)");
+      outcome =
+          Outcome::Error(Failure::kNotFound,
+                         (ref.id != 0 ? "no sound with id " + std::to_string(ref.id)
+                                      : "no sound with key '" + ref.key + "'") +
+                             " in the bank " + manifest_.path.string() + " (ListBank lists them)");
     }
     return nullptr;
   }
@@ -175,9 +179,8 @@ PlayOutcome Engine::Play(const PlayParams& params) {
   if (!ValidPriority(params.priority)) {
     result.outcome = Outcome::Error(Failure::kBadRequest, "priority must be low, normal or high");
   } else if (!ValidVolume(params.volume)) {
-    result.outcome = Outcome::Error(Failure::kBadRequest,
-                                    "volume must be between 0 and 1, got " +
-                                        std::to_string(params.volume));
+    result.outcome = Outcome::Error(Failure::kBadRequest, "volume must be between 0 and 1, got " +
+                                                              std::to_string(params.volume));
   } else if (const Sound* sound = Resolve(params.sound, result.outcome); sound != nullptr) {
     if (!output_->connected()) {
       result.outcome = Outcome::Error(Failure::kUnavailable,
@@ -213,9 +216,9 @@ PlayOutcome Engine::PlayCue(const Sound& sound, const PlayParams& params) {
     }
   }
   if (chosen == nullptr) {
-    result.outcome = Outcome::Error(
-        Failure::kUnavailable, "all " + std::to_string(cues_.size()) +
-                                   " cue sources are playing sounds of higher priority");
+    result.outcome = Outcome::Error(Failure::kUnavailable,
+                                    "all " + std::to_string(cues_.size()) +
+                                        " cue sources are playing sounds of higher priority");
     return result;
   }
   StopVoice(*chosen);
@@ -293,9 +296,18 @@ void Engine::Reap() {
 
 void Engine::PollLoop() {
   std::unique_lock lock(mutex_);
+  bool connected = true;
   while (!stopping_) {
     wake_.wait_for(lock, options_.poll_period);
-    if (!stopping_) Reap();
+    if (stopping_) break;
+    Reap();
+    if (connected && !output_->connected()) {
+      connected = false;
+      spdlog::error(
+          "the audio device '{}' is lost: plays are refused until the server is "
+          "restarted",
+          output_->device_name());
+    }
   }
 }
 
@@ -336,8 +348,8 @@ Outcome Engine::SetMasterVolume(float volume) {
 std::vector<BankSound> Engine::Bank() const {
   std::vector<BankSound> bank;
   for (const auto& sound : sounds_) {
-    bank.push_back({sound->entry, sound->buffer != 0, sound->error, sound->seconds,
-                    sound->sample_rate});
+    bank.push_back(
+        {sound->entry, sound->buffer != 0, sound->error, sound->seconds, sound->sample_rate});
   }
   return bank;
 }

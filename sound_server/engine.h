@@ -23,7 +23,9 @@
 // Errors. Unknown ids and keys, sounds whose file was missing or corrupt at start-up,
 // a volume out of range, a full queue or a lost device are refused with a message; the
 // engine never throws on a request. All methods are thread-safe. A poll thread (every
-// `poll_period`) frees finished sources and starts the next message of the queue.
+// `poll_period`) frees finished sources and starts the next message of the queue, and
+// logs once when OpenAL reports the device gone (OpenAL Soft 1.19 cannot reopen a device:
+// plays are refused until the server restarts).
 #pragma once
 
 #include <chrono>
@@ -98,7 +100,7 @@ struct PlayState {
   SoundEntry entry;
   PlayPriority priority = PlayPriority::kNormal;
   float volume = 1.0f;
-  bool playing = false;  // false: waiting in the speech queue
+  bool playing = false;   // false: waiting in the speech queue
   double position = 0.0;  // seconds played so far
   double seconds = 0.0;   // length
 };

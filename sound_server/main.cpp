@@ -21,8 +21,8 @@ int Run(int argc, char** argv) {
       sound::SoundFlags(), &exit_code);
   if (!process) return exit_code;
   sound::ServerSettings settings;
-  if (std::string error = sound::ReadSettings(*process, std::filesystem::canonical("/proc/self/exe"),
-                                              settings);
+  if (std::string error =
+          sound::ReadSettings(*process, std::filesystem::canonical("/proc/self/exe"), settings);
       !error.empty()) {
     spdlog::error("{}", error);
     return 2;
@@ -40,17 +40,15 @@ int Run(int argc, char** argv) {
   }
   spdlog::info("playing on the {} output '{}' at {} Hz", output.output->output(),
                output.output->device_name(), output.output->sample_rate());
-  sound::EngineResult engine =
-      sound::Engine::Create(std::move(*manifest.manifest), std::move(output.output),
-                            settings.engine);
+  sound::EngineResult engine = sound::Engine::Create(std::move(*manifest.manifest),
+                                                     std::move(output.output), settings.engine);
   for (const std::string& warning : engine.warnings) spdlog::warn("{}", warning);
   if (!engine.engine) {
     spdlog::error("{}", engine.error);
     return 3;
   }
   spdlog::info("sound bank {}: {} sounds, {} playable", settings.manifest.string(),
-               engine.engine->Bank().size(),
-               engine.engine->Bank().size() - engine.warnings.size());
+               engine.engine->Bank().size(), engine.engine->Bank().size() - engine.warnings.size());
 
   boost::asio::io_context io;
   igms::net::ServerOptions server_options;

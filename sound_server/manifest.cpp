@@ -73,8 +73,8 @@ std::optional<SoundEntry> ParseEntry(const YAML::Node& node, std::string& error)
   }
   if (!error.empty()) return std::nullopt;
   if (entry.file.empty()) {
-    entry.file = std::string(entry.kind == SoundKind::kCue ? "cues/" : "speech/") + entry.key +
-                 ".wav";
+    entry.file =
+        std::string(entry.kind == SoundKind::kCue ? "cues/" : "speech/") + entry.key + ".wav";
   }
   const std::filesystem::path file(entry.file);
   if (file.is_absolute() || file.lexically_normal().string().starts_with("..")) {

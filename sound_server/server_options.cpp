@@ -14,8 +14,8 @@ po::options_description SoundFlags() {
       "period-frames", po::value<int>(), "mixing period of the null and wave outputs (256)")(
       "fallback", po::value<std::string>(), "none, null or wave: when no device opens")(
       "cue-sources", po::value<int>(), "sources for cues (4)")(
-      "speech-queue", po::value<int>(), "messages that may wait (16)")(
-      "volume", po::value<float>(), "master volume 0..1 (1)");
+      "speech-queue", po::value<int>(), "messages that may wait (16)")("volume", po::value<float>(),
+                                                                       "master volume 0..1 (1)");
   return flags;
 }
 

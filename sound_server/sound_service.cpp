@@ -11,10 +11,14 @@ namespace {
 
 net::Status ToStatus(const Outcome& outcome) {
   switch (outcome.failure) {
-    case Failure::kNone: return net::Status::Ok();
-    case Failure::kBadRequest: return net::Status::Error(igms::BAD_REQUEST, outcome.message);
-    case Failure::kNotFound: return net::Status::Error(igms::NOT_FOUND, outcome.message);
-    case Failure::kUnavailable: return net::Status::Error(igms::UNAVAILABLE, outcome.message);
+    case Failure::kNone:
+      return net::Status::Ok();
+    case Failure::kBadRequest:
+      return net::Status::Error(igms::BAD_REQUEST, outcome.message);
+    case Failure::kNotFound:
+      return net::Status::Error(igms::NOT_FOUND, outcome.message);
+    case Failure::kUnavailable:
+      return net::Status::Error(igms::UNAVAILABLE, outcome.message);
   }
   return net::Status::Error(igms::INTERNAL, outcome.message);
 }

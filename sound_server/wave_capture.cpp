@@ -62,7 +62,8 @@ std::optional<Capture> ReadCapture(const std::filesystem::path& path) {
   if (ec) return std::nullopt;
   Capture capture;
   capture.sample_rate = layout->sample_rate;
-  capture.samples.resize(static_cast<size_t>(std::max<int64_t>(0, bytes - layout->data_offset) / 2));
+  capture.samples.resize(
+      static_cast<size_t>(std::max<int64_t>(0, bytes - layout->data_offset) / 2));
   in.clear();
   in.seekg(layout->data_offset);
   in.read(reinterpret_cast<char*>(capture.samples.data()),
@@ -108,7 +109,8 @@ std::vector<double> Subtract(const std::vector<double>& signal, const std::vecto
   std::vector<double> out = signal;
   for (size_t i = 0; i < clip.size(); ++i) {
     const int64_t at = offset + static_cast<int64_t>(i);
-    if (at >= 0 && at < static_cast<int64_t>(out.size())) out[static_cast<size_t>(at)] -= gain * clip[i];
+    if (at >= 0 && at < static_cast<int64_t>(out.size()))
+      out[static_cast<size_t>(at)] -= gain * clip[i];
   }
   return out;
 }

@@ -51,7 +51,8 @@ double Seconds(Clock::time_point t) {
 // Watches a growing capture file and keeps the earliest bound on when its frame 0 played.
 class CaptureClock {
  public:
-  explicit CaptureClock(std::filesystem::path wave, int rate) : wave_(std::move(wave)), rate_(rate) {
+  explicit CaptureClock(std::filesystem::path wave, int rate)
+      : wave_(std::move(wave)), rate_(rate) {
     thread_ = std::thread([this] { Run(); });
   }
   ~CaptureClock() {
@@ -123,8 +124,8 @@ Run Measure(const std::string& name, const std::filesystem::path& wave, int rate
     const int64_t window = static_cast<int64_t>(0.2 * rate);
     for (double t : sent) {
       const int64_t expected = static_cast<int64_t>((t - zero) * rate);
-      Alignment a = AlignClip(capture->samples, clip.samples, expected - window / 4,
-                              expected + window, 1024);
+      Alignment a =
+          AlignClip(capture->samples, clip.samples, expected - window / 4, expected + window, 1024);
       if (a.correlation < 0.9) {
         ++run.missing;
         continue;
@@ -143,19 +144,18 @@ double Percentile(std::vector<double> v, double p) {
 }
 
 void Print(const Run& run) {
-  std::printf("%-44s %5zu %8.2f %8.2f %8.2f %8.2f %7d\n", run.name.c_str(),
-              run.latencies_ms.size(), Percentile(run.latencies_ms, 0.0),
-              Percentile(run.latencies_ms, 0.5), Percentile(run.latencies_ms, 0.99),
-              Percentile(run.latencies_ms, 1.0), run.missing);
+  std::printf("%-44s %5zu %8.2f %8.2f %8.2f %8.2f %7d\n", run.name.c_str(), run.latencies_ms.size(),
+              Percentile(run.latencies_ms, 0.0), Percentile(run.latencies_ms, 0.5),
+              Percentile(run.latencies_ms, 0.99), Percentile(run.latencies_ms, 1.0), run.missing);
 }
 
 Run ServerRun(const std::string& key, const AudioClip& clip, int plays, int period) {
   const std::filesystem::path dir = testing::ScratchDir("bench-server-" + std::to_string(period));
   const std::filesystem::path wave = dir / "capture.wav";
-  testing::ServerProcess server({"--output", "wave", "--wave-file", wave.string(), "--wave-rate",
-                                 std::to_string(clip.sample_rate), "--period-frames",
-                                 std::to_string(period)},
-                                dir / "server.log");
+  testing::ServerProcess server(
+      {"--output", "wave", "--wave-file", wave.string(), "--wave-rate",
+       std::to_string(clip.sample_rate), "--period-frames", std::to_string(period)},
+      dir / "server.log");
   const uint16_t port = server.WaitListening();
   if (port == 0) {
     std::fprintf(stderr, "the server did not start:\n%s\n", server.Log().c_str());
@@ -197,13 +197,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "no bank or no sound '%s': %s\n", key.c_str(), manifest.error.c_str());
     return 1;
   }
-  AudioFileResult source = ReadAudioFile(manifest.manifest->FileOf(*manifest.manifest->FindKey(key)));
+  AudioFileResult source =
+      ReadAudioFile(manifest.manifest->FileOf(*manifest.manifest->FindKey(key)));
   if (!source.clip) return 1;
   const AudioClip clip = *source.clip;
   std::printf("request to first audio sample, '%s', %d plays a run, %d Hz wave output\n",
               key.c_str(), plays, clip.sample_rate);
-  std::printf("%-44s %5s %8s %8s %8s %8s %7s\n", "run", "n", "min ms", "p50 ms", "p99 ms",
-              "max ms", "missing");
+  std::printf("%-44s %5s %8s %8s %8s %8s %7s\n", "run", "n", "min ms", "p50 ms", "p99 ms", "max ms",
+              "missing");
 
   // Baseline: this process's own engine, no network, default period.
   constexpr int kPeriod = 256;

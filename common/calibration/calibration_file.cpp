@@ -43,14 +43,15 @@ bool ReadMatrix(const cv::FileNode& node, const std::string& key, int rows, int 
   m.convertTo(m, CV_64F);
   if (cols < 0) {  // a vector of any length, either orientation
     if (m.rows != 1 && m.cols != 1) {
-      return Fail(error, key, "expected a vector, got " + std::to_string(m.rows) + "x" +
-                                  std::to_string(m.cols));
+      return Fail(
+          error, key,
+          "expected a vector, got " + std::to_string(m.rows) + "x" + std::to_string(m.cols));
     }
     m = m.reshape(1, static_cast<int>(m.total()));
   } else if (m.rows != rows || m.cols != cols) {
-    return Fail(error, key, "expected a " + std::to_string(rows) + "x" + std::to_string(cols) +
-                                " matrix, got " + std::to_string(m.rows) + "x" +
-                                std::to_string(m.cols));
+    return Fail(error, key,
+                "expected a " + std::to_string(rows) + "x" + std::to_string(cols) +
+                    " matrix, got " + std::to_string(m.rows) + "x" + std::to_string(m.cols));
   }
   cv::cv2eigen(m, *out);
   if (!out->allFinite()) return Fail(error, key, "matrix holds a non-finite value");
@@ -66,8 +67,7 @@ bool ReadVector3(const cv::FileNode& node, const std::string& key, Eigen::Vector
   return true;
 }
 
-bool ReadNumber(const cv::FileNode& node, const std::string& key, double* out,
-                std::string* error) {
+bool ReadNumber(const cv::FileNode& node, const std::string& key, double* out, std::string* error) {
   if (node.empty() || node.isNone()) return Fail(error, key, "missing");
   if (!node.isReal() && !node.isInt()) return Fail(error, key, "expected a number");
   *out = static_cast<double>(node);
@@ -165,7 +165,8 @@ cv::Mat ToCv(const Eigen::MatrixXd& m) {
 void WriteCamera(cv::FileStorage& fs, const std::string& key, const CameraCalibration& c) {
   fs << key << "{";
   fs << "P" << ToCv(c.P);
-  fs << "image_size" << "[:" << c.image_size.width << c.image_size.height << "]";
+  fs << "image_size"
+     << "[:" << c.image_size.width << c.image_size.height << "]";
   if (c.K) fs << "K" << ToCv(*c.K);
   if (!c.dist.empty()) {
     fs << "dist" << ToCv(Eigen::Map<const Eigen::RowVectorXd>(c.dist.data(), c.dist.size()));
@@ -198,8 +199,8 @@ bool ValidateCalibration(const StereoCalibration& c, std::string* error) {
 std::optional<StereoCalibration> ParseCalibration(const std::string& yaml, std::string* error) {
   StereoCalibration c;
   try {
-    cv::FileStorage fs(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY |
-                                 cv::FileStorage::FORMAT_YAML);
+    cv::FileStorage fs(
+        yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
     if (!fs.isOpened()) {
       Fail(error, "calibration", "not a YAML document");
       return std::nullopt;
@@ -256,22 +257,27 @@ std::string FormatCalibration(const StereoCalibration& c) {
   WriteCamera(fs, "left", c.left);
   WriteCamera(fs, "right", c.right);
   if (c.ranger) {
-    fs << "ranger" << "{";
-    fs << "origin" << "[:" << c.ranger->origin.x() << c.ranger->origin.y()
-       << c.ranger->origin.z() << "]";
-    fs << "axis" << "[:" << c.ranger->axis.x() << c.ranger->axis.y() << c.ranger->axis.z()
-       << "]";
+    fs << "ranger"
+       << "{";
+    fs << "origin"
+       << "[:" << c.ranger->origin.x() << c.ranger->origin.y() << c.ranger->origin.z() << "]";
+    fs << "axis"
+       << "[:" << c.ranger->axis.x() << c.ranger->axis.y() << c.ranger->axis.z() << "]";
     fs << "}";
   }
   if (c.platform) {
-    fs << "platform" << "{";
+    fs << "platform"
+       << "{";
     fs << "world_from_base" << ToCv(c.platform->world_from_base.matrix());
-    fs << "joints" << "[";
+    fs << "joints"
+       << "[";
     for (const auto& j : c.platform->joints) {
-      fs << "{:" << "name" << j.name << "theta_offset" << j.theta_offset << "d" << j.d << "a"
-         << j.a << "alpha" << j.alpha << "radians_per_tick" << j.radians_per_tick << "}";
+      fs << "{:"
+         << "name" << j.name << "theta_offset" << j.theta_offset << "d" << j.d << "a" << j.a
+         << "alpha" << j.alpha << "radians_per_tick" << j.radians_per_tick << "}";
     }
-    fs << "]" << "}";
+    fs << "]"
+       << "}";
   }
   return fs.releaseAndGetString();
 }

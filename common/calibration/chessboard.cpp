@@ -55,8 +55,9 @@ double EpipolarErrorLikeSample(const std::vector<Corners>& left, const std::vect
       cv::computeCorrespondEpilines(pts[k], k + 1, F, lines[k]);
     }
     for (size_t j = 0; j < pts[0].size(); ++j) {
-      err += std::abs(pts[0][j].x * lines[1][j][0] + pts[0][j].y * lines[1][j][1] + lines[1][j][2]) +
-             std::abs(pts[1][j].x * lines[0][j][0] + pts[1][j].y * lines[0][j][1] + lines[0][j][2]);
+      err +=
+          std::abs(pts[0][j].x * lines[1][j][0] + pts[0][j].y * lines[1][j][1] + lines[1][j][2]) +
+          std::abs(pts[1][j].x * lines[0][j][0] + pts[1][j].y * lines[0][j][1] + lines[0][j][2]);
     }
     npoints += pts[0].size();
   }
@@ -89,8 +90,7 @@ bool ChessboardOptions::Check(std::string* error) const {
 std::optional<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& left,
                                                     const std::vector<std::string>& right,
                                                     const ChessboardOptions& options,
-                                                    const Progress& progress,
-                                                    std::string* error) {
+                                                    const Progress& progress, std::string* error) {
   if (!options.Check(error)) return std::nullopt;
   if (left.size() != right.size()) {
     Fail(error, "got " + std::to_string(left.size()) + " left images but " +
@@ -142,8 +142,8 @@ std::optional<ChessboardResult> CalibrateChessboard(const std::vector<std::strin
   if (options.procedure == Procedure::kOpenCvSample) {
     for (int k = 0; k < 2; ++k) K[k] = cv::initCameraMatrix2D(object, corners[k], size, 0);
     flags = cv::CALIB_FIX_ASPECT_RATIO | cv::CALIB_ZERO_TANGENT_DIST |
-            cv::CALIB_USE_INTRINSIC_GUESS | cv::CALIB_SAME_FOCAL_LENGTH |
-            cv::CALIB_RATIONAL_MODEL | cv::CALIB_FIX_K3 | cv::CALIB_FIX_K4 | cv::CALIB_FIX_K5;
+            cv::CALIB_USE_INTRINSIC_GUESS | cv::CALIB_SAME_FOCAL_LENGTH | cv::CALIB_RATIONAL_MODEL |
+            cv::CALIB_FIX_K3 | cv::CALIB_FIX_K4 | cv::CALIB_FIX_K5;
   } else {
     for (int k = 0; k < 2; ++k) {
       if (progress) progress(std::string("calibrating the ") + (k ? "right" : "left") + " camera");
@@ -165,8 +165,8 @@ std::optional<ChessboardResult> CalibrateChessboard(const std::vector<std::strin
   result.epipolar_error_per_image = result.epipolar_error / 2;
   cv::cv2eigen(R, result.R);
   cv::cv2eigen(T, result.t);
-  result.calibration.left = ToCamera(K[0], dist[0], Eigen::Matrix3d::Identity(),
-                                     Eigen::Vector3d::Zero(), size);
+  result.calibration.left =
+      ToCamera(K[0], dist[0], Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), size);
   result.calibration.right = ToCamera(K[1], dist[1], result.R, result.t, size);
   std::string why;
   if (!ValidateCalibration(result.calibration, &why)) {

@@ -33,9 +33,9 @@
 namespace igms::calibration {
 
 struct ChessboardOptions {
-  int cols = 9;          // inner corners per row
-  int rows = 6;          // inner corners per column
-  double square = 1.0;   // square size, world units
+  int cols = 9;         // inner corners per row
+  int rows = 6;         // inner corners per column
+  double square = 1.0;  // square size, world units
   enum class Procedure {
     kJoint,         // per-camera calibrateCamera, then stereoCalibrate refining everything
     kFixed,         // per-camera calibrateCamera, then stereoCalibrate with intrinsics fixed
@@ -49,9 +49,9 @@ struct ChessboardOptions {
 
 struct ChessboardResult {
   StereoCalibration calibration;
-  double left_rms = 0;    // pixels, each camera's own calibrateCamera (0 for kOpenCvSample)
+  double left_rms = 0;  // pixels, each camera's own calibrateCamera (0 for kOpenCvSample)
   double right_rms = 0;
-  double stereo_rms = 0;  // pixels, stereoCalibrate
+  double stereo_rms = 0;                // pixels, stereoCalibrate
   double epipolar_error = 0;            // pixels, as OpenCV's stereo_calib sample reports it
   double epipolar_error_per_image = 0;  // pixels, half of that
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // right_from_left

@@ -15,7 +15,8 @@ bool Fail(std::string* error, const std::string& why) {
 
 bool CheckInput(std::span<const Correspondence> points, std::string* error) {
   if (points.size() < 6) {
-    return Fail(error, "DLT needs at least 6 correspondences, got " + std::to_string(points.size()));
+    return Fail(error,
+                "DLT needs at least 6 correspondences, got " + std::to_string(points.size()));
   }
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (size_t i = 0; i < points.size(); ++i) {
@@ -135,8 +136,8 @@ std::vector<double> ReprojectionResiduals(const geometry::Matrix34& P,
 std::optional<DltResult> CalibrateDlt(std::span<const Correspondence> points, DltMethod method,
                                       std::string* error) {
   if (!CheckInput(points, error)) return std::nullopt;
-  const auto P = method == DltMethod::kThesis ? SolveThesis(points, error)
-                                              : SolveNormalized(points, error);
+  const auto P =
+      method == DltMethod::kThesis ? SolveThesis(points, error) : SolveNormalized(points, error);
   if (!P) return std::nullopt;
   if (!P->allFinite()) {
     Fail(error, "the solution is not finite");
@@ -155,7 +156,7 @@ std::optional<DltResult> CalibrateDlt(std::span<const Correspondence> points, Dl
 }
 
 std::optional<std::vector<Correspondence>> ParseCorrespondences(const std::string& text,
-                                                               std::string* error) {
+                                                                std::string* error) {
   std::vector<Correspondence> out;
   std::istringstream in(text);
   std::string line;

@@ -37,9 +37,9 @@ enum class DltMethod { kThesis, kNormalized };
 const char* ToString(DltMethod method);
 
 struct DltResult {
-  geometry::Matrix34 P;             // kThesis: P(2,3) = 1; kNormalized: unit Frobenius norm
-  std::vector<double> residuals;   // pixels, one per correspondence, in input order
-  double rms = 0;                  // root mean square of residuals
+  geometry::Matrix34 P;           // kThesis: P(2,3) = 1; kNormalized: unit Frobenius norm
+  std::vector<double> residuals;  // pixels, one per correspondence, in input order
+  double rms = 0;                 // root mean square of residuals
   double max = 0;
 };
 
@@ -54,6 +54,6 @@ std::vector<double> ReprojectionResiduals(const geometry::Matrix34& P,
 // Reads "x y z u v" lines (whitespace or commas between numbers; '#' starts a comment;
 // blank lines skipped). nullopt with "line N: ..." on a malformed line.
 std::optional<std::vector<Correspondence>> ParseCorrespondences(const std::string& text,
-                                                               std::string* error = nullptr);
+                                                                std::string* error = nullptr);
 
 }  // namespace igms::calibration

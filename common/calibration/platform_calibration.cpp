@@ -18,7 +18,8 @@ bool Fail(std::string* error, const std::string& why) {
 // The free parameters as a vector, applied on top of the initial model.
 class Parameterization {
  public:
-  Parameterization(const PlatformModel& initial, bool scales) : initial_(initial), scales_(scales) {}
+  Parameterization(const PlatformModel& initial, bool scales)
+      : initial_(initial), scales_(scales) {}
 
   int size() const {
     const int n = static_cast<int>(initial_.joints.size());
@@ -29,8 +30,8 @@ class Parameterization {
     PlatformModel m = initial_;
     const Eigen::Vector3d w = x.segment<3>(0);
     const double angle = w.norm();
-    const Eigen::Matrix3d dR =
-        angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d dR = angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix()
+                                         : Eigen::Matrix3d::Identity();
     m.world_from_base.linear() = dR * initial_.world_from_base.linear();
     m.world_from_base.translation() = initial_.world_from_base.translation() + x.segment<3>(3);
     int k = 6;
@@ -131,7 +132,9 @@ std::optional<PlatformCalibrationResult> CalibratePlatform(
     return std::nullopt;
   }
   const geometry::Matrix34 P0[2] = {left_P0, right_P0};
-  auto residuals = [&](const Eigen::VectorXd& x) { return Residuals(P0, param.Apply(x), observations); };
+  auto residuals = [&](const Eigen::VectorXd& x) {
+    return Residuals(P0, param.Apply(x), observations);
+  };
 
   Eigen::VectorXd x = Eigen::VectorXd::Zero(np);
   Eigen::VectorXd r = residuals(x);
@@ -195,8 +198,9 @@ std::optional<PlatformCalibrationResult> CalibratePlatform(
     }
     const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues();
     if (!(sv[np - 1] > 1e-9 * sv[0])) {
-      Fail(error, "the observations do not determine the platform (vary every joint, use "
-                  "several poses)");
+      Fail(error,
+           "the observations do not determine the platform (vary every joint, use "
+           "several poses)");
       return std::nullopt;
     }
   }

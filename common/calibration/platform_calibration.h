@@ -29,8 +29,8 @@
 namespace igms::calibration {
 
 struct PlatformObservation {
-  int camera = 0;               // 0 left, 1 right
-  std::vector<double> ticks;    // encoder ticks, one per joint
+  int camera = 0;             // 0 left, 1 right
+  std::vector<double> ticks;  // encoder ticks, one per joint
   Eigen::Vector3d world = Eigen::Vector3d::Zero();
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // ideal (undistorted) pixel
 };

@@ -36,11 +36,10 @@ PlatformScenario MakePlatformScenario(double pixel_noise, unsigned seed) {
   s.P0[1] = LookAt({0, -2, 6}, target);
   s.nominal = geometry::ThesisPlatform({-2, 0, 0}, 5.5, 0.0);
   s.truth = s.nominal;
-  s.truth.world_from_base.linear() =
-      (Eigen::AngleAxisd(0.3 * kDeg, Eigen::Vector3d::UnitX()) *
-       Eigen::AngleAxisd(-0.2 * kDeg, Eigen::Vector3d::UnitY()) *
-       Eigen::AngleAxisd(0.5 * kDeg, Eigen::Vector3d::UnitZ()))
-          .toRotationMatrix();
+  s.truth.world_from_base.linear() = (Eigen::AngleAxisd(0.3 * kDeg, Eigen::Vector3d::UnitX()) *
+                                      Eigen::AngleAxisd(-0.2 * kDeg, Eigen::Vector3d::UnitY()) *
+                                      Eigen::AngleAxisd(0.5 * kDeg, Eigen::Vector3d::UnitZ()))
+                                         .toRotationMatrix();
   s.truth.world_from_base.translation() += Eigen::Vector3d(0.1, -0.15, 0.05);
   s.truth.joints[0].a += 0.3;
   s.truth.joints[0].alpha += 0.6 * kDeg;
@@ -104,9 +103,9 @@ PlatformRecovery CompareToTruth(const PlatformScenario& s, const geometry::Platf
     const Eigen::Vector3d on_a = a.point + (head - a.point).dot(a.direction) * a.direction;
     const Eigen::Vector3d v = on_a - b.point;
     r.max_axis_offset = std::max(r.max_axis_offset, (v - v.dot(b.direction) * b.direction).norm());
-    r.max_scale_error = std::max(r.max_scale_error, std::abs(estimate.joints[i].radians_per_tick /
-                                                                 s.truth.joints[i].radians_per_tick -
-                                                             1.0));
+    r.max_scale_error = std::max(
+        r.max_scale_error,
+        std::abs(estimate.joints[i].radians_per_tick / s.truth.joints[i].radians_per_tick - 1.0));
   }
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> pan(-15, 15), tilt(-8, 8), roll(-5, 5), x(40, 70),
@@ -118,9 +117,11 @@ PlatformRecovery CompareToTruth(const PlatformScenario& s, const geometry::Platf
     const Eigen::Vector3d X(x(rng), y(rng), z(rng));
     for (int cam = 0; cam < 2; ++cam) {
       const geometry::ProjectiveCamera T(
-          geometry::CameraAtPose(s.P0[cam], s.truth, geometry::AnglesFromTicks(s.truth, ticks)), s.size);
+          geometry::CameraAtPose(s.P0[cam], s.truth, geometry::AnglesFromTicks(s.truth, ticks)),
+          s.size);
       const geometry::ProjectiveCamera E(
-          geometry::CameraAtPose(s.P0[cam], estimate, geometry::AnglesFromTicks(estimate, ticks)), s.size);
+          geometry::CameraAtPose(s.P0[cam], estimate, geometry::AnglesFromTicks(estimate, ticks)),
+          s.size);
       const auto pt = T.Project(X);
       if (!pt || !T.InImage(*pt)) continue;
       sum += (*E.Project(X) - *pt).squaredNorm();

@@ -30,10 +30,10 @@ struct AxisLine {
 std::vector<AxisLine> JointAxes(const geometry::PlatformModel& model);
 
 struct PlatformRecovery {
-  double max_axis_angle_deg = 0;   // worst angle between a true and a recovered joint axis
-  double max_axis_offset = 0;      // worst distance between them near the head, world units
-  double max_scale_error = 0;      // worst relative tick-scale error
-  double prediction_rms_px = 0;    // recovered vs true pixels at 200 random poses, noise-free
+  double max_axis_angle_deg = 0;  // worst angle between a true and a recovered joint axis
+  double max_axis_offset = 0;     // worst distance between them near the head, world units
+  double max_scale_error = 0;     // worst relative tick-scale error
+  double prediction_rms_px = 0;   // recovered vs true pixels at 200 random poses, noise-free
 };
 
 // How well `estimate` matches the scenario's truth.

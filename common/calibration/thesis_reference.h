@@ -37,9 +37,9 @@ std::array<double, 10> AsArray(const PrintedDecomposition& p);
 extern const std::array<const char*, 10> kPrintedNames;
 
 struct RoundingFit {
-  geometry::Matrix34 C;                  // the printed matrix with its third row adjusted
+  geometry::Matrix34 C;  // the printed matrix with its third row adjusted
   geometry::ThesisDecomposition decomposition;
-  double max_row3_change = 0;            // largest change to a third-row entry (<= 0.005)
+  double max_row3_change = 0;  // largest change to a third-row entry (<= 0.005)
 };
 
 // Grid search (steps of 0.00025) over the third row of `camera.C` within +-0.005 per entry,

@@ -41,7 +41,7 @@ struct ThesisDecomposition {
   double ku = 0, kv = 0;  // pixels (focal length folded in); ku < 0 < kv for the thesis's C
   double u0 = 0, v0 = 0;  // pixels: the image centre
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // world units
-  double theta = 0, phi = 0, psi = 0;               // radians, equations 3.14-3.16
+  double theta = 0, phi = 0, psi = 0;                // radians, equations 3.14-3.16
   double printed_theta = 0;                          // theta - pi/2, the thesis's figure
   double printed_psi = 0;                            // pi - psi, the thesis's figure
   double skew = 0;                                   // radians, 0 for an exact model

@@ -55,7 +55,8 @@ std::optional<Eigen::Vector2d> UndistortNormalized(const Eigen::Vector2d& distor
     for (int i = 0; i < 2; ++i) {
       Eigen::Vector2d h = Eigen::Vector2d::Zero();
       h[i] = kStep;
-      J.col(i) = (DistortNormalized(x + h, coeffs) - DistortNormalized(x - h, coeffs)) / (2 * kStep);
+      J.col(i) =
+          (DistortNormalized(x + h, coeffs) - DistortNormalized(x - h, coeffs)) / (2 * kStep);
     }
     // A fold in the model (or its far wing) makes the Jacobian singular or flip orientation:
     // there is no unique inverse there.

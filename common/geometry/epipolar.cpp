@@ -31,8 +31,7 @@ Eigen::Matrix3d FundamentalMatrix(const Matrix34& from, const Matrix34& to) {
     return Eigen::Matrix3d::Zero();
   }
   // P^+ = P^T (P P^T)^-1 is a right inverse of `from`.
-  const Eigen::Matrix<double, 4, 3> pinv =
-      from.transpose() * (from * from.transpose()).inverse();
+  const Eigen::Matrix<double, 4, 3> pinv = from.transpose() * (from * from.transpose()).inverse();
   Eigen::Matrix3d F = Skew(epipole) * to * pinv;
   const double norm = F.norm();
   if (!(norm > 0) || !F.allFinite()) return Eigen::Matrix3d::Zero();

@@ -24,8 +24,7 @@ Eigen::Matrix3d FundamentalMatrix(const Matrix34& from, const Matrix34& to);
 
 // The epipolar line in `to` of ideal pixel `pixel` of `from`, normalised (a^2 + b^2 = 1).
 // nullopt when the pixel is the epipole (the line is undefined) or F is zero.
-std::optional<Eigen::Vector3d> EpipolarLine(const Eigen::Matrix3d& F,
-                                            const Eigen::Vector2d& pixel);
+std::optional<Eigen::Vector3d> EpipolarLine(const Eigen::Matrix3d& F, const Eigen::Vector2d& pixel);
 
 // Signed distance in pixels of `pixel` from a normalised line.
 double LineDistance(const Eigen::Vector3d& line, const Eigen::Vector2d& pixel);

@@ -29,7 +29,7 @@ struct GlCamera {
   Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
   double fovy_degrees = 0;  // vertical field of view of the image rows
   double fovx_degrees = 0;
-  double aspect = 0;        // width / height of the view volume (fovx against fovy)
+  double aspect = 0;  // width / height of the view volume (fovx against fovy)
   // Principal point minus the image centre, pixels (u right, v down).
   Eigen::Vector2d principal_offset = Eigen::Vector2d::Zero();
 };

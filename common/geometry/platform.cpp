@@ -35,8 +35,10 @@ bool PlatformModel::Check(std::string* error) const {
   if (!m.allFinite()) return Fail(error, "world_from_base is not finite");
   const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
   if ((R.transpose() * R - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
-      std::abs(R.determinant() - 1.0) > 1e-6 || (m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-12) {
-    return Fail(error, "world_from_base is not a rigid transform (rotation must be orthonormal, det +1)");
+      std::abs(R.determinant() - 1.0) > 1e-6 ||
+      (m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() > 1e-12) {
+    return Fail(error,
+                "world_from_base is not a rigid transform (rotation must be orthonormal, det +1)");
   }
   return true;
 }
@@ -51,7 +53,8 @@ PlatformModel ThesisPlatform(const Eigen::Vector3d& pan_axis_point, double tilt_
   model.world_from_base = Eigen::Translation3d(pan_axis_point) *
                           Eigen::AngleAxisd(pan_heading_radians, Eigen::Vector3d::UnitZ());
   // Pan about z0 (up); x1 along the heading; z1 (the tilt axis) horizontal.
-  model.joints.push_back({"pan", 0.0, tilt_height, 0.0, M_PI / 2, ThesisPanDegreesPerTick() * kDeg});
+  model.joints.push_back(
+      {"pan", 0.0, tilt_height, 0.0, M_PI / 2, ThesisPanDegreesPerTick() * kDeg});
   // Tilt about z1; z2 (the roll axis) perpendicular to pan and tilt axes: the view direction.
   model.joints.push_back({"tilt", M_PI / 2, 0.0, 0.0, M_PI / 2, ThesisTiltDegreesPerTick() * kDeg});
   model.joints.push_back({"roll", 0.0, 0.0, 0.0, 0.0, ThesisTiltDegreesPerTick() * kDeg});

@@ -70,7 +70,8 @@ std::optional<Eigen::Vector3d> Refined(const Matrix34& L, const Matrix34& R, con
     Eigen::Matrix<double, 4, 3> J;
     J.topRows<2>() = ProjectionJacobian(L, X);
     J.bottomRows<2>() = ProjectionJacobian(R, X);
-    const Eigen::Vector3d step = (J.transpose() * J).ldlt().solve(J.transpose() * Residuals(L, R, x, X));
+    const Eigen::Vector3d step =
+        (J.transpose() * J).ldlt().solve(J.transpose() * Residuals(L, R, x, X));
     if (!step.allFinite()) return std::nullopt;
     X += step;
     if (step.norm() < 1e-12 * scale) break;
@@ -81,9 +82,12 @@ std::optional<Eigen::Vector3d> Refined(const Matrix34& L, const Matrix34& R, con
 std::optional<Eigen::Vector3d> Solve(const Matrix34& L, const Matrix34& R, const Pixels& x,
                                      TriangulationMethod method, int max_iterations) {
   switch (method) {
-    case TriangulationMethod::kLinear: return Linear(L, R, x);
-    case TriangulationMethod::kMidpoint: return Midpoint(L, R, x);
-    case TriangulationMethod::kRefined: return Refined(L, R, x, max_iterations);
+    case TriangulationMethod::kLinear:
+      return Linear(L, R, x);
+    case TriangulationMethod::kMidpoint:
+      return Midpoint(L, R, x);
+    case TriangulationMethod::kRefined:
+      return Refined(L, R, x, max_iterations);
   }
   return std::nullopt;
 }
@@ -110,9 +114,12 @@ std::optional<Eigen::Matrix3d> PropagatedCovariance(const Matrix34& L, const Mat
 
 const char* ToString(TriangulationMethod method) {
   switch (method) {
-    case TriangulationMethod::kLinear: return "linear";
-    case TriangulationMethod::kMidpoint: return "midpoint";
-    case TriangulationMethod::kRefined: return "refined";
+    case TriangulationMethod::kLinear:
+      return "linear";
+    case TriangulationMethod::kMidpoint:
+      return "midpoint";
+    case TriangulationMethod::kRefined:
+      return "refined";
   }
   return "unknown";
 }
@@ -129,8 +136,7 @@ std::optional<Triangulation> Triangulate(const Matrix34& left, const Matrix34& r
                                          const Eigen::Vector2d& left_pixel,
                                          const Eigen::Vector2d& right_pixel,
                                          TriangulationMethod method,
-                                         const TriangulationOptions& options,
-                                         std::string* error) {
+                                         const TriangulationOptions& options, std::string* error) {
   if (!options.Check(error)) return std::nullopt;
   if (!left.allFinite() || !right.allFinite() || !left_pixel.allFinite() ||
       !right_pixel.allFinite()) {

@@ -89,14 +89,8 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   std::string Where() const { return options.host + ":" + std::to_string(options.port); }
 
   igms::Envelope Make(igms::Envelope::Kind kind, std::uint64_t id, const std::string& method) {
-    igms::Envelope e;
-    e.set_kind(kind);
-    e.set_method(method);
-    auto* h = e.mutable_header();
-    h->set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
-    h->set_correlation_id(id);
-    h->set_send_time_unix_ns(UnixNanos());
-    h->set_sender(options.name);
+    igms::Envelope e = MakeEnvelope(kind, id, method);
+    e.mutable_header()->set_sender(options.name);
     return e;
   }
 

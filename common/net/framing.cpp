@@ -1,5 +1,7 @@
 #include "common/net/framing.h"
 
+#include "common/net/clock.h"
+
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/wire_format_lite.h>
 
@@ -10,6 +12,18 @@ namespace igms::net {
 
 namespace {
 constexpr int kMaxVarintBytes = 5;  // a 32-bit length; anything longer is garbage
+}
+
+igms::Envelope MakeEnvelope(igms::Envelope::Kind kind, std::uint64_t correlation_id,
+                            const std::string& method) {
+  igms::Envelope e;
+  e.set_kind(kind);
+  e.set_method(method);
+  auto* h = e.mutable_header();
+  h->set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
+  h->set_correlation_id(correlation_id);
+  h->set_send_time_unix_ns(UnixNanos());
+  return e;
 }
 
 DecodeResult DecodeFrame(std::string_view input, std::size_t max_frame_bytes) {

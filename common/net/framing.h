@@ -35,6 +35,10 @@ struct DecodeResult {
   std::string error;
 };
 
+// An envelope of the current protocol version, stamped with the wall clock now.
+igms::Envelope MakeEnvelope(igms::Envelope::Kind kind, std::uint64_t correlation_id,
+                            const std::string& method);
+
 // Looks for one frame at the start of `input`.
 DecodeResult DecodeFrame(std::string_view input, std::size_t max_frame_bytes);
 

@@ -152,14 +152,7 @@ bool SubscriptionOpen(const std::weak_ptr<Session>& session, std::uint64_t id) {
 
 igms::Envelope MakeEnvelope(igms::Envelope::Kind kind, std::uint64_t correlation_id,
                             const std::string& method) {
-  igms::Envelope e;
-  e.set_kind(kind);
-  e.set_method(method);
-  auto* h = e.mutable_header();
-  h->set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
-  h->set_correlation_id(correlation_id);
-  h->set_send_time_unix_ns(UnixNanos());
-  return e;
+  return net::MakeEnvelope(kind, correlation_id, method);
 }
 
 }  // namespace detail

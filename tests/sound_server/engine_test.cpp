@@ -1,6 +1,8 @@
 // The playback engine in this process, on OpenAL Soft's wave output: what the engine plays
 // is checked in the captured file against the bank's own audio. One output per process, so
 // every test shares one engine and waits for it to fall idle.
+#include "sound_server/engine.h"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -8,7 +10,6 @@
 #include <thread>
 
 #include "sound_server/audio_file.h"
-#include "sound_server/engine.h"
 #include "sound_server/wave_capture.h"
 #include "tests/sound_server/sound_checks.h"
 #include "tests/sound_server/test_bank.h"
@@ -47,13 +48,15 @@ class EngineTest : public ::testing::Test {
   }
 
   static AudioClip Source(const std::string& key) {
-    AudioFileResult file = ReadAudioFile(engine_->manifest().FileOf(*engine_->manifest().FindKey(key)));
+    AudioFileResult file =
+        ReadAudioFile(engine_->manifest().FileOf(*engine_->manifest().FindKey(key)));
     EXPECT_TRUE(file.clip) << file.error;
     return file.clip.value_or(AudioClip{});
   }
   static void WaitIdle(std::chrono::milliseconds limit = 10s) {
     const auto end = std::chrono::steady_clock::now() + limit;
-    while (!engine_->Idle() && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(5ms);
+    while (!engine_->Idle() && std::chrono::steady_clock::now() < end)
+      std::this_thread::sleep_for(5ms);
     EXPECT_TRUE(engine_->Idle());
   }
   // Plays `key`, waits for the end plus a gap, returns the captured frames around it.
@@ -193,8 +196,8 @@ TEST_F(EngineTest, MessagesQueueAndAPromptInterrupts) {
   bool second_said = false;
   while (!second_said && std::chrono::steady_clock::now() < end) {
     status = engine_->Status();
-    second_said = !status.plays.empty() && status.plays[0].play_id == p2.play_id &&
-                  status.plays[0].playing;
+    second_said =
+        !status.plays.empty() && status.plays[0].play_id == p2.play_id && status.plays[0].playing;
     std::this_thread::sleep_for(5ms);
   }
   EXPECT_TRUE(second_said);
@@ -206,7 +209,8 @@ TEST_F(EngineTest, BusyCueSourcesGoToTheMoreImportant) {
   high.sound.key = "introduction_music";
   high.priority = PlayPriority::kHigh;
   normal.sound.key = "woodblock";
-  for (int i = 0; i < engine_->Status().cue_sources; ++i) ASSERT_TRUE(engine_->Play(high).outcome.ok());
+  for (int i = 0; i < engine_->Status().cue_sources; ++i)
+    ASSERT_TRUE(engine_->Play(high).outcome.ok());
   PlayOutcome refused = engine_->Play(normal);
   EXPECT_EQ(refused.outcome.failure, Failure::kUnavailable);
   EXPECT_NE(refused.outcome.message.find("higher priority"), std::string::npos);

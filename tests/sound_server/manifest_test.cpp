@@ -1,8 +1,13 @@
 // The manifest parser and the generated lab bank.
+#include "sound_server/manifest.h"
+
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <set>
+
 #include "sound_server/audio_file.h"
-#include "sound_server/manifest.h"
+#include "sound_server/bank_generator.h"
 #include "tests/sound_server/test_bank.h"
 
 namespace igms::sound {
@@ -71,8 +76,8 @@ TEST(LabBank, HoldsEverySoundOfTheThesisAndTheFailureReasons) {
   ManifestResult r = LoadManifest(testing::BankDir() / "manifest.yaml");
   ASSERT_TRUE(r.manifest) << r.error;
   const Manifest& m = *r.manifest;
-  for (const char* key : {"camera_click", "ricochet", "woodblock", "bell_tree",
-                          "introduction_music"}) {
+  for (const char* key :
+       {"camera_click", "ricochet", "woodblock", "bell_tree", "introduction_music"}) {
     ASSERT_NE(m.FindKey(key), nullptr) << key;
     EXPECT_EQ(m.FindKey(key)->kind, SoundKind::kCue);
   }
@@ -113,6 +118,36 @@ TEST(AudioFile, MissingCorruptAndEmptyFilesAreErrors) {
   EXPECT_NE(junk.error.find("not a readable sound file"), std::string::npos) << junk.error;
   std::ofstream(dir / "empty.wav");
   EXPECT_FALSE(ReadAudioFile(dir / "empty.wav").clip);
+  std::filesystem::remove_all(dir);
+}
+
+// The generator makes each entry with sox or espeak-ng, at the manifest's rate, normalised;
+// an entry sox cannot make is reported by name and the others are still made.
+TEST(BankGenerator, MakesEachEntryAndReportsTheOnesItCannot) {
+  const std::filesystem::path dir = testing::ScratchDir("generator");
+  std::ofstream(dir / "manifest.yaml")
+      << "format: 1\nsample_rate: 16000\npeak_db: -6\nsounds:\n"
+         "  - {id: 1, key: beep, kind: cue, sox: \"synth 0.25 sine 660\"}\n"
+         "  - {id: 2, key: broken, kind: cue, sox: \"synth 0.25 no-such-wave\"}\n"
+         "  - {id: 3, key: hello, kind: speech, text: \"Hello.\"}\n";
+  ManifestResult m = LoadManifest(dir / "manifest.yaml");
+  ASSERT_TRUE(m.manifest) << m.error;
+  const GenerateResult result = GenerateBank(*m.manifest, dir / "out");
+  EXPECT_EQ(result.generated, 2);
+  ASSERT_EQ(result.errors.size(), 1u);
+  EXPECT_NE(result.errors[0].find("sound 2 'broken'"), std::string::npos) << result.errors[0];
+  EXPECT_FALSE(std::filesystem::exists(dir / "out/cues/broken.wav"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "out/manifest.yaml"));
+  AudioFileResult beep = ReadAudioFile(dir / "out/cues/beep.wav");
+  ASSERT_TRUE(beep.clip) << beep.error;
+  EXPECT_EQ(beep.clip->sample_rate, 16000);
+  EXPECT_NEAR(beep.clip->Seconds(), 0.25, 0.001);
+  // A sine normalised to -6 dBFS peaks at 0.5 and has an RMS of 0.5 / sqrt(2).
+  EXPECT_NEAR(RmsLevel(beep.clip->samples, 0, SIZE_MAX), 0.5 / std::sqrt(2.0), 0.01);
+  AudioFileResult hello = ReadAudioFile(dir / "out/speech/hello.wav");
+  ASSERT_TRUE(hello.clip) << hello.error;
+  EXPECT_GT(hello.clip->Seconds(), 0.3);
+  EXPECT_NE(RunProgram({"no-such-program-igms"}).find("cannot run"), std::string::npos);
   std::filesystem::remove_all(dir);
 }
 

@@ -14,7 +14,8 @@ namespace {
 
 using namespace std::chrono_literals;
 
-void PlayEachAndCompare(const std::string& name, const std::function<bool(const BankEntry&)>& pick) {
+void PlayEachAndCompare(const std::string& name,
+                        const std::function<bool(const BankEntry&)>& pick) {
   const std::filesystem::path dir = testing::ScratchDir(name);
   const std::filesystem::path wave = dir / "capture.wav";
   // The default bank: ../share/igms/sounds next to the binary, as the build puts it.
@@ -23,7 +24,8 @@ void PlayEachAndCompare(const std::string& name, const std::function<bool(const 
   const uint16_t port = server.WaitListening();
   ASSERT_NE(port, 0) << server.Log();
   testing::SoundClient client(port);
-  net::Result<ListBankResponse> bank = client.Call<ListBankResponse>(kListBankMethod, ListBankRequest());
+  net::Result<ListBankResponse> bank =
+      client.Call<ListBankResponse>(kListBankMethod, ListBankRequest());
   ASSERT_TRUE(bank.ok()) << bank.status.ToString();
   struct Played {
     BankEntry entry;
@@ -51,11 +53,13 @@ void PlayEachAndCompare(const std::string& name, const std::function<bool(const 
   ManifestResult manifest = LoadManifest(bank.value.manifest());
   ASSERT_TRUE(manifest.manifest) << manifest.error;
   for (const Played& p : played) {
-    AudioFileResult source = ReadAudioFile(manifest.manifest->FileOf(*manifest.manifest->FindId(p.entry.id())));
+    AudioFileResult source =
+        ReadAudioFile(manifest.manifest->FileOf(*manifest.manifest->FindId(p.entry.id())));
     ASSERT_TRUE(source.clip) << source.error;
     ASSERT_EQ(source.clip->sample_rate, capture->sample_rate);
-    const std::vector<int16_t> window(capture->samples.begin() + p.from,
-                                      capture->samples.begin() + std::min<int64_t>(p.to, capture->samples.size()));
+    const std::vector<int16_t> window(
+        capture->samples.begin() + p.from,
+        capture->samples.begin() + std::min<int64_t>(p.to, capture->samples.size()));
     testing::ExpectSameSound(window, *source.clip, 1.0, p.entry.key());
   }
   std::filesystem::remove_all(dir);

@@ -139,7 +139,9 @@ class SoundClient {
     if (volume) req.set_volume(*volume);
     return Call<PlayResponse>(kPlayMethod, req);
   }
-  net::Result<StatusResponse> Status() { return Call<StatusResponse>(kStatusMethod, StatusRequest()); }
+  net::Result<StatusResponse> Status() {
+    return Call<StatusResponse>(kStatusMethod, StatusRequest());
+  }
   // Waits until nothing plays or waits; false if that does not happen in time.
   bool WaitIdle(std::chrono::milliseconds limit = std::chrono::seconds(10)) {
     const auto end = std::chrono::steady_clock::now() + limit;

@@ -26,8 +26,8 @@ class ServerTest : public ::testing::Test {
     dir_ = testing::ScratchDir("server");
     wave_ = dir_ / "capture.wav";
     server_ = std::make_unique<testing::ServerProcess>(
-        std::vector<std::string>{"--bank", testing::DamagedBank(dir_).string(), "--output",
-                                 "wave", "--wave-file", wave_.string()},
+        std::vector<std::string>{"--bank", testing::DamagedBank(dir_).string(), "--output", "wave",
+                                 "--wave-file", wave_.string()},
         dir_ / "server.log");
     const uint16_t port = server_->WaitListening();
     ASSERT_NE(port, 0) << server_->Log();
@@ -77,8 +77,8 @@ TEST_F(ServerTest, TwoOverlappingPlaysMix) {
   std::vector<double> rest = Subtract(mixed, music.samples, at_music.offset, 0.5);
   const std::vector<int16_t> rest16(rest.begin(), rest.end());
   const int rate = capture.sample_rate;
-  const Alignment at_ricochet =
-      AlignClip(rest16, ricochet.samples, at_music.offset + rate / 10, at_music.offset + rate, 4096);
+  const Alignment at_ricochet = AlignClip(rest16, ricochet.samples, at_music.offset + rate / 10,
+                                          at_music.offset + rate, 4096);
   EXPECT_GT(at_ricochet.correlation, 0.98);
   rest = Subtract(rest, ricochet.samples, at_ricochet.offset, 0.5);
   // Both whole, nothing else; and the cue began while the music played.
@@ -134,13 +134,29 @@ TEST_F(ServerTest, BadRequestsGetAnErrorAndTheServerGoesOn) {
   add([](PlayRequest& r) { r.set_key(""); }, igms::BAD_REQUEST, "empty sound key");
   add([](PlayRequest& r) { r.set_id(4242); }, igms::NOT_FOUND, "no sound with id 4242");
   add([](PlayRequest& r) { r.set_key("kazoo"); }, igms::NOT_FOUND, "no sound with key 'kazoo'");
-  add([](PlayRequest& r) { r.set_key("woodblock"); r.set_volume(NAN); }, igms::BAD_REQUEST,
-      "volume");
-  add([](PlayRequest& r) { r.set_key("woodblock"); r.set_volume(-0.1f); }, igms::BAD_REQUEST,
-      "volume");
-  add([](PlayRequest& r) { r.set_key("woodblock"); r.set_volume(3.0f); }, igms::BAD_REQUEST,
-      "volume");
-  add([](PlayRequest& r) { r.set_key("woodblock"); r.set_priority(static_cast<Priority>(9)); },
+  add(
+      [](PlayRequest& r) {
+        r.set_key("woodblock");
+        r.set_volume(NAN);
+      },
+      igms::BAD_REQUEST, "volume");
+  add(
+      [](PlayRequest& r) {
+        r.set_key("woodblock");
+        r.set_volume(-0.1f);
+      },
+      igms::BAD_REQUEST, "volume");
+  add(
+      [](PlayRequest& r) {
+        r.set_key("woodblock");
+        r.set_volume(3.0f);
+      },
+      igms::BAD_REQUEST, "volume");
+  add(
+      [](PlayRequest& r) {
+        r.set_key("woodblock");
+        r.set_priority(static_cast<Priority>(9));
+      },
       igms::BAD_REQUEST, "priority");
   add([](PlayRequest& r) { r.set_key("missing_file"); }, igms::UNAVAILABLE, "file is missing");
   add([](PlayRequest& r) { r.set_id(901); }, igms::UNAVAILABLE, "not a readable sound file");
@@ -168,7 +184,8 @@ TEST_F(ServerTest, BadRequestsGetAnErrorAndTheServerGoesOn) {
   EXPECT_EQ(status.value.plays_started(), 0u);
   EXPECT_FLOAT_EQ(status.value.master_volume(), 0.25f);
   // The damaged sounds are listed, with the reason; the rest are playable.
-  net::Result<ListBankResponse> bank = client_->Call<ListBankResponse>(kListBankMethod, ListBankRequest());
+  net::Result<ListBankResponse> bank =
+      client_->Call<ListBankResponse>(kListBankMethod, ListBankRequest());
   ASSERT_TRUE(bank.ok());
   int unavailable = 0;
   for (const BankEntry& e : bank.value.sounds()) {

@@ -17,9 +17,8 @@ inline std::filesystem::path BuildDir() {
 inline std::filesystem::path BankDir() { return BuildDir() / "share/igms/sounds"; }
 
 inline std::filesystem::path ScratchDir(const std::string& name) {
-  std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("igms-sound-test-" + name + "-" +
-                                                std::to_string(::getpid()));
+  std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                              ("igms-sound-test-" + name + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -30,8 +30,10 @@ void ThesisDecomposition() {
     const auto fit = ic::ClosestWithinRounding(cam);
     const auto within = ic::AsPrinted(fit.decomposition);
     const auto printed = ic::AsArray(cam.printed);
-    std::printf("%s camera: printed | from the printed matrix | third row moved <= %.4f (within its rounding)\n",
-                cam.name.c_str(), fit.max_row3_change);
+    std::printf(
+        "%s camera: printed | from the printed matrix | third row moved <= %.4f (within its "
+        "rounding)\n",
+        cam.name.c_str(), fit.max_row3_change);
     for (size_t k = 0; k < printed.size(); ++k) {
       std::printf("  %-6s %10.3f | %10.3f (%+8.3f) | %10.3f (%+8.3f)\n", ic::kPrintedNames[k],
                   printed[k], direct[k], direct[k] - printed[k], within[k], within[k] - printed[k]);
@@ -42,7 +44,8 @@ void ThesisDecomposition() {
 }
 
 void Chessboard() {
-  std::printf("\n== Chessboard stereo calibration, Debian opencv-doc left01..right14 (13 pairs, 9x6)\n");
+  std::printf(
+      "\n== Chessboard stereo calibration, Debian opencv-doc left01..right14 (13 pairs, 9x6)\n");
   std::vector<std::string> left, right;
   for (int i = 1; i <= 14; ++i) {
     if (i == 10) continue;
@@ -54,8 +57,8 @@ void Chessboard() {
   }
   using P = ic::ChessboardOptions::Procedure;
   const std::pair<P, const char*> runs[] = {{P::kOpenCvSample, "OpenCV stereo_calib procedure"},
-                                             {P::kFixed, "ours, intrinsics fixed"},
-                                             {P::kJoint, "ours, joint refinement (default)"}};
+                                            {P::kFixed, "ours, intrinsics fixed"},
+                                            {P::kJoint, "ours, joint refinement (default)"}};
   std::printf("  %-34s %6s %10s %10s %11s %12s\n", "procedure", "pairs", "left rms", "right rms",
               "stereo rms", "epipolar err");
   std::printf("  %-34s %6s %10s %10s %11.3f %12.3f\n", "OpenCV sample, published", "13", "-", "-",
@@ -72,7 +75,9 @@ void Chessboard() {
     std::printf("  %-34s %6d %10.3f %10.3f %11.3f %12.3f\n", name, r->pairs_used, r->left_rms,
                 r->right_rms, r->stereo_rms, r->epipolar_error);
   }
-  std::printf("  (epipolar error as the sample computes it: both images' distances summed per corner pair)\n");
+  std::printf(
+      "  (epipolar error as the sample computes it: both images' distances summed per corner "
+      "pair)\n");
 }
 
 void Dlt() {
@@ -98,7 +103,8 @@ void Dlt() {
       const Eigen::Vector3d X(ux(rng), uy(rng), uz(rng));
       const auto px = cam.Project(X);
       if (!px || !cam.InImage(*px)) continue;
-      pts.push_back({X, *px + (noisy ? Eigen::Vector2d(noise(rng), noise(rng)) : Eigen::Vector2d::Zero())});
+      pts.push_back(
+          {X, *px + (noisy ? Eigen::Vector2d(noise(rng), noise(rng)) : Eigen::Vector2d::Zero())});
     }
     return pts;
   };
@@ -112,17 +118,21 @@ void Dlt() {
       rms += r->rms / 100;
       const auto check = sample(200, false);
       double e = 0;
-      for (const auto& p : check) e += (*ig::ProjectiveCamera(r->P, {}).Project(p.world) - p.pixel).squaredNorm();
+      for (const auto& p : check)
+        e += (*ig::ProjectiveCamera(r->P, {}).Project(p.world) - p.pixel).squaredNorm();
       truth_err += std::sqrt(e / check.size()) / 100;
     }
-    std::printf("  %-10s mean residual rms %.3f px; fitted camera vs truth %.3f px rms over the image\n",
-                ic::ToString(method), rms, truth_err);
+    std::printf(
+        "  %-10s mean residual rms %.3f px; fitted camera vs truth %.3f px rms over the image\n",
+        ic::ToString(method), rms, truth_err);
     std::printf("    trial 1 residuals (px):");
     for (double r : first) std::printf(" %.2f", r);
     std::printf("\n");
   }
-  std::printf("  (expected residual rms for 40 equations and 11 unknowns: 0.5 * sqrt(2 * 29 / 40) = %.3f px)\n",
-              0.5 * std::sqrt(2.0 * 29 / 40));
+  std::printf(
+      "  (expected residual rms for 40 equations and 11 unknowns: 0.5 * sqrt(2 * 29 / 40) = %.3f "
+      "px)\n",
+      0.5 * std::sqrt(2.0 * 29 / 40));
 }
 
 void Platform() {
@@ -135,11 +145,13 @@ void Platform() {
       options.estimate_scales = scales;
       const auto r = ic::CalibratePlatform(s.P0[0], s.P0[1], s.nominal, s.observations, options);
       const auto after = ic::CompareToTruth(s, r->model, 2);
-      std::printf("  noise %.1f px, %zu obs, scales %-5s: rms %.3f -> %.3f px (%d it); axes %.4f deg / %.4f in; "
-                  "scales %.3f%%; prediction %.3f -> %.4f px\n",
-                  noise, s.observations.size(), scales ? "fit" : "fixed", r->initial_rms, r->rms,
-                  r->iterations, after.max_axis_angle_deg, after.max_axis_offset,
-                  after.max_scale_error * 100, before.prediction_rms_px, after.prediction_rms_px);
+      std::printf(
+          "  noise %.1f px, %zu obs, scales %-5s: rms %.3f -> %.3f px (%d it); axes %.4f deg / "
+          "%.4f in; "
+          "scales %.3f%%; prediction %.3f -> %.4f px\n",
+          noise, s.observations.size(), scales ? "fit" : "fixed", r->initial_rms, r->rms,
+          r->iterations, after.max_axis_angle_deg, after.max_axis_offset,
+          after.max_scale_error * 100, before.prediction_rms_px, after.prediction_rms_px);
     }
   }
 }

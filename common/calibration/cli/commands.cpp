@@ -72,8 +72,8 @@ void Save(const StereoCalibration& c, const std::string& path, std::ostream& err
 
 int Points(int argc, const char* const argv[], std::ostream& out, std::ostream& err) {
   po::options_description opts("igms calibrate points");
-  opts.add_options()("help,h", "this help")(
-      "left", po::value<std::string>(), "correspondences of the left camera (x y z u v lines)")(
+  opts.add_options()("help,h", "this help")("left", po::value<std::string>(),
+                                            "correspondences of the left camera (x y z u v lines)")(
       "right", po::value<std::string>(), "correspondences of the right camera")(
       "method", po::value<std::string>()->default_value("normalized"), "thesis | normalized")(
       "image-size", po::value<std::string>()->default_value("512x480"), "WxH of the images")(
@@ -117,7 +117,8 @@ int Points(int argc, const char* const argv[], std::ostream& out, std::ostream& 
                        .str());
     if (!vm.count("json")) {
       out << side << " camera (" << path << ", " << points->size() << " points, " << m
-          << " DLT):\nP =\n" << result->P << "\nresiduals (px):";
+          << " DLT):\nP =\n"
+          << result->P << "\nresiduals (px):";
       for (double r : result->residuals) out << " " << Fixed(r, 3);
       out << "\nrms " << Fixed(result->rms, 4) << " px, max " << Fixed(result->max, 4) << " px\n";
     }
@@ -137,14 +138,16 @@ int Chessboard(int argc, const char* const argv[], std::ostream& out, std::ostre
       "board", po::value<std::string>()->default_value("9x6"), "inner corners, COLSxROWS")(
       "square", po::value<double>()->default_value(1.0), "square size in world units")(
       "procedure", po::value<std::string>()->default_value("joint"),
-      "joint | fixed | opencv-sample")("output", po::value<std::string>(), "calibration file to write")(
-      "json", "print one JSON object");
+      "joint | fixed | opencv-sample")("output", po::value<std::string>(),
+                                       "calibration file to write")("json",
+                                                                    "print one JSON object");
   const auto vm = Parse(argc, argv, opts);
   if (vm.count("help")) {
     out << opts;
     return 0;
   }
-  if (!vm.count("left") || !vm.count("right")) throw BadInput("chessboard: give --left and --right images");
+  if (!vm.count("left") || !vm.count("right"))
+    throw BadInput("chessboard: give --left and --right images");
   ChessboardOptions options;
   std::tie(options.cols, options.rows) = ParsePair(vm["board"].as<std::string>(), "--board");
   options.square = vm["square"].as<double>();
@@ -251,15 +254,16 @@ void DecompositionText(const std::string& side, const geometry::Matrix34& P,
       << "    centre x=" << Fixed(t->center.x(), 2) << ", y=" << Fixed(t->center.y(), 2)
       << ", z=" << Fixed(t->center.z(), 2) << "\n"
       << "    theta=" << Fixed(t->theta, 4) << " phi=" << Fixed(t->phi, 4)
-      << " psi=" << Fixed(t->psi, 4) << " (as the thesis prints them: theta="
-      << Fixed(t->printed_theta, 3) << ", psi=" << Fixed(t->printed_psi, 3) << ")"
+      << " psi=" << Fixed(t->psi, 4)
+      << " (as the thesis prints them: theta=" << Fixed(t->printed_theta, 3)
+      << ", psi=" << Fixed(t->printed_psi, 3) << ")"
       << " skew=" << Fixed(t->skew, 5) << " rad\n"
       << "  RQ: fx=" << Fixed(rq->fx(), 2) << " fy=" << Fixed(rq->fy(), 2)
       << " cx=" << Fixed(rq->cx(), 1) << " cy=" << Fixed(rq->cy(), 1)
       << " skew=" << Fixed(rq->skew(), 3) << " centre (" << Fixed(rq->center.x(), 2) << ", "
       << Fixed(rq->center.y(), 2) << ", " << Fixed(rq->center.z(), 2) << ")\n"
-      << "  graphics: fovy=" << Fixed(gl->fovy_degrees, 2) << " deg, fovx="
-      << Fixed(gl->fovx_degrees, 2) << " deg, aspect=" << Fixed(gl->aspect, 4)
+      << "  graphics: fovy=" << Fixed(gl->fovy_degrees, 2)
+      << " deg, fovx=" << Fixed(gl->fovx_degrees, 2) << " deg, aspect=" << Fixed(gl->aspect, 4)
       << ", principal offset (" << Fixed(gl->principal_offset.x(), 1) << ", "
       << Fixed(gl->principal_offset.y(), 1) << ") px\n";
 }
@@ -340,8 +344,8 @@ int Platform(int argc, const char* const argv[], std::ostream& out, std::ostream
     const double noise = vm["noise"].as<double>();
     if (!(noise >= 0) || !std::isfinite(noise)) throw BadInput("--noise must be >= 0");
     const auto s = MakePlatformScenario(noise, 1);
-    const auto r = CalibratePlatform(s.P0[0], s.P0[1], s.nominal, s.observations, options,
-                                     progress, &why);
+    const auto r =
+        CalibratePlatform(s.P0[0], s.P0[1], s.nominal, s.observations, options, progress, &why);
     if (!r) throw BadInput(why);
     const auto before = CompareToTruth(s, s.nominal, 2);
     const auto after = CompareToTruth(s, r->model, 2);
@@ -385,8 +389,8 @@ int Platform(int argc, const char* const argv[], std::ostream& out, std::ostream
   const auto obs = ParsePlatformObservations(ReadFile(obs_path),
                                              static_cast<int>(cal->platform->joints.size()), &why);
   if (!obs) throw BadInput(obs_path + ": " + why);
-  const auto r = CalibratePlatform(cal->left.P, cal->right.P, *cal->platform, *obs, options,
-                                   progress, &why);
+  const auto r =
+      CalibratePlatform(cal->left.P, cal->right.P, *cal->platform, *obs, options, progress, &why);
   if (!r) throw BadInput(obs_path + ": " + why);
   cal->platform = r->model;
   if (vm.count("output")) Save(*cal, vm["output"].as<std::string>(), err);
@@ -407,9 +411,8 @@ int Platform(int argc, const char* const argv[], std::ostream& out, std::ostream
         << "reprojection rms " << Fixed(r->initial_rms, 4) << " px -> " << Fixed(r->rms, 4)
         << " px (max " << Fixed(r->max, 4) << ") in " << r->iterations << " iterations\n";
     for (const auto& j : r->model.joints) {
-      out << "  " << j.name << ": theta_offset=" << j.theta_offset << " d=" << j.d
-          << " a=" << j.a << " alpha=" << j.alpha << " radians_per_tick=" << j.radians_per_tick
-          << "\n";
+      out << "  " << j.name << ": theta_offset=" << j.theta_offset << " d=" << j.d << " a=" << j.a
+          << " alpha=" << j.alpha << " radians_per_tick=" << j.radians_per_tick << "\n";
     }
   }
   return 0;

@@ -1,12 +1,13 @@
 // The calibration file: the thesis's matrices load, round trips are exact, and every kind of
 // bad input is refused with the offending key named.
+#include "common/calibration/calibration_file.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
-#include "common/calibration/calibration_file.h"
 #include "tests/common/geometry/synthetic_rig.h"
 
 namespace igms::calibration {
@@ -79,7 +80,8 @@ TEST(CalibrationFile, RoundTripWithLensPlatformAndRanger) {
   c.right.image_size = {640, 480};
   c.platform = geometry::ThesisPlatform({-2, 0, 1}, 5.5, 0.1);
   c.ranger = RangerCalibration{{1, 2, 3}, Eigen::Vector3d(1, 0, 0)};
-  const auto dir = std::filesystem::temp_directory_path() / ("igms_calib_" + std::to_string(getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("igms_calib_" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   const std::string path = (dir / "cal.yaml").string();
   std::string why;
@@ -95,7 +97,8 @@ TEST(CalibrationFile, RoundTripWithLensPlatformAndRanger) {
   ASSERT_TRUE(back->platform);
   ASSERT_EQ(back->platform->joints.size(), 3u);
   EXPECT_EQ(back->platform->joints[1].name, "tilt");
-  EXPECT_DOUBLE_EQ(back->platform->joints[0].radians_per_tick, c.platform->joints[0].radians_per_tick);
+  EXPECT_DOUBLE_EQ(back->platform->joints[0].radians_per_tick,
+                   c.platform->joints[0].radians_per_tick);
   EXPECT_TRUE(back->platform->world_from_base.isApprox(c.platform->world_from_base, 1e-15));
   ASSERT_TRUE(back->ranger);
   EXPECT_EQ(back->ranger->origin, Eigen::Vector3d(1, 2, 3));
@@ -104,12 +107,12 @@ TEST(CalibrationFile, RoundTripWithLensPlatformAndRanger) {
 }
 
 TEST(CalibrationFile, DistAsPlainListAndColumnVector) {
-  std::string yaml = std::string(kMinimal) +
-                     "ranger:\n   origin: [0, 0, 1]\n   axis: [0, 0, 2]\n";
-  yaml = Replace(yaml, "   image_size: [ 512, 480 ]\nright:",
-                 "   image_size: [ 512, 480 ]\n   K: !!opencv-matrix\n      rows: 3\n      cols: 3\n"
-                 "      dt: d\n      data: [ 500, 0, 256, 0, 500, 240, 0, 0, 1 ]\n"
-                 "   dist: [ -0.1, 0.01, 0, 0 ]\nright:");
+  std::string yaml = std::string(kMinimal) + "ranger:\n   origin: [0, 0, 1]\n   axis: [0, 0, 2]\n";
+  yaml =
+      Replace(yaml, "   image_size: [ 512, 480 ]\nright:",
+              "   image_size: [ 512, 480 ]\n   K: !!opencv-matrix\n      rows: 3\n      cols: 3\n"
+              "      dt: d\n      data: [ 500, 0, 256, 0, 500, 240, 0, 0, 1 ]\n"
+              "   dist: [ -0.1, 0.01, 0, 0 ]\nright:");
   std::string why;
   auto c = ParseCalibration(yaml, &why);
   ASSERT_TRUE(c) << why;
@@ -119,8 +122,11 @@ TEST(CalibrationFile, DistAsPlainListAndColumnVector) {
 
 TEST(CalibrationFile, ErrorsNameTheKey) {
   EXPECT_NE(ErrorOf("%YAML:1.0\n---\nright: {}\n").find("left: missing"), std::string::npos);
-  EXPECT_NE(ErrorOf(Replace(kMinimal, "      rows: 3\n      cols: 4\n      dt: d\n      data: [ -232.71, -64.35, 4.45, 5031.32,",
-                            "      rows: 3\n      cols: 3\n      dt: d\n      data: [ 1, 0, 0, 0, 1, 0, 0, 0, 1 ] #"))
+  EXPECT_NE(ErrorOf(Replace(kMinimal,
+                            "      rows: 3\n      cols: 4\n      dt: d\n      data: [ -232.71, "
+                            "-64.35, 4.45, 5031.32,",
+                            "      rows: 3\n      cols: 3\n      dt: d\n      data: [ 1, 0, 0, 0, "
+                            "1, 0, 0, 0, 1 ] #"))
                 .find("left.P: expected a 3x4 matrix, got 3x3"),
             std::string::npos);
   EXPECT_NE(ErrorOf(Replace(kMinimal, "-214.44", ".nan")).find("right.P"), std::string::npos);
@@ -140,12 +146,14 @@ TEST(CalibrationFile, ErrorsNameTheKey) {
                             "-0.01, -0.22, 0.01, 3844.42, -4.93, -58.97, -261.44"))
                 .find("right.P: camera centre is not finite"),
             std::string::npos);
-  EXPECT_NE(ErrorOf(std::string(kMinimal) + "   dist: [ 0.1, 0, 0, 0 ]\n").find("right.dist: needs right.K"),
+  EXPECT_NE(ErrorOf(std::string(kMinimal) + "   dist: [ 0.1, 0, 0, 0 ]\n")
+                .find("right.dist: needs right.K"),
             std::string::npos);
   EXPECT_NE(ErrorOf(std::string(kMinimal) + "ranger:\n   origin: [0, 0]\n   axis: [1, 0, 0]\n")
                 .find("ranger.origin"),
             std::string::npos);
-  EXPECT_NE(ErrorOf(std::string(kMinimal) + "platform:\n   joints: []\n").find("platform.world_from_base: missing"),
+  EXPECT_NE(ErrorOf(std::string(kMinimal) + "platform:\n   joints: []\n")
+                .find("platform.world_from_base: missing"),
             std::string::npos);
   EXPECT_FALSE(ErrorOf("left: [unclosed").empty());
   EXPECT_FALSE(ErrorOf("").empty());

@@ -2,16 +2,17 @@
 // 9x6 corners): beats OpenCV's own stereo_calib sample, run on the same corners in the same
 // test, on both its figures; the written file loads, and triangulating a real board with it
 // gives squares of the right size.
+#include "common/calibration/chessboard.h"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <Eigen/Core>
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <unistd.h>
 
-#include "common/calibration/chessboard.h"
 #include "common/geometry/triangulation.h"
 
 namespace igms::calibration {
@@ -59,7 +60,8 @@ TEST(Chessboard, BeatsOpenCvSampleOnRealPairs) {
   EXPECT_LT(std::abs(ours->t.y()) + std::abs(ours->t.z()), 0.2);
 
   // The calibration file round trip, then metric triangulation of a real board.
-  const auto path = std::filesystem::temp_directory_path() / ("igms_cb_" + std::to_string(getpid()) + ".yaml");
+  const auto path =
+      std::filesystem::temp_directory_path() / ("igms_cb_" + std::to_string(getpid()) + ".yaml");
   ASSERT_TRUE(SaveCalibration(ours->calibration, path.string(), &why)) << why;
   auto loaded = LoadCalibration(path.string(), &why);
   std::filesystem::remove(path);
@@ -100,7 +102,8 @@ TEST(Chessboard, RefusesBadInput) {
   ChessboardOptions square;
   square.cols = square.rows = 6;
   EXPECT_FALSE(CalibrateChessboard(left, right, square, {}, &why));
-  EXPECT_FALSE(CalibrateChessboard({left[0], left[1]}, {right[0], right[1]}, {.cols = 5, .rows = 12}, {}, &why));
+  EXPECT_FALSE(CalibrateChessboard({left[0], left[1]}, {right[0], right[1]},
+                                   {.cols = 5, .rows = 12}, {}, &why));
   EXPECT_NE(why.find("at least 3"), std::string::npos);
 }
 

@@ -95,7 +95,8 @@ geometry::ProjectiveCamera Shifted(const geometry::ProjectiveCamera& cam) {
 
 TEST_F(CalibrateCli, DecomposesTheThesisFile) {
   const char* src = std::getenv("IGMS_SOURCE_DIR");
-  const std::string file = std::string(src ? src : ".") + "/common/calibration/data/thesis_calibration.yaml";
+  const std::string file =
+      std::string(src ? src : ".") + "/common/calibration/data/thesis_calibration.yaml";
   const Outcome r = Calibrate("decompose " + file + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NEAR(Number(r.out, "ku"), -955.98, 0.01);
@@ -115,7 +116,7 @@ TEST_F(CalibrateCli, PointsCalibratesAndWritesAFile) {
   const std::string out = (dir_ / "cal.yaml").string();
   for (const char* method : {"thesis", "normalized"}) {
     const Outcome r = Calibrate("points --left " + l + " --right " + rr + " --method " + method +
-                            " --output " + out + " --json");
+                                " --output " + out + " --json");
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_LT(Number(r.out, "rms"), 1e-6);
     std::string why;
@@ -167,7 +168,8 @@ TEST_F(CalibrateCli, ChessboardOnRealPairsBeatsTheSample) {
     right += name;
   }
   const std::string out = (dir_ / "cb.yaml").string();
-  const Outcome r = Calibrate("chessboard" + left + right + " --board 9x6 --square 1.0 --output " + out + " --json");
+  const Outcome r = Calibrate("chessboard" + left + right + " --board 9x6 --square 1.0 --output " +
+                              out + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(Number(r.out, "pairs_used"), 13);
   EXPECT_LT(Number(r.out, "stereo_rms"), 0.634);
@@ -197,7 +199,7 @@ TEST_F(CalibrateCli, PlatformFromObservationFileAndSynthetic) {
   const std::string obs_path = Write("obs.txt", obs.str());
   const std::string out = (dir_ / "fitted.yaml").string();
   Outcome r = Calibrate("platform --calibration " + cal_path + " --observations " + obs_path +
-                    " --estimate-scales --output " + out + " --json");
+                        " --estimate-scales --output " + out + " --json");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_LT(Number(r.out, "rms"), 0.4);
   EXPECT_GT(Number(r.out, "initial_rms"), 2.0);

@@ -1,8 +1,9 @@
 // DLT calibration (thesis 3.2): both formulations recover synthetic cameras, report honest
 // residuals under noise, and refuse degenerate input.
+#include "common/calibration/dlt.h"
+
 #include <gtest/gtest.h>
 
-#include "common/calibration/dlt.h"
 #include "common/geometry/decomposition.h"
 #include "tests/common/geometry/synthetic_rig.h"
 

@@ -37,11 +37,12 @@ TEST(PlatformCalibration, RecoversKnownParametersFromNoisyData) {
     auto r = CalibratePlatform(s.P0[0], s.P0[1], s.nominal, s.observations, options, {}, &why);
     ASSERT_TRUE(r) << why;
     const auto after = CompareToTruth(s, r->model, 3);
-    std::printf("scales %d: rms %.3f -> %.3f px in %d iterations; axes %.4f deg, %.4f in; scale %.2e; "
-                "prediction %.3f -> %.3f px\n",
-                scales, r->initial_rms, r->rms, r->iterations, after.max_axis_angle_deg,
-                after.max_axis_offset, after.max_scale_error, before.prediction_rms_px,
-                after.prediction_rms_px);
+    std::printf(
+        "scales %d: rms %.3f -> %.3f px in %d iterations; axes %.4f deg, %.4f in; scale %.2e; "
+        "prediction %.3f -> %.3f px\n",
+        scales, r->initial_rms, r->rms, r->iterations, after.max_axis_angle_deg,
+        after.max_axis_offset, after.max_scale_error, before.prediction_rms_px,
+        after.prediction_rms_px);
     EXPECT_GT(r->initial_rms, 2.0);
     if (scales) {
       // With the scales free the model matches the data to the noise: rms near 0.3 * sqrt(2).
@@ -70,7 +71,8 @@ TEST(PlatformCalibration, RefusesDegenerateData) {
   ASSERT_GT(still.size(), 20u);
   EXPECT_FALSE(CalibratePlatform(s.P0[0], s.P0[1], s.nominal, still, {}, {}, &why));
   EXPECT_NE(why.find("do not"), std::string::npos) << why;
-  EXPECT_FALSE(CalibratePlatform(s.P0[0], s.P0[1], s.nominal, std::span(s.observations).first(3), {}, {}, &why));
+  EXPECT_FALSE(CalibratePlatform(s.P0[0], s.P0[1], s.nominal, std::span(s.observations).first(3),
+                                 {}, {}, &why));
   EXPECT_NE(why.find("at least"), std::string::npos);
   auto bad = s.observations;
   bad[5].ticks.pop_back();
@@ -83,7 +85,9 @@ TEST(PlatformCalibration, RefusesDegenerateData) {
 
 TEST(PlatformCalibration, ParsesObservationText) {
   std::string why;
-  auto obs = ParsePlatformObservations("# cam pan tilt roll x y z u v\nleft 100 -20 0 40 1 2 250.5 239\n1,0,0,0,50,0,0,10,20\n", 3, &why);
+  auto obs = ParsePlatformObservations(
+      "# cam pan tilt roll x y z u v\nleft 100 -20 0 40 1 2 250.5 239\n1,0,0,0,50,0,0,10,20\n", 3,
+      &why);
   ASSERT_TRUE(obs) << why;
   ASSERT_EQ(obs->size(), 2u);
   EXPECT_EQ((*obs)[0].camera, 0);

@@ -34,7 +34,8 @@ TEST(ThesisDecomposition, WithinRoundingTheFiguresAreReproducedToPrintedPrecisio
     const auto want = AsArray(cam.printed);
     // Scales to 0.1%, image centre to 0.5 px, centre to 0.02 in, angles to the printed
     // digit (0.01 rad, phi 0.001).
-    const double tolerance[10] = {0.001 * 945, 0.001 * 1192, 0.5, 0.5, 0.02, 0.02, 0.02, 0.006, 0.0012, 0.006};
+    const double tolerance[10] = {0.001 * 945, 0.001 * 1192, 0.5,   0.5,    0.02,
+                                  0.02,        0.02,         0.006, 0.0012, 0.006};
     for (int k = 0; k < 10; ++k) {
       EXPECT_NEAR(got[k], want[k], tolerance[k]) << cam.name << " " << kPrintedNames[k];
     }

@@ -1,12 +1,13 @@
 // Camera model: projection, rays, inverse perspective (thesis 3.5) and lens distortion,
 // against synthetic ground truth and against OpenCV's own distortion model.
+#include "common/geometry/camera.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
-#include "common/geometry/camera.h"
 #include "common/geometry/distortion.h"
 #include "common/geometry/inverse_perspective.h"
 #include "tests/common/geometry/synthetic_rig.h"
@@ -42,7 +43,8 @@ TEST(Camera, CenterDepthAndViewDirectionIgnoreScaleAndSign) {
   const auto rig = ThesisLikeRig();
   const Eigen::Vector3d X(60, 1, 3);
   const double depth = rig.left.Depth(X);
-  const Eigen::Vector3d expected_dir = (Eigen::Vector3d(60, 0, 2) - Eigen::Vector3d(0, 2, 6)).normalized();
+  const Eigen::Vector3d expected_dir =
+      (Eigen::Vector3d(60, 0, 2) - Eigen::Vector3d(0, 2, 6)).normalized();
   EXPECT_NEAR((rig.left.Center() - Eigen::Vector3d(0, 2, 6)).norm(), 0, 1e-9);
   EXPECT_NEAR((rig.left.ViewDirection() - expected_dir).norm(), 0, 1e-12);
   EXPECT_NEAR(depth, (X - rig.left.Center()).dot(expected_dir), 1e-9);
@@ -110,8 +112,8 @@ TEST(InversePerspective, HorizontalRayHasNoPointAtAHeight) {
 }
 
 std::vector<double> Coefficients(int n) {
-  const std::vector<double> all = {-0.28, 0.09, 1.2e-3, -8e-4, 0.02, 0.01, -0.003, 0.004,
-                                   1e-3,  -2e-4, 5e-4,   3e-4,  0.0,  0.0};
+  const std::vector<double> all = {-0.28, 0.09, 1.2e-3, -8e-4, 0.02, 0.01, -0.003,
+                                   0.004, 1e-3, -2e-4,  5e-4,  3e-4, 0.0,  0.0};
   return {all.begin(), all.begin() + n};
 }
 
@@ -154,8 +156,9 @@ TEST(Distortion, UndistortInvertsDistortAndAgreesWithOpenCv) {
       ASSERT_TRUE(ideal) << u << "," << v;
       EXPECT_LT((cam.Distort(*ideal) - observed).norm(), 1e-9);
       std::vector<cv::Point2d> in = {{double(u), double(v)}}, out;
-      cv::undistortPoints(in, out, Kcv, dist, cv::noArray(), Kcv,
-                          cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-14));
+      cv::undistortPoints(
+          in, out, Kcv, dist, cv::noArray(), Kcv,
+          cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-14));
       EXPECT_NEAR(ideal->x(), out[0].x, 1e-6);
       EXPECT_NEAR(ideal->y(), out[0].y, 1e-6);
     }

@@ -1,12 +1,13 @@
 // Decomposition (thesis 3.3): round trips on synthetic cameras, agreement with the RQ
 // decomposition and with OpenCV's decomposeProjectionMatrix.
+#include "common/geometry/decomposition.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
-#include "common/geometry/decomposition.h"
 #include "tests/common/geometry/synthetic_rig.h"
 
 namespace igms::geometry {
@@ -65,7 +66,8 @@ TEST(RqDecomposition, RecoversKRotationAndCentreAndMatchesOpenCv) {
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int i = 0; i < 100; ++i) {
-    Eigen::Matrix3d K = testing::Intrinsics(700 + 300 * u(rng), 300 + 20 * u(rng), 220 + 20 * u(rng), 1.05);
+    Eigen::Matrix3d K =
+        testing::Intrinsics(700 + 300 * u(rng), 300 + 20 * u(rng), 220 + 20 * u(rng), 1.05);
     K(0, 1) = 3 * u(rng);
     const Eigen::Vector3d c(10 * u(rng), 10 * u(rng), 5 + u(rng));
     const Eigen::Vector3d target(60 + 10 * u(rng), 10 * u(rng), 2 * u(rng));
@@ -98,8 +100,8 @@ TEST(RqDecomposition, RecoversKRotationAndCentreAndMatchesOpenCv) {
 TEST(Decompositions, AgreeWithEachOther) {
   // For a skew-free camera the two decompositions describe the same camera: |ku| = fx,
   // kv = fy, (u0, v0) = (cx, cy), the thesis's y' axis is the RQ's z axis.
-  const Matrix34 P = testing::LookAt(testing::Intrinsics(950, 310, 214, 1.25), {20.7, 3.5, 3.7},
-                                     {19, -60, 6});
+  const Matrix34 P =
+      testing::LookAt(testing::Intrinsics(950, 310, 214, 1.25), {20.7, 3.5, 3.7}, {19, -60, 6});
   const auto t = *DecomposeThesis(P);
   const auto r = *DecomposeRq(P);
   EXPECT_NEAR(-t.ku, r.fx(), 1e-6);

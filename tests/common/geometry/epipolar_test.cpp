@@ -1,7 +1,8 @@
 // Epipolar geometry: lines contain the matches, the depth-window segment brackets them.
+#include "common/geometry/epipolar.h"
+
 #include <gtest/gtest.h>
 
-#include "common/geometry/epipolar.h"
 #include "common/geometry/inverse_perspective.h"
 #include "tests/common/geometry/synthetic_rig.h"
 
@@ -45,8 +46,8 @@ TEST(Epipolar, EpipoleIsTheOtherCentreAndHasNoLine) {
   ASSERT_TRUE(e_in_right);
   EXPECT_LT((F * e_in_right->homogeneous()).norm(), 1e-9);
   EXPECT_LT((F.transpose() * e->homogeneous()).norm(), 1e-9);
-  EXPECT_FALSE(EpipolarLine(FundamentalMatrix(rig.left.P(), rig.right.P()).transpose(),
-                            *e_in_right));
+  EXPECT_FALSE(
+      EpipolarLine(FundamentalMatrix(rig.left.P(), rig.right.P()).transpose(), *e_in_right));
   // Identical centres have no epipolar geometry.
   EXPECT_EQ(FundamentalMatrix(rig.left.P(), 2.0 * rig.left.P()).norm(), 0.0);
 }

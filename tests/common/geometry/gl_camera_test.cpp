@@ -1,8 +1,9 @@
 // The graphical camera: OpenGL's transform chain with our matrices puts every world point on
 // the pixel P projects it to, within 0.01 px, for both thesis cameras and skewed synthetic ones.
+#include "common/geometry/gl_camera.h"
+
 #include <gtest/gtest.h>
 
-#include "common/geometry/gl_camera.h"
 #include "tests/common/geometry/synthetic_rig.h"
 
 namespace igms::geometry {
@@ -63,8 +64,9 @@ TEST(GlCamera, SkewedAndOffCentreCamerasRegister) {
 }
 
 TEST(GlCamera, ReportsFieldOfViewAndRefusesBadInput) {
-  const auto gl = MakeGlCamera(testing::LookAt(testing::Intrinsics(1000, 255.5, 239.5), {0, 0, 0}, {1, 0, 0}),
-                               {512, 480}, 1, 100);
+  const auto gl =
+      MakeGlCamera(testing::LookAt(testing::Intrinsics(1000, 255.5, 239.5), {0, 0, 0}, {1, 0, 0}),
+                   {512, 480}, 1, 100);
   ASSERT_TRUE(gl);
   EXPECT_NEAR(gl->fovy_degrees, 2 * std::atan(240.0 / 1000) * 180 / M_PI, 1e-9);
   EXPECT_NEAR(gl->aspect, 512.0 / 480.0, 1e-12);

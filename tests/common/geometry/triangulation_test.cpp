@@ -1,8 +1,9 @@
 // Triangulation (thesis 3.7): each method recovers synthetic points, reports residuals, and its
 // covariance matches the scatter of a Monte Carlo run with the same pixel noise.
+#include "common/geometry/triangulation.h"
+
 #include <gtest/gtest.h>
 
-#include "common/geometry/triangulation.h"
 #include "tests/common/geometry/synthetic_rig.h"
 
 namespace igms::geometry {
@@ -11,9 +12,8 @@ namespace {
 using testing::RandomScenePoint;
 using testing::ThesisLikeRig;
 
-constexpr TriangulationMethod kMethods[] = {TriangulationMethod::kLinear,
-                                            TriangulationMethod::kMidpoint,
-                                            TriangulationMethod::kRefined};
+constexpr TriangulationMethod kMethods[] = {
+    TriangulationMethod::kLinear, TriangulationMethod::kMidpoint, TriangulationMethod::kRefined};
 
 TEST(Triangulation, RecoversExactPointsWithZeroResidual) {
   const auto rig = ThesisLikeRig();
@@ -22,8 +22,8 @@ TEST(Triangulation, RecoversExactPointsWithZeroResidual) {
     const Eigen::Vector3d X = RandomScenePoint(rng);
     for (auto method : kMethods) {
       std::string why;
-      auto t = Triangulate(rig.left.P(), rig.right.P(), *rig.left.Project(X),
-                           *rig.right.Project(X), method, {}, &why);
+      auto t = Triangulate(rig.left.P(), rig.right.P(), *rig.left.Project(X), *rig.right.Project(X),
+                           method, {}, &why);
       ASSERT_TRUE(t) << ToString(method) << ": " << why;
       EXPECT_LT((t->point - X).norm(), 1e-7) << ToString(method);
       EXPECT_LT(t->rms_error, 1e-7);
@@ -49,7 +49,9 @@ TEST(Triangulation, RefinedHasTheSmallestReprojectionError) {
       rms[m] = t->rms_error;
       sum[m] += rms[m];
       // Residuals are what the rms summarises.
-      EXPECT_NEAR(rms[m], std::sqrt((t->left_residual.squaredNorm() + t->right_residual.squaredNorm()) / 2), 1e-12);
+      EXPECT_NEAR(rms[m],
+                  std::sqrt((t->left_residual.squaredNorm() + t->right_residual.squaredNorm()) / 2),
+                  1e-12);
     }
     EXPECT_LE(rms[2], rms[0] + 1e-9);
     EXPECT_LE(rms[2], rms[1] + 1e-9);
@@ -73,9 +75,9 @@ TEST(Triangulation, CovarianceMatchesMonteCarlo) {
     const int n = 4000;
     Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
     for (int i = 0; i < n; ++i) {
-      auto t = Triangulate(rig.left.P(), rig.right.P(),
-                           l0 + Eigen::Vector2d(noise(rng), noise(rng)),
-                           r0 + Eigen::Vector2d(noise(rng), noise(rng)), method, {.pixel_sigma = 0});
+      auto t =
+          Triangulate(rig.left.P(), rig.right.P(), l0 + Eigen::Vector2d(noise(rng), noise(rng)),
+                      r0 + Eigen::Vector2d(noise(rng), noise(rng)), method, {.pixel_sigma = 0});
       ASSERT_TRUE(t);
       const Eigen::Vector3d e = t->point - X;
       scatter += e * e.transpose();
@@ -118,9 +120,9 @@ TEST(Triangulation, OffEpipolarPairsReportTheirResidual) {
   const Eigen::Vector3d X(50, -2, 5);
   // Moving the right pixel 3 px vertically (the rig is horizontal) breaks the epipolar
   // constraint by about 3 px; the refined point splits it between the images.
-  auto t = Triangulate(rig.left.P(), rig.right.P(), *rig.left.Project(X),
-                       *rig.right.Project(X) + Eigen::Vector2d(0, 3),
-                       TriangulationMethod::kRefined);
+  auto t =
+      Triangulate(rig.left.P(), rig.right.P(), *rig.left.Project(X),
+                  *rig.right.Project(X) + Eigen::Vector2d(0, 3), TriangulationMethod::kRefined);
   ASSERT_TRUE(t);
   EXPECT_NEAR(t->left_residual.norm() + t->right_residual.norm(), 3.0, 0.1);
   EXPECT_NEAR(t->left_residual.norm(), t->right_residual.norm(), 0.1);

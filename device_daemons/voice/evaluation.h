@@ -1,0 +1,66 @@
+// Measuring the recogniser on synthetic speech: recognition and false-accept rates and
+// decode time, over a corpus of espeak-ng utterances.
+//
+// An in-vocabulary utterance counts as recognised when it is accepted as the command that
+// was said, decoded in a state where that command is valid. An out-of-vocabulary one
+// (any other word or phrase) counts as a false accept when anything is accepted, decoded in
+// the model-building state (the largest vocabulary) unless the item names another state.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "device_daemons/voice/recognizer.h"
+#include "device_daemons/voice/speech_synth.h"
+
+namespace igms::voice {
+
+struct Voice {
+  std::string name;  // espeak-ng voice with variant, "en-gb+f3"
+  int words_per_minute = 175;
+};
+
+struct CorpusItem {
+  SpeechRequest speech;
+  std::optional<Command> expected;  // nullopt: must be rejected
+  OperatorState state = OperatorState::kModelBuilding;
+};
+
+// Every command in every voice (in the first state where it is valid), then every
+// out-of-vocabulary word in the voices taken in turn, `oov_voices_per_word` of them each.
+std::vector<CorpusItem> BuildCorpus(const std::vector<Voice>& voices,
+                                    const std::vector<std::string>& out_of_vocabulary,
+                                    int oov_voices_per_word);
+
+struct ItemResult {
+  CorpusItem item;
+  Recognition recognition;
+  bool correct = false;  // recognised as expected, or rejected when it should be
+};
+
+struct EvaluationReport {
+  int commands = 0, recognised = 0;
+  int out_of_vocabulary = 0, false_accepts = 0;
+  std::vector<double> decode_ms;  // one per utterance
+  std::vector<ItemResult> results;
+  double recognition_rate() const { return commands ? double(recognised) / commands : 0.0; }
+  double false_accept_rate() const {
+    return out_of_vocabulary ? double(false_accepts) / out_of_vocabulary : 0.0;
+  }
+  double decode_ms_quantile(double q) const;  // q in [0, 1]; 0 when empty
+  std::string Summary() const;                // a few lines for a person
+  std::string Failures() const;               // one line per wrong result
+  // Recognition and false-accept rates had min_confidence been each of `thresholds`
+  // (meaningful for thresholds at or above the one the corpus was decoded with), one line
+  // each: how the confidence trades misses against false accepts.
+  std::string Sweep(const std::vector<double>& thresholds) const;
+};
+
+// Synthesises and decodes every item; the recogniser's state is set before each item and
+// its own prediction does not carry over. nullopt, with *error set, when espeak-ng fails.
+std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
+                                         const std::vector<CorpusItem>& corpus,
+                                         std::string* error);
+
+}  // namespace igms::voice

@@ -1,0 +1,247 @@
+#include "device_daemons/voice/grammar.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace igms::voice {
+namespace {
+
+std::vector<std::string> Split(std::string_view text) {
+  std::istringstream in{std::string(text)};
+  std::vector<std::string> out;
+  for (std::string item; in >> item;) out.push_back(item);
+  return out;
+}
+
+// The phones are written out here rather than looked up so that a grammar never depends
+// on which dictionary happens to be installed.
+std::vector<std::string> CommandPhones(Command command) {
+  switch (command) {
+    case Command::kFreeze:
+      return Split("F R IY Z");
+    case Command::kRange:
+      return Split("R EY N JH");
+    case Command::kUnfreeze:
+      return Split("AH N F R IY Z");
+    case Command::kMark:
+      return Split("M AA R K");
+    case Command::kUnmark:
+      return Split("AH N M AA R K");
+    case Command::kRemovePoints:
+      return Split("R IY M UW V P OY N T S");
+    case Command::kBox:
+      return Split("B AA K S");
+    case Command::kCylinder:
+      return Split("S IH L AH N D ER");
+    case Command::kWireframe:
+      return Split("W AY ER F R EY M");
+    case Command::kSolid:
+      return Split("S AA L AH D");
+    case Command::kRemoveModel:
+      return Split("R IY M UW V M AA D AH L");
+  }
+  return {};
+}
+
+std::string FormatWeight(double weight) {
+  // sphinxbase's JSGF lexer reads plain decimals only, not exponents.
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(40);
+  out << weight;
+  return out.str();
+}
+
+}  // namespace
+
+std::string CommandToken(Command command) {
+  std::string token(Phrase(command));
+  std::replace(token.begin(), token.end(), ' ', '_');
+  return token;
+}
+
+std::optional<Command> CommandFromToken(std::string_view token) {
+  for (const CommandInfo& info : AllCommands()) {
+    if (CommandToken(info.command) == token) return info.command;
+  }
+  return std::nullopt;
+}
+
+std::vector<Pronunciation> CommandPronunciations() {
+  std::vector<Pronunciation> out;
+  for (const CommandInfo& info : AllCommands()) {
+    out.push_back({CommandToken(info.command), CommandPhones(info.command)});
+  }
+  return out;
+}
+
+const std::vector<std::string>& ModelPhones() {
+  static const std::vector<std::string> phones = Split(
+      "AA AE AH AO AW AY B CH D DH EH ER EY F G HH IH IY JH K L M N NG OW OY P R S SH T TH "
+      "UH UW V W Y Z ZH");
+  return phones;
+}
+
+std::string PhoneToken(std::string_view phone) {
+  std::string token = "ph_";
+  for (char c : phone) token.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  return token;
+}
+
+bool IsPhoneToken(std::string_view token) { return token.starts_with("ph_"); }
+
+std::optional<std::vector<Pronunciation>> LoadDictionary(const std::string& path,
+                                                         std::string* error) {
+  std::ifstream in(path);
+  if (!in) {
+    if (error) *error = "cannot read the pronouncing dictionary " + path;
+    return std::nullopt;
+  }
+  std::vector<Pronunciation> out;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> fields = Split(line);
+    if (fields.size() < 2) continue;
+    const std::string& word = fields[0];
+    if (!std::all_of(word.begin(), word.end(), [](char c) { return c >= 'a' && c <= 'z'; })) {
+      continue;
+    }
+    Pronunciation entry{word, {}};
+    for (size_t i = 1; i < fields.size(); ++i) {
+      std::string phone = fields[i];
+      while (!phone.empty() && std::isdigit(static_cast<unsigned char>(phone.back()))) {
+        phone.pop_back();
+      }
+      entry.phones.push_back(phone);
+    }
+    out.push_back(std::move(entry));
+  }
+  if (out.empty()) {
+    if (error) *error = "the pronouncing dictionary " + path + " holds no usable entry";
+    return std::nullopt;
+  }
+  return out;
+}
+
+int PhoneDistance(const std::vector<std::string>& a, const std::vector<std::string>& b) {
+  std::vector<int> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = static_cast<int>(j);
+  for (size_t i = 1; i <= a.size(); ++i) {
+    int diagonal = row[0];
+    row[0] = static_cast<int>(i);
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const int above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+bool DecoyOptions::Check(std::string* error) const {
+  if (!(max_distance_fraction >= 0.0 && max_distance_fraction <= 1.0)) {
+    if (error) *error = "decoy max_distance_fraction must be in [0, 1]";
+    return false;
+  }
+  if (max_per_command < 0 || min_phones < 1) {
+    if (error) *error = "decoy max_per_command must be >= 0 and min_phones >= 1";
+    return false;
+  }
+  return true;
+}
+
+std::vector<Pronunciation> SelectDecoys(const std::vector<Pronunciation>& dictionary,
+                                        const DecoyOptions& options,
+                                        const UnigramFn& log10_unigram) {
+  const std::vector<Pronunciation> commands = CommandPronunciations();
+  std::set<std::vector<std::string>> command_phones;
+  for (const Pronunciation& c : commands) command_phones.insert(c.phones);
+
+  std::map<std::string, Pronunciation> chosen;
+  for (const Pronunciation& command : commands) {
+    const int limit = std::max(
+        1, static_cast<int>(std::lround(options.max_distance_fraction * command.phones.size())));
+    std::vector<std::pair<int, const Pronunciation*>> near;
+    for (const Pronunciation& entry : dictionary) {
+      if (static_cast<int>(entry.phones.size()) < options.min_phones) continue;
+      if (command_phones.count(entry.phones)) continue;  // homophones are the command
+      const int size_gap = std::abs(static_cast<int>(entry.phones.size()) -
+                                    static_cast<int>(command.phones.size()));
+      if (size_gap > limit) continue;
+      const int d = PhoneDistance(entry.phones, command.phones);
+      if (d < 1 || d > limit) continue;
+      if (log10_unigram && log10_unigram(entry.word) < options.min_log10_unigram) continue;
+      near.push_back({d, &entry});
+    }
+    std::sort(near.begin(), near.end(), [](const auto& x, const auto& y) {
+      return x.first != y.first ? x.first < y.first : x.second->word < y.second->word;
+    });
+    const size_t keep = std::min(near.size(), static_cast<size_t>(options.max_per_command));
+    for (size_t i = 0; i < keep; ++i) chosen.emplace(near[i].second->word, *near[i].second);
+  }
+  for (const Pronunciation& c : commands) chosen.erase(c.word);
+  std::vector<Pronunciation> out;
+  for (auto& [word, entry] : chosen) out.push_back(entry);
+  return out;
+}
+
+bool GrammarOptions::Check(std::string* error) const {
+  for (double w : {other_state_weight, decoy_weight}) {
+    if (!(w > 0.0 && std::isfinite(w))) {
+      if (error) *error = "grammar weights must be positive and finite";
+      return false;
+    }
+  }
+  if (!(phone_loop_weight >= 0.0 && std::isfinite(phone_loop_weight)) || max_phones < 1) {
+    if (error) *error = "phone_loop_weight must be >= 0 and max_phones >= 1";
+    return false;
+  }
+  return true;
+}
+
+std::string BuildGrammar(OperatorState state, const std::vector<Pronunciation>& decoys,
+                         const GrammarOptions& options) {
+  std::vector<std::string> valid, other;
+  for (const CommandInfo& info : AllCommands()) {
+    (IsValid(state, info.command) ? valid : other).push_back(CommandToken(info.command));
+  }
+  auto alternatives = [](const std::vector<std::string>& tokens) {
+    std::string out;
+    for (const std::string& t : tokens) out += (out.empty() ? "" : " | ") + t;
+    return out;
+  };
+  std::vector<std::string> phones;
+  for (const std::string& p : ModelPhones()) phones.push_back(PhoneToken(p));
+  std::vector<std::string> decoy_words;
+  for (const Pronunciation& d : decoys) decoy_words.push_back(d.word);
+
+  std::ostringstream g;
+  g << "#JSGF V1.0;\n\ngrammar igms_" << StateName(state) << ";\n\n";
+  g << "<command> = " << alternatives(valid) << ";\n";
+  std::string utterance = "<command>";
+  if (!other.empty()) {
+    g << "<other_state> = " << alternatives(other) << ";\n";
+    utterance += " | /" + FormatWeight(options.other_state_weight) + "/ <other_state>";
+  }
+  if (!decoy_words.empty()) {
+    g << "<decoy> = " << alternatives(decoy_words) << ";\n";
+    utterance += " | /" + FormatWeight(options.decoy_weight) + "/ <decoy>";
+  }
+  if (options.phone_loop_weight > 0.0) {
+    // Bounded, not "<phone>+": sphinxbase's JSGF compiler closes a loop over the whole
+    // alternation, which lets phones and commands mix in one path.
+    g << "<phone> = " << alternatives(phones) << ";\n";
+    std::string nested = "<phone>";
+    for (int i = 1; i < options.max_phones; ++i) nested = "<phone> [" + nested + "]";
+    g << "<phones> = " << nested << ";\n";
+    utterance += " | /" + FormatWeight(options.phone_loop_weight) + "/ <phones>";
+  }
+  g << "\npublic <utterance> = " << utterance << ";\n";
+  return g.str();
+}
+
+}  // namespace igms::voice

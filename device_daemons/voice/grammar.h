@@ -1,0 +1,100 @@
+// JSGF grammars, one per operator state, and the dictionary words they need.
+//
+// A grammar that holds only the command words maps any speech at all onto the nearest
+// command, so each state's grammar also lists what the operator might say instead, to
+// catch it and reject it (Cooke, section 2.1.6: "the more words available the more likely
+// random speech will be interpreted as a vocal command"):
+//   - the state's valid commands (the only accepted results),
+//   - the other states' commands (recognised so they can be rejected as "not valid now"
+//     rather than heard as a similar valid word: "unfreeze" while in verification),
+//   - decoys: dictionary words whose pronunciation is within a small phone edit distance of
+//     some command ("breeze", "marked", "rang"), chosen from the pronouncing dictionary by
+//     distance alone, homophones of a command excluded,
+//   - a loop of single phones, the catch-all for any other speech.
+// Decoys and the phone loop are off by default: measured on espeak-ng speech they cost more
+// genuine commands than they saved false accepts (docs/voice.md); the recogniser's
+// confidence test does the rejecting.
+//
+// Every command is one dictionary token, the phrase with '_' for spaces ("remove_points"),
+// so a two-word command has one posterior. Phones are the 39 of the CMU dictionary (the
+// en-us acoustic model's set); phone-loop tokens are "ph_" plus the lower-case phone.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "device_daemons/voice/command_language.h"
+
+namespace igms::voice {
+
+struct Pronunciation {
+  std::string word;                 // lower case, [a-z_] only
+  std::vector<std::string> phones;  // upper case CMU phones without stress digits
+};
+
+// The grammar token of a command ("remove_points") and the command of a token.
+std::string CommandToken(Command command);
+std::optional<Command> CommandFromToken(std::string_view token);
+// The pronunciation of every command's token (in code order). The CMU dictionary lacks
+// "unfreeze", "unmark" and "wireframe"; their entries are built from "freeze", "mark",
+// "wire" and "frame".
+std::vector<Pronunciation> CommandPronunciations();
+// The 39 phones of the model and the phone-loop tokens made from them.
+const std::vector<std::string>& ModelPhones();
+std::string PhoneToken(std::string_view phone);
+bool IsPhoneToken(std::string_view token);
+
+// Reads a CMU-format pronouncing dictionary ("word  PH1 PH2 ...", alternates written
+// "word(2)" are skipped, words with characters other than a-z are skipped). nullopt, with
+// *error set, when the file cannot be read or holds no entry.
+std::optional<std::vector<Pronunciation>> LoadDictionary(const std::string& path,
+                                                         std::string* error);
+
+// Levenshtein distance between two phone sequences (insertions, deletions and
+// substitutions all cost 1).
+int PhoneDistance(const std::vector<std::string>& a, const std::vector<std::string>& b);
+
+struct DecoyOptions {
+  // A dictionary word is a decoy when its distance to some command is at least 1 and at
+  // most this, scaled by the command's length: max(1, round(fraction * phones)).
+  double max_distance_fraction = 0.34;
+  // At most this many decoys per command, nearest first (ties by word, for repeatability).
+  int max_per_command = 0;  // 0: no decoys (see docs/voice.md for the measurements)
+  // Words shorter than this many phones are never decoys (they match fragments of speech).
+  int min_phones = 2;
+  // Only words at least this common are decoys: log10 of the word's unigram probability in
+  // an English language model. Rare words (names, spellings of foreign words) would only
+  // steal genuine commands said with an odd accent.
+  double min_log10_unigram = -5.0;
+  bool Check(std::string* error) const;
+};
+
+// Decoys for the whole command language, sorted by word, without duplicates and without
+// any word whose pronunciation equals a command's.
+// `log10_unigram` gives a word's log10 unigram probability (-inf or very low when unknown);
+// without it every word counts as common.
+using UnigramFn = std::function<double(const std::string& word)>;
+std::vector<Pronunciation> SelectDecoys(const std::vector<Pronunciation>& dictionary,
+                                        const DecoyOptions& options,
+                                        const UnigramFn& log10_unigram = {});
+
+struct GrammarOptions {
+  // JSGF weights of the alternatives relative to a command (1.0). Debian's pocketsphinx
+  // 5prealpha was measured to ignore them in practice (docs/voice.md); kept for other builds.
+  double other_state_weight = 1.0;
+  double decoy_weight = 1.0;
+  // 0 leaves the phone loop out.
+  double phone_loop_weight = 0.0;
+  int max_phones = 10;
+  bool Check(std::string* error) const;
+};
+
+// The JSGF text of a state's grammar, named "igms_<state name>", whose public rule is
+// <utterance>. Decoys may be empty; the phone loop is always there.
+std::string BuildGrammar(OperatorState state, const std::vector<Pronunciation>& decoys,
+                         const GrammarOptions& options);
+
+}  // namespace igms::voice

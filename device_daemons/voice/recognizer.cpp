@@ -1,0 +1,267 @@
+// The only file that includes pocketsphinx.h: it cannot share a translation unit with
+// OpenCV's headers (both define int64), so it stays behind the Impl.
+#include "device_daemons/voice/recognizer.h"
+
+#include <sphinxbase/err.h>
+#include <pocketsphinx.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "device_daemons/voice/audio.h"
+
+namespace igms::voice {
+namespace {
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const std::string& s : items) out += (out.empty() ? "" : " ") + s;
+  return out;
+}
+
+bool IsFiller(const std::string& token) {
+  return token.empty() || token == "<s>" || token == "</s>" || token == "<sil>" ||
+         token.front() == '[' || token.front() == '+';
+}
+
+// "word(2)" is the decoder's name for a word's second pronunciation.
+std::string BaseWord(const char* token) {
+  std::string word = token ? token : "";
+  if (const size_t paren = word.find('('); paren != std::string::npos) word.resize(paren);
+  return word;
+}
+
+}  // namespace
+
+std::string_view RejectReasonName(RejectReason reason) {
+  switch (reason) {
+    case RejectReason::kNone:
+      return "accepted";
+    case RejectReason::kNoSpeech:
+      return "no_speech";
+    case RejectReason::kOutOfVocabulary:
+      return "out_of_vocabulary";
+    case RejectReason::kNotValidInState:
+      return "not_valid_in_state";
+    case RejectReason::kLowConfidence:
+      return "low_confidence";
+  }
+  return "unknown";
+}
+
+bool RecognizerOptions::Check(std::string* error) const {
+  if (model_dir.empty()) {
+    if (error) *error = "recognizer model_dir is empty";
+    return false;
+  }
+  if (!(min_confidence >= 0.0 && min_confidence <= 1.0)) {
+    if (error) *error = "recognizer min_confidence must be in [0, 1]";
+    return false;
+  }
+  return decoys.Check(error) && grammar.Check(error);
+}
+
+struct Recognizer::Impl {
+  RecognizerOptions options;
+  cmd_ln_t* config = nullptr;
+  ps_decoder_t* decoder = nullptr;
+  OperatorState state = OperatorState::kVerification;
+  std::map<OperatorState, std::string> grammars;
+  size_t decoys = 0;
+
+  ~Impl() {
+    if (decoder) ps_free(decoder);
+    if (config) cmd_ln_free_r(config);
+  }
+
+  bool Load(std::string* error) {
+    // pocketsphinx logs every step of model loading to stderr; the daemon logs what matters.
+    err_set_logfp(nullptr);
+    const std::string hmm = options.model_dir + "/en-us";
+    const std::string dict = options.model_dir + "/cmudict-en-us.dict";
+    auto words = LoadDictionary(dict, error);
+    if (!words) return false;
+    config = cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", hmm.c_str(), "-dict", dict.c_str(),
+                         "-remove_noise", "no", "-bestpath", "no", "-dither", "yes", "-seed", "1",
+                         "-allphone_ci", "yes", nullptr);
+    if (config == nullptr) {
+      if (error) *error = "pocketsphinx rejected its configuration";
+      return false;
+    }
+    decoder = ps_init(config);
+    if (decoder == nullptr) {
+      if (error) *error = "cannot load the pocketsphinx acoustic model from " + hmm;
+      return false;
+    }
+    std::vector<Pronunciation> extra = CommandPronunciations();
+    for (const std::string& phone : ModelPhones()) extra.push_back({PhoneToken(phone), {phone}});
+    for (const Pronunciation& p : extra) {
+      if (char* known = ps_lookup_word(decoder, p.word.c_str())) {
+        ckd_free(known);
+        continue;
+      }
+      if (ps_add_word(decoder, p.word.c_str(), Join(p.phones).c_str(), FALSE) < 0) {
+        if (error) *error = "cannot add the word '" + p.word + "' to the dictionary";
+        return false;
+      }
+    }
+    // The general English model ranks dictionary words by how common they are.
+    const std::string lm_path = options.model_dir + "/en-us.lm.bin";
+    ngram_model_t* lm = ngram_model_read(config, lm_path.c_str(), NGRAM_AUTO, ps_get_logmath(decoder));
+    if (lm == nullptr) {
+      if (error) *error = "cannot read the language model " + lm_path;
+      return false;
+    }
+    ngram_model_apply_weights(lm, 1.0, 1.0);  // plain probabilities, not decoding scores
+    logmath_t* lmath = ps_get_logmath(decoder);
+    auto log10_unigram = [&](const std::string& word) {
+      if (ngram_wid(lm, word.c_str()) == ngram_unknown_wid(lm)) return -99.0;
+      return logmath_log_to_log10(lmath, ngram_score(lm, word.c_str(), nullptr));
+    };
+    const std::vector<Pronunciation> decoy_words =
+        SelectDecoys(*words, options.decoys, log10_unigram);
+    ngram_model_free(lm);
+    decoys = decoy_words.size();
+    for (OperatorState s : AllStates()) {
+      grammars[s] = BuildGrammar(s, decoy_words, options.grammar);
+      if (ps_set_jsgf_string(decoder, std::string(StateName(s)).c_str(), grammars[s].c_str()) <
+          0) {
+        if (error) *error = "pocketsphinx rejected the grammar of state " + std::string(StateName(s));
+        return false;
+      }
+    }
+    const std::string phone_lm = options.model_dir + "/en-us-phone.lm.bin";
+    if (ps_set_allphone_file(decoder, "phones", phone_lm.c_str()) < 0) {
+      if (error) *error = "cannot load the phone language model " + phone_lm;
+      return false;
+    }
+    // The first decode of each search builds its tables (about two seconds); do it now so
+    // the operator's first command is not the slow one.
+    const std::vector<int16_t> warm_up(kModelSampleRate / 2, 0);
+    for (OperatorState s : AllStates()) {
+      state = s;
+      Decode(warm_up);
+    }
+    PhoneLoopScore(warm_up, Span{});
+    state = options.initial_state;
+    return true;
+  }
+
+  struct Span {
+    int first = 0, last = -1;  // frames of the command word
+    int32 ascr = 0;            // its acoustic score
+  };
+
+  // Acoustic score of the free phone decoding over the frames of `span`: a phone segment
+  // counts in proportion to its overlap.
+  double PhoneLoopScore(std::span<const int16_t> samples, const Span& span) {
+    ps_set_search(decoder, "phones");
+    ps_start_utt(decoder);
+    ps_process_raw(decoder, samples.data(), samples.size(), FALSE, TRUE);
+    ps_end_utt(decoder);
+    double total = 0.0;
+    for (ps_seg_t* seg = ps_seg_iter(decoder); seg; seg = ps_seg_next(seg)) {
+      int sf = 0, ef = 0;
+      ps_seg_frames(seg, &sf, &ef);
+      int32 ascr = 0, lscr = 0, lback = 0;
+      ps_seg_prob(seg, &ascr, &lscr, &lback);
+      const int overlap = std::min(ef, span.last) - std::max(sf, span.first) + 1;
+      if (overlap > 0) total += static_cast<double>(ascr) * overlap / (ef - sf + 1);
+    }
+    return total;
+  }
+
+  Recognition Decode(std::span<const int16_t> samples) {
+    Recognition r;
+    r.state = state;
+    r.audio_seconds = static_cast<double>(samples.size()) / kModelSampleRate;
+    const auto start = std::chrono::steady_clock::now();
+    ps_set_search(decoder, std::string(StateName(state)).c_str());
+    std::vector<std::string> tokens;
+    Span span;
+    bool decoded = false;
+    if (!samples.empty() && ps_start_utt(decoder) >= 0) {
+      ps_process_raw(decoder, samples.data(), samples.size(), FALSE, TRUE);
+      ps_end_utt(decoder);
+      int32 score = 0;
+      decoded = ps_get_hyp(decoder, &score) != nullptr;
+      for (ps_seg_t* seg = decoded ? ps_seg_iter(decoder) : nullptr; seg;
+           seg = ps_seg_next(seg)) {
+        const std::string word = BaseWord(ps_seg_word(seg));
+        if (IsFiller(word)) continue;
+        tokens.push_back(word);
+        ps_seg_frames(seg, &span.first, &span.last);
+        int32 lscr = 0, lback = 0;
+        ps_seg_prob(seg, &span.ascr, &lscr, &lback);
+      }
+      if (tokens.size() == 1 && span.last >= span.first && options.min_confidence > 0.0) {
+        const double loop = PhoneLoopScore(samples, span);
+        r.score_per_frame = (span.ascr - loop) / (span.last - span.first + 1);
+        r.confidence = 1.0 / (1.0 + std::exp(-(r.score_per_frame - options.score_offset) /
+                                             options.score_scale));
+      }
+    }
+    r.decode_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    r.hypothesis = Join(tokens);
+    Classify(tokens, r);
+    return r;
+  }
+
+  void Classify(const std::vector<std::string>& tokens, Recognition& r) {
+    if (tokens.empty()) {
+      r.reason = RejectReason::kNoSpeech;
+      r.message = "nothing recognised";
+      return;
+    }
+    const std::optional<Command> command =
+        tokens.size() == 1 ? CommandFromToken(tokens[0]) : std::nullopt;
+    if (!command) {
+      r.reason = RejectReason::kOutOfVocabulary;
+      r.message = "not a command (heard \"" + r.hypothesis + "\")";
+      return;
+    }
+    r.command = command;
+    std::ostringstream why;
+    if (!IsValid(state, *command)) {
+      r.reason = RejectReason::kNotValidInState;
+      why << "\"" << Phrase(*command) << "\" is not valid in state " << StateName(state);
+    } else if (r.confidence < options.min_confidence) {
+      r.reason = RejectReason::kLowConfidence;
+      why << "\"" << Phrase(*command) << "\" confidence " << r.confidence << " is below "
+          << options.min_confidence;
+    } else {
+      r.accepted = true;
+      if (options.predict_state) state = PredictNextState(state, *command);
+      return;
+    }
+    r.message = why.str();
+  }
+};
+
+Recognizer::Recognizer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Recognizer::~Recognizer() = default;
+
+std::unique_ptr<Recognizer> Recognizer::Create(const RecognizerOptions& options,
+                                               std::string* error) {
+  if (!options.Check(error)) return nullptr;
+  auto impl = std::make_unique<Impl>();
+  impl->options = options;
+  if (!impl->Load(error)) return nullptr;
+  return std::unique_ptr<Recognizer>(new Recognizer(std::move(impl)));
+}
+
+void Recognizer::SetState(OperatorState state) { impl_->state = state; }
+OperatorState Recognizer::state() const { return impl_->state; }
+Recognition Recognizer::Recognize(std::span<const int16_t> samples) {
+  return impl_->Decode(samples);
+}
+const std::string& Recognizer::GrammarText(OperatorState state) const {
+  return impl_->grammars.at(state);
+}
+size_t Recognizer::decoy_count() const { return impl_->decoys; }
+
+}  // namespace igms::voice

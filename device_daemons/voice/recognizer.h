@@ -1,0 +1,98 @@
+// The speech recogniser: one utterance of audio in, one command code or a rejection out.
+//
+// Stands in for the thesis's Dragon Writer (Cooke, section 2.1.6) with CMU pocketsphinx and
+// its en-us acoustic model. Each operator state has its own grammar (grammar.h); the
+// recogniser decodes with the grammar of the state it was last told (SetState) and accepts
+// a result only when
+//   1. the best path is exactly one command token (not a decoy, not phones),
+//   2. that command is valid in the current state, and
+//   3. its confidence is at least min_confidence. The confidence compares the command's
+//      acoustic score per frame with a free decoding of the same frames by a phone loop
+//      (pocketsphinx's allphone search), squashed into [0, 1].
+// Anything else is a Rejection with a reason a person can read.
+//
+// Threading: one Recognizer is not thread-safe; use one per thread. Creating one loads the
+// model (about a second); decoding a 1 s utterance takes tens of milliseconds.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "device_daemons/voice/command_language.h"
+#include "device_daemons/voice/grammar.h"
+
+namespace igms::voice {
+
+struct RecognizerOptions {
+  // Folder holding the acoustic model folder "en-us" and "cmudict-en-us.dict".
+  std::string model_dir = "/usr/share/pocketsphinx/model/en-us";
+  // Accept a command only when its confidence is at least this. 0 skips the confidence
+  // pass altogether (about half the decode time; confidence is then reported as 0).
+  double min_confidence = 0.5;
+  // Confidence is a logistic function of the command's acoustic score per frame minus a
+  // free phone decoding's over the same frames: 1 / (1 + exp(-(d - offset) / scale)).
+  // Tuned on espeak-ng voices en-us and en-gb+f3 at 140 and 190 words a minute.
+  double score_offset = -20.0;
+  double score_scale = 5.0;
+  // The state the recogniser starts in, until the control client says otherwise.
+  OperatorState initial_state = OperatorState::kVerification;
+  // After accepting a command, move to PredictNextState() until told otherwise.
+  bool predict_state = true;
+  DecoyOptions decoys;
+  GrammarOptions grammar;
+  bool Check(std::string* error) const;
+};
+
+enum class RejectReason {
+  kNone,             // accepted
+  kNoSpeech,         // nothing decoded (silence, too short, or no path through the grammar)
+  kOutOfVocabulary,  // best path is decoy words or phones
+  kNotValidInState,  // a command, but not one of the current state's
+  kLowConfidence,    // a valid command whose posterior is below min_confidence
+};
+std::string_view RejectReasonName(RejectReason reason);
+
+struct Recognition {
+  bool accepted = false;
+  std::optional<Command> command;  // set when accepted, and for kNotValidInState/kLowConfidence
+  double confidence = 0.0;         // in [0, 1]; 0 when no command was decoded
+  RejectReason reason = RejectReason::kNone;
+  std::string message;     // why rejected, for a person; empty when accepted
+  std::string hypothesis;  // the decoder's best path, tokens separated by spaces
+  OperatorState state = OperatorState::kVerification;  // the grammar it was decoded with
+  double score_per_frame = 0.0;  // command minus phone loop, pocketsphinx's scaled log units
+  double audio_seconds = 0.0;
+  double decode_ms = 0.0;  // wall time spent decoding
+};
+
+class Recognizer {
+ public:
+  // Loads the model and builds every state's grammar. nullptr, with *error set, when the
+  // options are invalid or the model or dictionary cannot be loaded.
+  static std::unique_ptr<Recognizer> Create(const RecognizerOptions& options, std::string* error);
+  ~Recognizer();
+  Recognizer(const Recognizer&) = delete;
+  Recognizer& operator=(const Recognizer&) = delete;
+
+  // The control client's word on the system's state; takes effect from the next utterance.
+  void SetState(OperatorState state);
+  OperatorState state() const;
+
+  // Decodes one utterance of 16 kHz mono audio (a little silence either side helps).
+  // Empty or all-silent audio is rejected with kNoSpeech.
+  Recognition Recognize(std::span<const int16_t> samples);
+
+  // The JSGF text used for a state, for documentation and tests.
+  const std::string& GrammarText(OperatorState state) const;
+  size_t decoy_count() const;
+
+ private:
+  struct Impl;
+  explicit Recognizer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace igms::voice

@@ -1,0 +1,136 @@
+#include <gtest/gtest.h>
+#include <sndfile.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "device_daemons/voice/audio.h"
+#include "device_daemons/voice/endpointer.h"
+#include "device_daemons/voice/speech_synth.h"
+
+namespace igms::voice {
+namespace {
+
+std::vector<int16_t> Sine(double hz, int rate, double seconds, double amplitude = 10000) {
+  std::vector<int16_t> out(static_cast<size_t>(rate * seconds));
+  for (size_t i = 0; i < out.size(); ++i) {
+    out[i] = static_cast<int16_t>(amplitude * std::sin(2 * std::numbers::pi * hz * i / rate));
+  }
+  return out;
+}
+
+int ZeroCrossings(const std::vector<int16_t>& s) {
+  int n = 0;
+  for (size_t i = 1; i < s.size(); ++i) n += (s[i - 1] < 0) != (s[i] < 0);
+  return n;
+}
+
+TEST(Audio, ResampleKeepsFrequencyAndLevel) {
+  const auto in = Sine(1000, 22050, 1.0);
+  const auto out = Resample(in, 22050, 16000);
+  ASSERT_EQ(out.size(), 16000u);
+  // 1 kHz for 1 s: 2000 crossings whatever the rate.
+  EXPECT_NEAR(ZeroCrossings(out), 2000, 4);
+  EXPECT_NEAR(RmsDbfs(out), RmsDbfs(in), 0.3);
+}
+
+TEST(Audio, ResampleRemovesWhatTheNewRateCannotHold) {
+  // 7.9 kHz is fine at 22.05 kHz and above the 16 kHz Nyquist band's cut-off (7.2 kHz).
+  const auto out = Resample(Sine(7900, 22050, 0.5), 22050, 16000);
+  EXPECT_LT(RmsDbfs(out), RmsDbfs(Sine(7900, 22050, 0.5)) - 20.0);
+}
+
+TEST(Audio, ResampleEdgeCases) {
+  EXPECT_TRUE(Resample({}, 8000, 16000).empty());
+  const auto same = Sine(440, 16000, 0.1);
+  EXPECT_EQ(Resample(same, 16000, 16000), same);
+  EXPECT_THROW(Resample(same, 0, 16000), std::invalid_argument);
+  EXPECT_TRUE(std::isinf(RmsDbfs({})));
+}
+
+TEST(Audio, LoadsStereoFilesAtAnyRateAsModelRateMono) {
+  const auto path = std::filesystem::temp_directory_path() / "igms_voice_stereo.wav";
+  SF_INFO info{};
+  info.samplerate = 44100;
+  info.channels = 2;
+  info.format = SF_FORMAT_WAV | SF_FORMAT_PCM_16;
+  SNDFILE* f = sf_open(path.c_str(), SFM_WRITE, &info);
+  ASSERT_NE(f, nullptr);
+  const auto mono = Sine(500, 44100, 0.5);
+  std::vector<int16_t> stereo;
+  for (int16_t s : mono) stereo.insert(stereo.end(), {s, s});
+  sf_writef_short(f, stereo.data(), mono.size());
+  sf_close(f);
+  std::string error;
+  const auto audio = LoadSoundFile(path.string(), &error);
+  ASSERT_TRUE(audio) << error;
+  EXPECT_EQ(audio->sample_rate, 16000);
+  EXPECT_NEAR(audio->seconds(), 0.5, 0.01);
+  EXPECT_NEAR(ZeroCrossings(audio->samples), 500, 3);
+  std::filesystem::remove(path);
+}
+
+TEST(Audio, BadFilesAreReportedNotFatal) {
+  std::string error;
+  EXPECT_FALSE(LoadSoundFile("/nonexistent/file.wav", &error));
+  EXPECT_NE(error.find("/nonexistent/file.wav"), std::string::npos);
+  const auto path = std::filesystem::temp_directory_path() / "igms_voice_garbage.wav";
+  {
+    FILE* f = fopen(path.c_str(), "wb");
+    fputs("RIFF this is not a wave file at all", f);
+    fclose(f);
+  }
+  EXPECT_FALSE(LoadSoundFile(path.string(), &error));
+  EXPECT_FALSE(error.empty());
+  std::filesystem::remove(path);
+}
+
+TEST(Endpointer, CutsAStreamIntoItsUtterances) {
+  std::string error;
+  std::vector<int16_t> stream(8000, 0);  // 0.5 s silence
+  std::vector<size_t> spoken;
+  for (const char* word : {"freeze", "remove points", "cylinder"}) {
+    const auto audio = Synthesize({word, "en-us", 175}, &error);
+    ASSERT_TRUE(audio) << error;
+    spoken.push_back(audio->samples.size());
+    stream.insert(stream.end(), audio->samples.begin(), audio->samples.end());
+    stream.insert(stream.end(), 12000, 0);  // 0.75 s pause
+  }
+  Endpointer endpointer;
+  std::vector<std::vector<int16_t>> utterances;
+  // Fed in uneven chunks, as a capture device delivers them.
+  for (size_t i = 0; i < stream.size(); i += 733) {
+    const size_t n = std::min<size_t>(733, stream.size() - i);
+    for (auto& u : endpointer.Feed(std::span<const int16_t>(stream).subspan(i, n))) {
+      utterances.push_back(std::move(u));
+    }
+  }
+  for (auto& u : endpointer.Flush()) utterances.push_back(std::move(u));
+  ASSERT_EQ(utterances.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    // Each holds its word (within the pre-roll and trailing silence).
+    EXPECT_GT(utterances[i].size(), spoken[i] * 0.6) << i;
+    EXPECT_LT(utterances[i].size(), spoken[i] + 16000) << i;
+  }
+}
+
+TEST(Endpointer, SilenceAndFlushAreQuiet) {
+  Endpointer endpointer;
+  EXPECT_TRUE(endpointer.Feed(std::vector<int16_t>(32000, 3)).empty());
+  EXPECT_TRUE(endpointer.Flush().empty());
+  EndpointerOptions bad;
+  bad.start_frames = 0;
+  EXPECT_THROW(Endpointer{bad}, std::invalid_argument);
+}
+
+TEST(SpeechSynth, RejectsBadRequests) {
+  std::string error;
+  EXPECT_FALSE(Synthesize({"", "en-us", 175}, &error));
+  EXPECT_FALSE(Synthesize({"box", "-w", 175}, &error));
+  EXPECT_FALSE(Synthesize({"box", "en-us", 10}, &error));
+  EXPECT_FALSE(error.empty());
+}
+
+}  // namespace
+}  // namespace igms::voice

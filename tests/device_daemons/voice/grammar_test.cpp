@@ -1,0 +1,135 @@
+#include "device_daemons/voice/grammar.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace igms::voice {
+namespace {
+
+std::vector<std::string> P(const std::string& s) {
+  std::vector<std::string> out;
+  size_t i = 0;
+  while (i < s.size()) {
+    const size_t j = s.find(' ', i);
+    out.push_back(s.substr(i, j == std::string::npos ? std::string::npos : j - i));
+    if (j == std::string::npos) break;
+    i = j + 1;
+  }
+  return out;
+}
+
+TEST(Grammar, TokensRoundTrip) {
+  EXPECT_EQ(CommandToken(Command::kRemovePoints), "remove_points");
+  for (const CommandInfo& info : AllCommands()) {
+    EXPECT_EQ(CommandFromToken(CommandToken(info.command)), info.command);
+  }
+  EXPECT_FALSE(CommandFromToken("remove"));
+}
+
+TEST(Grammar, PronunciationsCoverTheMissingWords) {
+  const auto words = CommandPronunciations();
+  ASSERT_EQ(words.size(), AllCommands().size());
+  for (const Pronunciation& p : words) {
+    EXPECT_FALSE(p.phones.empty()) << p.word;
+    for (const std::string& phone : p.phones) {
+      EXPECT_NE(std::find(ModelPhones().begin(), ModelPhones().end(), phone),
+                ModelPhones().end())
+          << phone << " in " << p.word;
+    }
+  }
+  EXPECT_EQ(words[2].word, "unfreeze");
+  EXPECT_EQ(words[2].phones, P("AH N F R IY Z"));
+}
+
+TEST(Grammar, PhoneDistance) {
+  EXPECT_EQ(PhoneDistance(P("F R IY Z"), P("F R IY Z")), 0);
+  EXPECT_EQ(PhoneDistance(P("F R IY Z"), P("B R IY Z")), 1);     // breeze
+  EXPECT_EQ(PhoneDistance(P("F R IY Z"), P("AH N F R IY Z")), 2);  // unfreeze
+  EXPECT_EQ(PhoneDistance({}, P("B AA K S")), 4);
+}
+
+TEST(Grammar, EachStateListsItsCommandsFirstAndTheOthersApart) {
+  for (OperatorState state : AllStates()) {
+    const std::string g = BuildGrammar(state, {}, {});
+    EXPECT_NE(g.find("#JSGF V1.0;"), std::string::npos);
+    EXPECT_NE(g.find("grammar igms_" + std::string(StateName(state)) + ";"), std::string::npos);
+    const size_t command_line = g.find("<command> =");
+    const std::string commands = g.substr(command_line, g.find('\n', command_line) - command_line);
+    for (const CommandInfo& info : AllCommands()) {
+      const bool listed = commands.find(" " + CommandToken(info.command)) != std::string::npos;
+      EXPECT_EQ(listed, IsValid(state, info.command)) << StateName(state) << " " << info.phrase;
+      EXPECT_NE(g.find(CommandToken(info.command)), std::string::npos);
+    }
+    EXPECT_EQ(g.find("<phone>"), std::string::npos);  // phone loop off by default
+  }
+}
+
+TEST(Grammar, OptionalPhoneLoopIsBoundedAndDecoysAppear) {
+  GrammarOptions options;
+  options.phone_loop_weight = 0.5;
+  options.max_phones = 3;
+  const std::string g =
+      BuildGrammar(OperatorState::kVerification, {{"breeze", P("B R IY Z")}}, options);
+  EXPECT_NE(g.find("<decoy> = breeze;"), std::string::npos);
+  EXPECT_NE(g.find("<phones> = <phone> [<phone> [<phone>]];"), std::string::npos);
+  EXPECT_EQ(g.find("+"), std::string::npos);
+}
+
+TEST(Grammar, DecoysAreNearButNeverHomophones) {
+  const std::vector<Pronunciation> dictionary = {
+      {"breeze", P("B R IY Z")},  {"frieze", P("F R IY Z")},      {"freeze", P("F R IY Z")},
+      {"marked", P("M AA R K T")}, {"elephant", P("EH L AH F AH N T")}, {"o", P("OW")},
+  };
+  DecoyOptions options;
+  options.max_per_command = 10;
+  const auto decoys = SelectDecoys(dictionary, options);
+  std::vector<std::string> words;
+  for (const auto& d : decoys) words.push_back(d.word);
+  EXPECT_EQ(words, (std::vector<std::string>{"breeze", "marked"}));
+  // A word-frequency filter drops rare words.
+  const auto common = SelectDecoys(dictionary, options, [](const std::string& w) {
+    return w == "marked" ? -3.0 : -7.0;
+  });
+  ASSERT_EQ(common.size(), 1u);
+  EXPECT_EQ(common[0].word, "marked");
+  EXPECT_TRUE(SelectDecoys(dictionary, DecoyOptions{}).empty());  // off by default
+}
+
+TEST(Grammar, LoadDictionaryReportsProblems) {
+  std::string error;
+  EXPECT_FALSE(LoadDictionary("/nonexistent/dictionary.dict", &error));
+  EXPECT_NE(error.find("cannot read"), std::string::npos);
+  const auto path = std::filesystem::temp_directory_path() / "igms_voice_test.dict";
+  {
+    std::ofstream out(path);
+    out << "freeze F R IY1 Z\nfreeze(2) F R IY Z\no'brien OW B R AY AH N\nbox B AA1 K S\n";
+  }
+  const auto words = LoadDictionary(path.string(), &error);
+  ASSERT_TRUE(words) << error;
+  ASSERT_EQ(words->size(), 2u);
+  EXPECT_EQ((*words)[0].phones, P("F R IY Z"));
+  {
+    std::ofstream out(path);
+    out << "# nothing here\n";
+  }
+  EXPECT_FALSE(LoadDictionary(path.string(), &error));
+  EXPECT_NE(error.find("no usable entry"), std::string::npos);
+  std::filesystem::remove(path);
+}
+
+TEST(Grammar, OptionChecks) {
+  std::string error;
+  EXPECT_TRUE(GrammarOptions{}.Check(&error));
+  GrammarOptions bad;
+  bad.decoy_weight = 0.0;
+  EXPECT_FALSE(bad.Check(&error));
+  DecoyOptions bad_decoys;
+  bad_decoys.max_distance_fraction = 2.0;
+  EXPECT_FALSE(bad_decoys.Check(&error));
+}
+
+}  // namespace
+}  // namespace igms::voice

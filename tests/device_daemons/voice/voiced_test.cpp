@@ -1,0 +1,68 @@
+// igms-voiced as a process: sound files and state switches in, two-digit codes out.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+namespace {
+
+std::string Bin() { return std::string(std::getenv("IGMS_BIN_DIR")) + "/igms-voiced"; }
+
+struct Result {
+  std::string out;
+  int status = -1;
+};
+
+Result Exec(const std::string& command) {
+  Result run;
+  FILE* pipe = popen((command + " 2>/dev/null").c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 256> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe)) run.out += buffer.data();
+  const int status = pclose(pipe);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+class VoicedTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / ("igms_voiced_" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir_);
+    for (const char* word : {"freeze", "box", "unfreeze"}) {
+      const std::string path = (dir_ / (std::string(word) + ".wav")).string();
+      ASSERT_EQ(Exec("espeak-ng -v en-us -w " + path + " " + word).status, 0);
+    }
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string F(const char* word) { return (dir_ / (std::string(word) + ".wav")).string(); }
+  std::filesystem::path dir_;
+};
+
+TEST_F(VoicedTest, PrintsCodesAndFollowsStateSwitches) {
+  // freeze moves to model building by itself; box is not valid there; after the
+  // control client's "awaiting_type" it is; unfreeze then returns to verification.
+  const Result run = Exec(Bin() + " " + F("freeze") + " " + F("box") + " state=awaiting_type " +
+                          F("box") + " " + F("unfreeze"));
+  EXPECT_EQ(run.status, 0);
+  EXPECT_EQ(run.out, "01\n10\n03\n");
+}
+
+TEST_F(VoicedTest, BadInputIsAnErrorNotACrash) {
+  EXPECT_EQ(Exec(Bin() + " /nonexistent.wav").status, 1);
+  EXPECT_EQ(Exec(Bin() + " state=frozen " + F("freeze")).status, 2);
+  EXPECT_EQ(Exec(Bin()).status, 2);
+  EXPECT_EQ(Exec(Bin() + " --model-dir /nonexistent " + F("freeze")).status, 2);
+  EXPECT_EQ(Exec(Bin() + " --min-confidence 7 " + F("freeze")).status, 2);
+}
+
+TEST_F(VoicedTest, NoMicrophoneHereIsReportedClearly) {
+  // The machine has no capture device: the program must say so and exit, not hang.
+  const Result run = Exec("ALSOFT_DRIVERS=null timeout 20 " + Bin() + " --mic");
+  EXPECT_EQ(run.status, 1);
+}
+
+}  // namespace

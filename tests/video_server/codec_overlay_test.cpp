@@ -1,0 +1,111 @@
+// Regions, encodings and the overlay settings file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "tests/video_server/test_data.h"
+#include "video_server/image_codec.h"
+#include "video_server/overlay_settings.h"
+
+namespace igms::video {
+namespace {
+
+using testing::OpenCvData;
+
+TEST(PixelRegion, WholeImageAndBoundsChecks) {
+  const cv::Size size(640, 480);
+  std::string error;
+  EXPECT_EQ(*ResolveRegion({}, size, &error), cv::Rect(0, 0, 640, 480));
+  EXPECT_EQ(*ResolveRegion({10, 20, 30, 40}, size, &error), cv::Rect(10, 20, 30, 40));
+  EXPECT_EQ(*ResolveRegion({0, 0, 640, 480}, size, &error), cv::Rect(0, 0, 640, 480));
+  EXPECT_FALSE(ResolveRegion({600, 0, 41, 10}, size, &error));
+  EXPECT_NE(error.find("outside"), std::string::npos) << error;
+  EXPECT_NE(error.find("640x480"), std::string::npos) << error;
+  EXPECT_FALSE(ResolveRegion({-1, 0, 10, 10}, size, &error));
+  EXPECT_FALSE(ResolveRegion({5, 5, 0, 10}, size, &error));
+  EXPECT_FALSE(ResolveRegion({1, 1, 2147483647, 10}, size, &error));
+}
+
+TEST(Codec, RawAndPngRoundTripARegionOfARealImage) {
+  IGMS_REQUIRE_OPENCV_DATA();
+  for (int flags : {cv::IMREAD_GRAYSCALE, cv::IMREAD_COLOR}) {
+    const cv::Mat image = cv::imread(OpenCvData("aloeL.jpg"), flags);
+    const cv::Mat region = image(cv::Rect(101, 33, 257, 190));
+    for (ImageEncoding encoding : {ImageEncoding::kRaw, ImageEncoding::kPng}) {
+      const std::string data = EncodeImage(region, encoding);
+      const cv::Mat back = DecodeImage(data, encoding, 257, 190, image.channels());
+      ASSERT_EQ(back.size(), region.size());
+      ASSERT_EQ(back.type(), region.type());
+      EXPECT_EQ(cv::norm(back, region, cv::NORM_INF), 0.0);
+      if (encoding == ImageEncoding::kRaw) {
+        EXPECT_EQ(data.size(), 257u * 190 * image.channels());
+      }
+    }
+  }
+  EXPECT_TRUE(DecodeImage("garbage", ImageEncoding::kPng, 0, 0, 0).empty());
+  EXPECT_TRUE(DecodeImage("short", ImageEncoding::kRaw, 10, 10, 1).empty());
+}
+
+class OverlayFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = std::filesystem::temp_directory_path() /
+              ("igms_overlay_" + std::to_string(::getpid()) + "_" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(folder_);
+    path_ = (folder_ / "overlay.yaml").string();
+  }
+  void TearDown() override { std::filesystem::remove_all(folder_); }
+  std::filesystem::path folder_;
+  std::string path_;
+};
+
+TEST_F(OverlayFile, MissingFileGivesDefaultsAndSettingsSurviveARestart) {
+  std::string error;
+  auto initial = LoadOverlaySettings(path_, &error);
+  ASSERT_TRUE(initial) << error;
+  EXPECT_EQ(*initial, Overlay{});
+  EXPECT_EQ(initial->key_level, 60);
+  {
+    OverlayStore store(path_, *initial);
+    ASSERT_TRUE(store.Set({12, -7, 90}, &error)) << error;
+    EXPECT_EQ(store.Get(), (Overlay{12, -7, 90}));
+  }
+  auto reloaded = LoadOverlaySettings(path_, &error);
+  ASSERT_TRUE(reloaded) << error;
+  EXPECT_EQ(*reloaded, (Overlay{12, -7, 90}));
+}
+
+TEST_F(OverlayFile, InvalidValuesAreRefusedAndChangeNothing) {
+  OverlayStore store(path_, {});
+  std::string error;
+  ASSERT_TRUE(store.Set({1, 2, 3}, &error));
+  EXPECT_FALSE(store.Set({1, 2, 300}, &error));
+  EXPECT_NE(error.find("key level"), std::string::npos);
+  EXPECT_FALSE(store.Set({99999, 2, 3}, &error));
+  EXPECT_EQ(store.Get(), (Overlay{1, 2, 3}));
+  EXPECT_EQ(*LoadOverlaySettings(path_, &error), (Overlay{1, 2, 3}));
+}
+
+TEST_F(OverlayFile, CorruptFileIsAClearError) {
+  std::ofstream(path_) << "u_offset_px: [not, a, number\n";
+  std::string error;
+  EXPECT_FALSE(LoadOverlaySettings(path_, &error));
+  EXPECT_NE(error.find(path_), std::string::npos) << error;
+  std::ofstream(path_) << "key_level: 1000\n";
+  EXPECT_FALSE(LoadOverlaySettings(path_, &error));
+  EXPECT_NE(error.find("key level"), std::string::npos) << error;
+}
+
+TEST_F(OverlayFile, UnwritableFolderIsAnErrorAndKeepsTheOldSettings) {
+  OverlayStore store((folder_ / "no" / "such" / "folder" / "overlay.yaml").string(), {});
+  std::string error;
+  EXPECT_FALSE(store.Set({5, 5, 5}, &error));
+  EXPECT_FALSE(error.empty());
+  EXPECT_EQ(store.Get(), Overlay{});
+}
+
+}  // namespace
+}  // namespace igms::video

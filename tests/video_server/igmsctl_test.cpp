@@ -1,0 +1,80 @@
+// The video server driven by igmsctl, the lab's generic fake client, as an operator would.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <regex>
+
+#include "tests/video_server/server_process.h"
+#include "tests/video_server/test_data.h"
+
+namespace igms::video {
+namespace {
+
+using testing::OpenCvData;
+
+struct CtlRun {
+  int status = -1;
+  std::string output;
+};
+
+// Runs igmsctl with `args` (quoted for the shell), capturing stdout and stderr.
+CtlRun Igmsctl(uint16_t port, const std::string& args) {
+  const std::string command = testing::BinDir() + "/igmsctl -p " + std::to_string(port) + " " +
+                              args + " 2>&1";
+  CtlRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 4096> buffer{};
+  size_t n;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+TEST(VideoServerWithIgmsctl, GrabEdgesOverlayAndLive) {
+  IGMS_REQUIRE_OPENCV_DATA();
+  testing::ScratchDir scratch;
+  testing::ServerProcess server(
+      scratch, {"--set", "processes.video.files.left=" + OpenCvData("aloeL.jpg"), "--set",
+                "processes.video.files.right=" + OpenCvData("aloeR.jpg"), "--set",
+                "processes.video.overlay_file=" + scratch.File("overlay.yaml")});
+  const uint16_t port = server.WaitPort();
+  ASSERT_NE(port, 0);
+
+  const CtlRun grab = Igmsctl(port, "call Grab");
+  ASSERT_EQ(grab.status, 0) << grab.output;
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(grab.output, match, std::regex("\"frame_id\":\"(\\d+)\"")))
+      << grab.output;
+  const std::string id = match[1];
+  EXPECT_NE(grab.output.find("\"width\":1282"), std::string::npos) << grab.output;
+
+  const CtlRun edges = Igmsctl(
+      port, "call GetEdges '{\"frame_id\": \"" + id +
+                "\", \"side\": \"LEFT\", \"region\": {\"x\": 400, \"y\": 300, \"width\": 64, "
+                "\"height\": 64}}'");
+  ASSERT_EQ(edges.status, 0) << edges.output;
+  EXPECT_NE(edges.output.find("\"edge_count\""), std::string::npos) << edges.output;
+  EXPECT_NE(edges.output.find("\"direction_rad\""), std::string::npos);
+
+  const CtlRun unknown = Igmsctl(port, "call GetImages '{\"frame_id\": \"12345\"}'");
+  EXPECT_EQ(unknown.status, 1) << unknown.output;
+  EXPECT_NE(unknown.output.find("NOT_FOUND"), std::string::npos) << unknown.output;
+
+  const CtlRun set = Igmsctl(port, "call SetOverlay '{\"settings\": {\"u_offset_px\": 3, "
+                                "\"v_offset_px\": -2, \"key_level\": 61}}'");
+  ASSERT_EQ(set.status, 0) << set.output;
+  const CtlRun get = Igmsctl(port, "call GetOverlay");
+  EXPECT_NE(get.output.find("\"u_offset_px\":3"), std::string::npos) << get.output;
+  EXPECT_NE(get.output.find("\"key_level\":61"), std::string::npos) << get.output;
+
+  const CtlRun live = Igmsctl(port, "subscribe Live '{\"fps\": 20, \"width\": 64, \"height\": 48}' "
+                                 "--count 10 -q --timeout 20000");
+  EXPECT_EQ(live.status, 0) << live.output;
+  EXPECT_NE(live.output.find("10 messages"), std::string::npos) << live.output;
+}
+
+}  // namespace
+}  // namespace igms::video

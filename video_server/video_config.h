@@ -1,0 +1,42 @@
+// The video server's section of the lab configuration (processes.NAME), docs/protocol-video.md:
+//
+//   video:
+//     program: igms-video-server
+//     port: 7302
+//     backend: files            # files | camera | sim
+//     files: {left: left%02d.jpg, right: right%02d.jpg, first: 0, last: 9999, colour: false}
+//     camera: {left: "0", right: "1", side_by_side: false, width: 0, height: 0, colour: false,
+//              pace_fps: 0, frame_timeout_ms: 1000, retry_ms: 1000}
+//     store_capacity: 16        # grabs kept
+//     edge_threads: 2
+//     edges: {sigma: 1.0607, low: 50, high: 150, l2_gradient: true}
+//     encoding: png             # png | raw, when a request does not say
+//     overlay_file: video-overlay.yaml
+//     max_frame_bytes: 4194304  # largest request accepted
+//
+// Relative paths are relative to the configuration file's folder.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "common/config/process_options.h"
+#include "video_server/capture_backend.h"
+#include "video_server/video_service.h"
+
+namespace igms::video {
+
+struct BackendChoice {
+  std::unique_ptr<CaptureBackend> backend;
+  std::string error;
+};
+
+// Builds the configured backend. Errors name the key at fault. Throws config::ConfigError
+// for a key of the wrong type.
+BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process);
+
+// The service options from the configuration; `error` set when they do not pass Check().
+VideoServiceOptions ConfiguredServiceOptions(const config::ProcessOptions& process,
+                                             std::string* error);
+
+}  // namespace igms::video
