@@ -1,0 +1,31 @@
+// igms-platformd's body: the MOLLY driver (or its simulator, or a replay) behind
+// igms.devices.PlatformService (SetOrientation and ResetZero, answered once the platform
+// acknowledges; Live; Status) and igms.devices.SimService.Inject (faults only). See
+// daemon_base.h.
+#pragma once
+
+#include "device_daemons/platform/molly_sim.h"
+#include "device_daemons/platform/platform_driver.h"
+#include "device_daemons/serial/daemon_base.h"
+
+namespace igms::devices {
+
+class PlatformDaemon : public DaemonBase<PlatformState> {
+ public:
+  PlatformDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
+                 MollySimOptions sim = {}, double poll_hz = 50);
+
+ private:
+  std::unique_ptr<SimulatedDevice> MakeSimulator(std::string* error) override;
+  bool StartDevice(const SerialLinkOptions& link, std::string* error) override;
+  void StopDevice() override;
+  LinkStatus DeviceStatus() const override;
+  bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) override;
+  void RegisterMethods(net::Server& server) override;
+
+  MollySimOptions sim_options_;
+  double poll_hz_;
+  std::unique_ptr<PlatformDriver> driver_;
+};
+
+}  // namespace igms::devices

@@ -1,0 +1,56 @@
+// igms-rangerd: the ultrasonic ranger daemon (docs/devices.md, docs/protocol-devices.md).
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/io_context.hpp>
+
+#include "common/config/process_options.h"
+#include "device_daemons/ranger/ranger_daemon.h"
+
+int main(int argc, char** argv) {
+  namespace po = boost::program_options;
+  po::options_description flags("Ranger");
+  igms::devices::AddDaemonFlags(&flags);
+  flags.add_options()
+      ("poll-hz", po::value<double>(), "also range continuously at this rate, at most 6 Hz (default: on request only)")
+      ("follow-platform", po::value<uint16_t>(), "simulator: turn the beam with the platform daemon on this port");
+  int exit_code = 0;
+  const auto process = igms::config::ParseProcessOptions(
+      argc, argv, "ranger", "The ultrasonic ranger daemon: ranges on request over TCP.", flags, &exit_code);
+  if (!process) return exit_code;
+  try {
+    igms::devices::DaemonOptions options;
+    std::string error;
+    if (!igms::devices::ReadDaemonOptions(*process, "ranger", &options, &error)) {
+      spdlog::error("{}", error);
+      return 2;
+    }
+    const auto& f = process->flags;
+    igms::devices::RangerDaemonOptions ranger;
+    ranger.poll_hz = f.count("poll-hz") ? f["poll-hz"].as<double>() : process->Get<double>("poll_hz", 0.0);
+    if (f.count("follow-platform")) {
+      ranger.follow_platform_port = f["follow-platform"].as<uint16_t>();
+    } else if (process->config.Has("processes.platform.port") && options.source == igms::devices::SourceKind::kSimulate) {
+      ranger.platform_host = process->HostOf("platform");
+      ranger.follow_platform_port = process->PortOf("platform");
+    }
+    ranger.token = process->Token();
+    boost::asio::io_context io;
+    igms::net::ServerOptions server;
+    server.name = process->name;
+    server.bind_address = process->BindAddress();
+    server.port = process->Port(7312);
+    server.token = process->Token();
+    igms::devices::RangerDaemon daemon(io, options, server, ranger);
+    return igms::devices::RunDaemonProcess(
+        io,
+        [&](std::string* e) {
+          if (!daemon.Start(e)) return false;
+          spdlog::info("ranger daemon on port {}", daemon.port());
+          return true;
+        },
+        [&] { daemon.Stop(); });
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,41 @@
+// igms-rangerd's body: the ranger driver (or its simulator, or a replay) behind
+// igms.devices.RangerService (Range: one measurement on request; Live; Status) and
+// igms.devices.SimService.Inject (a RangerState as a fixed answer: valid with range_in, or
+// no echo). With follow_platform_port the simulator's beam turns with the camera platform,
+// whose PlatformService.Live it subscribes to. See daemon_base.h.
+#pragma once
+
+#include "common/net/client.h"
+#include "device_daemons/ranger/ranger_driver.h"
+#include "device_daemons/ranger/ranger_sim.h"
+#include "device_daemons/serial/daemon_base.h"
+
+namespace igms::devices {
+
+struct RangerDaemonOptions {
+  double poll_hz = 0;
+  std::string platform_host = "127.0.0.1";
+  uint16_t follow_platform_port = 0;  // 0: the beam stays where it is
+  std::string token;                  // the lab token, for the platform daemon
+};
+
+class RangerDaemon : public DaemonBase<RangerState> {
+ public:
+  RangerDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
+               RangerDaemonOptions ranger = {});
+  ~RangerDaemon() override;
+
+ private:
+  std::unique_ptr<SimulatedDevice> MakeSimulator(std::string* error) override;
+  bool StartDevice(const SerialLinkOptions& link, std::string* error) override;
+  void StopDevice() override;
+  LinkStatus DeviceStatus() const override;
+  bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) override;
+  void RegisterMethods(net::Server& server) override;
+
+  RangerDaemonOptions ranger_;
+  std::unique_ptr<RangerDriver> driver_;
+  std::unique_ptr<net::Client> platform_;
+};
+
+}  // namespace igms::devices

@@ -1,0 +1,70 @@
+#include "device_daemons/viewer/viewer_daemon.h"
+
+#include <fstream>
+#include <sstream>
+
+namespace igms::devices {
+
+ViewerDaemon::ViewerDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
+                           ViewerDaemonOptions viewer)
+    : DaemonBase(io, "viewer", "igms.devices.ViewerService", std::move(options), std::move(server),
+                 boom::kMaxRateHz),
+      viewer_(std::move(viewer)) {}
+
+std::unique_ptr<SimulatedDevice> ViewerDaemon::MakeSimulator(std::string* error) {
+  auto sim = std::make_unique<ViewerSim>();
+  if (!viewer_.path_file.empty()) {
+    std::ifstream in(viewer_.path_file);
+    if (!in) {
+      *error = "cannot read the viewer path " + viewer_.path_file;
+      return nullptr;
+    }
+    std::stringstream text;
+    text << in.rdbuf();
+    auto path = ParseViewerPath(text.str(), error);
+    if (!path) {
+      *error = viewer_.path_file + ": " + *error;
+      return nullptr;
+    }
+    sim->SetPath(std::move(*path));
+  }
+  return sim;
+}
+
+bool ViewerDaemon::StartDevice(const SerialLinkOptions& link, std::string* error) {
+  ViewerDriverOptions options;
+  options.link = link;
+  options.stream = viewer_.stream;
+  options.poll_hz = viewer_.poll_hz;
+  if (!options.Check(error)) return false;
+  driver_ = std::make_unique<ViewerDriver>(io_, options, [this](const ViewerState& s) { hub().Publish(s); });
+  driver_->Start();
+  return true;
+}
+
+void ViewerDaemon::StopDevice() {
+  if (driver_) driver_->Stop();
+}
+
+LinkStatus ViewerDaemon::DeviceStatus() const { return driver_ ? driver_->status() : LinkStatus(); }
+
+bool ViewerDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) {
+  if (!request.has_viewer()) {
+    *error = "the viewer simulator takes a ViewerState (or a fault)";
+    return false;
+  }
+  const ViewerState& v = request.viewer();
+  boom::Pose pose;
+  pose.x_m = v.x_m();
+  pose.y_m = v.y_m();
+  pose.z_m = v.z_m();
+  pose.yaw_deg = v.yaw_deg();
+  pose.pitch_deg = v.pitch_deg();
+  pose.roll_deg = v.roll_deg();
+  auto& viewer = static_cast<ViewerSim&>(sim);
+  viewer.SetSteady(pose);
+  viewer.SetButtons(v.button_left(), v.button_right());
+  return true;
+}
+
+}  // namespace igms::devices

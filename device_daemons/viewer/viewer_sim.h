@@ -1,0 +1,51 @@
+// A simulated BOOM viewer speaking boom_protocol.h: a steady pose, or head motion scripted
+// by a path (keyframes interpolated linearly, looping), plus the two handle buttons.
+//
+// Path file: one keyframe a line, "t_s x_m y_m z_m yaw_deg pitch_deg roll_deg [buttons]",
+// times increasing from 0; '#' starts a comment. buttons is 0..3 as in table 2.1 (left is
+// the first digit).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "device_daemons/serial/pty_host.h"
+#include "device_daemons/viewer/boom_protocol.h"
+
+namespace igms::devices {
+
+struct ViewerKeyframe {
+  double t_s = 0;
+  boom::Pose pose;
+};
+
+// Parses a path file's text. nullopt with a message naming the line on error.
+std::optional<std::vector<ViewerKeyframe>> ParseViewerPath(const std::string& text,
+                                                           std::string* error);
+// The pose at time t_s (looping over the path's duration).
+boom::Pose PoseAt(const std::vector<ViewerKeyframe>& path, double t_s);
+
+class ViewerSim : public SimulatedDevice {
+ public:
+  std::vector<std::string> OnInput(std::string_view bytes, int64_t now_ns) override;
+  std::vector<std::string> Poll(int64_t now_ns, int64_t* next_wake_ns) override;
+
+  void SetSteady(const boom::Pose& pose);
+  void SetPath(std::vector<ViewerKeyframe> path);  // starts at the next report
+  void SetButtons(bool left, bool right);
+  boom::Pose PoseNow(int64_t now_ns) const;
+
+ private:
+  std::string Report(int64_t now_ns);
+
+  boom::Pose steady_;
+  std::vector<ViewerKeyframe> path_;
+  int64_t path_start_ns_ = -1;
+  std::optional<std::pair<bool, bool>> buttons_;
+  uint8_t counter_ = 0;
+  bool streaming_ = false;
+  int64_t next_report_ns_ = 0;
+};
+
+}  // namespace igms::devices

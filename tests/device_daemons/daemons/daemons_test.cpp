@@ -1,0 +1,281 @@
+// Every daemon as a real process with its simulator on a real pseudo-terminal, through a
+// real TCP subscriber: values, rates, faults, commands, record and replay, bad input.
+#include <gtest/gtest.h>
+
+#include <boost/asio/io_context.hpp>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <mutex>
+
+#include "common/net/client.h"
+#include "device_daemons/serial/recording.h"
+#include "igms/devices.pb.h"
+#include "tests/device_daemons/daemons/daemon_process.h"
+
+namespace igms::devices {
+namespace {
+
+using testing::DaemonProcess;
+using testing::IoThread;
+using testing::WaitFor;
+using namespace std::chrono_literals;
+
+template <class Msg>
+struct Stream {
+  std::mutex mutex;
+  std::vector<Msg> got;
+  size_t size() {
+    std::lock_guard lock(mutex);
+    return got.size();
+  }
+  Msg last() {
+    std::lock_guard lock(mutex);
+    return got.back();
+  }
+  std::function<void(const Msg&)> Sink() {
+    return [this](const Msg& m) {
+      std::lock_guard lock(mutex);
+      got.push_back(m);
+    };
+  }
+  double RateOver(std::chrono::milliseconds window) {
+    const size_t first = size();
+    const auto start = std::chrono::steady_clock::now();
+    std::this_thread::sleep_for(window);
+    return (size() - first) / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+};
+
+class Connected {
+ public:
+  explicit Connected(uint16_t port) {
+    net::ClientOptions o;
+    o.port = port;
+    o.name = "daemons_test";
+    client_ = std::make_unique<net::Client>(io_.io(), o);
+    client_->Start();
+  }
+  ~Connected() {
+    client_->Stop();
+    io_.Stop();
+  }
+  net::Client& operator*() { return *client_; }
+  net::Client* operator->() { return client_.get(); }
+
+ private:
+  IoThread io_;
+  std::unique_ptr<net::Client> client_;
+};
+
+net::Status Inject(net::Client& c, const SimInjectRequest& req) {
+  return c.CallSync<SimInjectResponse>("igms.devices.SimService.Inject", req, 2s).status;
+}
+
+LinkStatus StatusOf(net::Client& c, const std::string& service) {
+  return c.CallSync<LinkStatus>(service + ".Status", GetStatusRequest(), 2s).value;
+}
+
+TEST(JoystickDaemon, ReadingsFaultsRecordAndReplay) {
+  const std::string recording = testing::TempPath("joy.rec");
+  std::vector<Reading> recorded;
+  {
+    DaemonProcess daemon("igms-joystickd", {"--simulate", "--port", "0", "--record", recording});
+    const uint16_t port = daemon.WaitForPort();
+    ASSERT_NE(port, 0) << daemon.Log();
+    Connected client(port);
+    SimInjectRequest req;
+    req.mutable_joystick()->set_x(0.5);
+    req.mutable_joystick()->set_twist(-0.75);
+    req.mutable_joystick()->set_buttons(0x04);  // button 3: remove model (table 2.2)
+    req.mutable_joystick()->set_trigger(true);
+    ASSERT_TRUE(WaitFor([&] { return Inject(*client, req).ok(); }));
+
+    Stream<JoystickState> all, slow;
+    SubscribeRequest full, ten;
+    ten.set_rate_hz(10);
+    client->Subscribe<JoystickState>("igms.devices.JoystickService.Live", full, all.Sink());
+    client->Subscribe<JoystickState>("igms.devices.JoystickService.Live", ten, slow.Sink());
+    ASSERT_TRUE(WaitFor([&] { return all.size() > 5 && std::abs(all.last().x() - 0.5) < 1e-3; }));
+    EXPECT_NEAR(all.RateOver(1000ms), 50.0, 10.0);
+    EXPECT_NEAR(slow.RateOver(1000ms), 10.0, 2.5);
+    const JoystickState s = all.last();
+    EXPECT_NEAR(s.twist(), -0.75, 1e-3);
+    EXPECT_EQ(s.buttons(), 0x04u);
+    EXPECT_TRUE(s.trigger());
+
+    // Garbage and a truncated report: counted, readings go on.
+    SimInjectRequest fault;
+    fault.mutable_fault()->set_garbage_bytes(64);
+    fault.mutable_fault()->set_truncate_next(true);
+    ASSERT_TRUE(Inject(*client, fault).ok());
+    ASSERT_TRUE(WaitFor([&] {
+      const LinkStatus st = StatusOf(*client, "igms.devices.JoystickService");
+      return st.bad_frames() + st.garbage_bytes() > 0;
+    }));
+    // The port vanishes and returns: the daemon reopens and the stream resumes.
+    SimInjectRequest vanish;
+    vanish.mutable_fault()->set_vanish_ms(400);
+    ASSERT_TRUE(Inject(*client, vanish).ok());
+    ASSERT_TRUE(WaitFor([&] { return StatusOf(*client, "igms.devices.JoystickService").reopens() >= 1; }));
+    const size_t before = all.size();
+    ASSERT_TRUE(WaitFor([&] { return all.size() > before + 20; }, 15s));
+    EXPECT_EQ(StatusOf(*client, "igms.devices.JoystickService").state(), CONNECTED);
+
+    // Bad input to the sim service: a clear error, nothing breaks.
+    SimInjectRequest wrong;
+    wrong.mutable_viewer()->set_x_m(1);
+    const net::Status st = Inject(*client, wrong);
+    EXPECT_EQ(st.code, igms::BAD_REQUEST);
+    EXPECT_NE(st.message.find("JoystickState"), std::string::npos);
+    EXPECT_EQ(daemon.Stop(), 0);
+  }
+  std::string error;
+  auto rec = LoadRecording(recording, &error);
+  ASSERT_TRUE(rec) << error;
+  EXPECT_EQ(rec->header.device(), "joystick");
+  ASSERT_GT(rec->readings.size(), 100u);
+
+  // Replayed four times faster: the same readings, in order.
+  DaemonProcess replay("igms-joystickd", {"--replay", recording, "--replay-speed", "4", "--port", "0"});
+  const uint16_t port = replay.WaitForPort();
+  ASSERT_NE(port, 0) << replay.Log();
+  Connected client(port);
+  Stream<JoystickState> got;
+  client->Subscribe<JoystickState>("igms.devices.JoystickService.Live", SubscribeRequest(), got.Sink());
+  ASSERT_TRUE(WaitFor([&] { return got.size() >= 40; }));
+  {
+    // Each replayed reading is the recorded one with its sequence number, in order. The
+    // stream keeps only the newest unsent reading, so a few may be skipped, not altered.
+    std::lock_guard lock(got.mutex);
+    std::map<uint64_t, const JoystickState*> by_sequence;
+    for (const Reading& r : rec->readings) by_sequence[r.joystick().stamp().sequence()] = &r.joystick();
+    uint64_t previous = 0;
+    for (const JoystickState& g : got.got) {
+      const auto it = by_sequence.find(g.stamp().sequence());
+      ASSERT_NE(it, by_sequence.end()) << "sequence " << g.stamp().sequence() << " was never recorded";
+      EXPECT_GT(g.stamp().sequence(), previous);
+      previous = g.stamp().sequence();
+      EXPECT_DOUBLE_EQ(g.x(), it->second->x());
+      EXPECT_DOUBLE_EQ(g.twist(), it->second->twist());
+      EXPECT_EQ(g.trigger(), it->second->trigger());
+    }
+    const uint64_t span = got.got.back().stamp().sequence() - got.got.front().stamp().sequence() + 1;
+    EXPECT_GE(got.got.size(), span * 8 / 10);
+  }
+  EXPECT_EQ(StatusOf(*client, "igms.devices.JoystickService").state(), REPLAYING);
+  EXPECT_EQ(replay.Stop(), 0);
+  std::filesystem::remove(recording);
+}
+
+TEST(ViewerDaemon, InjectedPoseAndButtonsAt70Hz) {
+  DaemonProcess daemon("igms-viewerd", {"--simulate", "--port", "0"});
+  const uint16_t port = daemon.WaitForPort();
+  ASSERT_NE(port, 0) << daemon.Log();
+  Connected client(port);
+  SimInjectRequest req;
+  ViewerState* v = req.mutable_viewer();
+  v->set_x_m(0.3);
+  v->set_y_m(-0.2);
+  v->set_yaw_deg(-120);
+  v->set_pitch_deg(15);
+  v->set_button_left(true);
+  v->set_button_right(true);  // table 2.1: 11, slave to the viewer
+  ASSERT_TRUE(WaitFor([&] { return Inject(*client, req).ok(); }));
+  Stream<ViewerState> all;
+  client->Subscribe<ViewerState>("igms.devices.ViewerService.Live", SubscribeRequest(), all.Sink());
+  ASSERT_TRUE(WaitFor([&] { return all.size() > 5 && all.last().button_left(); }));
+  EXPECT_GT(all.RateOver(1000ms), 56.0);
+  const ViewerState s = all.last();
+  EXPECT_NEAR(s.x_m(), 0.3, 0.0005);
+  EXPECT_NEAR(s.y_m(), -0.2, 0.0005);
+  EXPECT_NEAR(s.yaw_deg(), -120, 0.05);
+  EXPECT_NEAR(s.pitch_deg(), 15, 0.05);
+  EXPECT_TRUE(s.button_right());
+  EXPECT_GT(s.stamp().receive_unix_ns(), 0);
+  EXPECT_EQ(daemon.Stop(), 0);
+}
+
+TEST(PlatformDaemon, SetOrientationResetZeroAndBadRequests) {
+  DaemonProcess daemon("igms-platformd", {"--simulate", "--port", "0", "--backlash-deg", "1.59"});
+  const uint16_t port = daemon.WaitForPort();
+  ASSERT_NE(port, 0) << daemon.Log();
+  Connected client(port);
+  Stream<PlatformState> all;
+  client->Subscribe<PlatformState>("igms.devices.PlatformService.Live", SubscribeRequest(), all.Sink());
+  ASSERT_TRUE(WaitFor([&] { return all.size() > 3; }));
+  SetOrientationRequest set;
+  set.set_yaw_ticks(8142);  // 30 degrees
+  set.set_pitch_ticks(-286);  // -5 degrees
+  set.set_steps_per_move(40);
+  auto r = client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", set, 3s);
+  ASSERT_TRUE(r.ok()) << r.status.ToString();
+  ASSERT_TRUE(WaitFor([&] { const auto s = all.last(); return !s.moving() && s.yaw_ticks() == 8142; }));
+  EXPECT_EQ(all.last().pitch_ticks(), -286);
+  EXPECT_NEAR(all.last().yaw_deg(), 30.0, 0.01);
+
+  auto z = client->CallSync<ResetZeroResponse>("igms.devices.PlatformService.ResetZero", ResetZeroRequest(), 3s);
+  ASSERT_TRUE(z.ok()) << z.status.ToString();
+  ASSERT_TRUE(WaitFor([&] { return all.last().yaw_ticks() == 0 && all.last().pitch_ticks() == 0; }));
+
+  set.set_yaw_ticks(5'000'000);
+  r = client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", set, 3s);
+  EXPECT_EQ(r.status.code, igms::BAD_REQUEST);
+  SimInjectRequest joy;
+  joy.mutable_joystick();
+  EXPECT_EQ(Inject(*client, joy).code, igms::BAD_REQUEST);
+  EXPECT_EQ(daemon.Stop(), 0);
+}
+
+TEST(RangerDaemon, RangesTheSceneAndTurnsWithThePlatform) {
+  DaemonProcess platform("igms-platformd", {"--simulate", "--port", "0"});
+  const uint16_t platform_port = platform.WaitForPort();
+  ASSERT_NE(platform_port, 0) << platform.Log();
+  DaemonProcess ranger("igms-rangerd",
+                       {"--simulate", "--port", "0", "--follow-platform", std::to_string(platform_port)});
+  const uint16_t port = ranger.WaitForPort();
+  ASSERT_NE(port, 0) << ranger.Log();
+  Connected client(port);
+  Connected platform_client(platform_port);
+  const auto range = [&] {
+    return client->CallSync<RangerState>("igms.devices.RangerService.Range", RangeRequest(), 3s);
+  };
+  // Level: the wall of the stand-in scene at 10 ft.
+  auto r = range();
+  ASSERT_TRUE(r.ok()) << r.status.ToString();
+  ASSERT_TRUE(r.value.valid());
+  EXPECT_NEAR(r.value.range_in(), 120.0, 2.0);
+  // The platform tilts 20 degrees down: the beam now meets the cylinder (about 48.5 in).
+  SetOrientationRequest tilt;
+  tilt.set_pitch_ticks(static_cast<int32_t>(std::lround(-20.0 / (360.0 / 4000 / 5.14))));
+  ASSERT_TRUE(platform_client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", tilt, 3s).ok());
+  ASSERT_TRUE(WaitFor([&] {
+    const auto x = range();
+    return x.ok() && x.value.valid() && std::abs(x.value.range_in() - 48.5) < 0.6;
+  }, 10s));
+  // An injected answer overrides the scene; no echo is reported as such.
+  SimInjectRequest none;
+  none.mutable_ranger()->set_valid(false);
+  ASSERT_TRUE(Inject(*client, none).ok());
+  r = range();
+  ASSERT_TRUE(r.ok());
+  EXPECT_FALSE(r.value.valid());
+  EXPECT_EQ(ranger.Stop(), 0);
+  EXPECT_EQ(platform.Stop(), 0);
+}
+
+TEST(Daemons, BadCommandLinesFailWithAMessage) {
+  DaemonProcess none("igms-joystickd", {"--port", "0"});
+  EXPECT_EQ(none.WaitExit(), 2);
+  EXPECT_NE(none.Log().find("--serial PORT, --simulate or --replay FILE"), std::string::npos) << none.Log();
+  DaemonProcess two("igms-viewerd", {"--simulate", "--replay", "x.rec"});
+  EXPECT_EQ(two.WaitExit(), 2);
+  DaemonProcess missing("igms-platformd", {"--replay", "/nonexistent/file.rec", "--port", "0"});
+  EXPECT_EQ(missing.WaitExit(), 1);
+  EXPECT_NE(missing.Log().find("cannot open recording"), std::string::npos) << missing.Log();
+  DaemonProcess path("igms-viewerd", {"--simulate", "--path", "/nonexistent/path.txt", "--port", "0"});
+  EXPECT_EQ(path.WaitExit(), 1);
+}
+
+}  // namespace
+}  // namespace igms::devices

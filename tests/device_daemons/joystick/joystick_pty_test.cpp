@@ -1,0 +1,144 @@
+// The joystick driver against the FlyBox simulator on a real pseudo-terminal.
+#include <gtest/gtest.h>
+
+#include <mutex>
+
+#include "device_daemons/joystick/flybox_sim.h"
+#include "device_daemons/joystick/joystick_driver.h"
+#include "device_daemons/serial/pty_host.h"
+#include "tests/device_daemons/test_util.h"
+
+namespace igms::devices {
+namespace {
+
+using testing::IoThread;
+using testing::TempPath;
+using testing::WaitFor;
+
+struct Collected {
+  std::mutex mutex;
+  std::vector<JoystickState> readings;
+  size_t size() {
+    std::lock_guard lock(mutex);
+    return readings.size();
+  }
+  JoystickState last() {
+    std::lock_guard lock(mutex);
+    return readings.back();
+  }
+};
+
+class JoystickPty : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    auto sim = std::make_unique<FlyBoxSim>();
+    sim_ = sim.get();
+    host_ = std::make_unique<PtyHost>(std::move(sim), PtyHostOptions{TempPath("flybox"), 9600});
+    std::string error;
+    ASSERT_TRUE(host_->Start(&error)) << error;
+  }
+  void Set(const JoystickState& s) {
+    host_->WithDevice([&](SimulatedDevice&) { sim_->Set(s); });
+  }
+  std::unique_ptr<JoystickDriver> MakeDriver(IoThread& io, Collected& got, double hz, bool continuous) {
+    JoystickDriverOptions options;
+    options.link.port = host_->port();
+    options.link.silence_timeout = std::chrono::milliseconds(200);
+    options.poll_hz = hz;
+    options.continuous = continuous;
+    return std::make_unique<JoystickDriver>(io.io(), options, [&got](const JoystickState& s) {
+      std::lock_guard lock(got.mutex);
+      got.readings.push_back(s);
+    });
+  }
+  FlyBoxSim* sim_ = nullptr;
+  std::unique_ptr<PtyHost> host_;
+};
+
+TEST_F(JoystickPty, PolledReadingsArriveAtTheRateWithTheRightValues) {
+  JoystickState s;
+  s.set_x(0.75);
+  s.set_y(-0.25);
+  s.set_twist(0.1);
+  s.set_lever1(-1);
+  s.set_buttons(0x05);
+  s.set_trigger(true);
+  Set(s);
+  IoThread io;
+  Collected got;
+  auto driver = MakeDriver(io, got, 25.0, false);
+  driver->Start();
+  ASSERT_TRUE(WaitFor([&] { return got.size() >= 3; }));
+  const size_t first = got.size();
+  const auto start = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const double rate = (got.size() - first) /
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_NEAR(rate, 25.0, 3.0);
+  const JoystickState last = got.last();
+  EXPECT_NEAR(last.x(), 0.75, 1e-3);
+  EXPECT_NEAR(last.y(), -0.25, 1e-3);
+  EXPECT_NEAR(last.twist(), 0.1, 1e-3);
+  EXPECT_NEAR(last.lever1(), -1.0, 1e-9);
+  EXPECT_EQ(last.buttons(), 0x05u);
+  EXPECT_TRUE(last.trigger());
+  EXPECT_GT(last.stamp().receive_monotonic_ns(), 0);
+  EXPECT_EQ(last.stamp().sequence(), got.size());
+  EXPECT_EQ(driver->status().state(), CONNECTED);
+
+  // The operator moves the stick: the next readings follow.
+  s.set_x(-0.5);
+  s.set_trigger(false);
+  Set(s);
+  ASSERT_TRUE(WaitFor([&] { return std::abs(got.last().x() + 0.5) < 1e-3; }, std::chrono::seconds(2)));
+  EXPECT_FALSE(got.last().trigger());
+  driver->Stop();
+  io.Stop();
+}
+
+TEST_F(JoystickPty, ContinuousModeStreamsAtTheBoxRate) {
+  IoThread io;
+  Collected got;
+  auto driver = MakeDriver(io, got, 50.0, true);
+  driver->Start();
+  ASSERT_TRUE(WaitFor([&] { return got.size() >= 3; }));
+  const size_t first = got.size();
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  EXPECT_NEAR(static_cast<double>(got.size() - first), 50.0, 6.0);
+  driver->Stop();
+  io.Stop();
+}
+
+TEST_F(JoystickPty, GarbageTruncationAndAVanishingPortAreSurvived) {
+  JoystickState s;
+  s.set_y(0.5);
+  Set(s);
+  IoThread io;
+  Collected got;
+  auto driver = MakeDriver(io, got, 50.0, false);
+  driver->Start();
+  ASSERT_TRUE(WaitFor([&] { return got.size() >= 5; }));
+
+  host_->InjectGarbage(40);
+  host_->TruncateNext();
+  ASSERT_TRUE(WaitFor([&] {
+    const LinkStatus st = driver->status();
+    return st.bad_frames() >= 1 && st.garbage_bytes() >= 1;
+  }));
+  size_t before = got.size();
+  ASSERT_TRUE(WaitFor([&] { return got.size() >= before + 10; }));
+  EXPECT_NEAR(got.last().y(), 0.5, 1e-3);
+
+  host_->Vanish(std::chrono::milliseconds(400));
+  ASSERT_TRUE(WaitFor([&] { return driver->status().reopens() >= 1; }));
+  before = got.size();
+  // The driver reopens, identifies and configures the box again, and polling resumes.
+  ASSERT_TRUE(WaitFor([&] { return got.size() >= before + 10; }, std::chrono::seconds(15)));
+  EXPECT_EQ(driver->status().state(), CONNECTED);
+  EXPECT_NEAR(got.last().y(), 0.5, 1e-3);
+  driver->Stop();
+  io.Stop();
+}
+
+}  // namespace
+}  // namespace igms::devices
