@@ -124,13 +124,11 @@ bool ParseEnvelopeView(std::string_view frame, igms::Envelope* envelope,
   *payload = {};
   for (;;) {
     const int start = in.CurrentPosition();
+    if (start == static_cast<int>(frame.size())) break;
     const std::uint32_t tag = in.ReadTag();
-    if (tag == 0) {
-      if (in.CurrentPosition() != static_cast<int>(frame.size())) {
-        *error = "frame of " + std::to_string(frame.size()) + " bytes is not an igms.Envelope";
-        return false;
-      }
-      break;
+    if (tag == 0) {  // a truncated tag or the invalid tag 0
+      *error = "frame of " + std::to_string(frame.size()) + " bytes is not an igms.Envelope";
+      return false;
     }
     if (WireFormatLite::GetTagFieldNumber(tag) == igms::Envelope::kPayloadFieldNumber &&
         WireFormatLite::GetTagWireType(tag) == WireFormatLite::WIRETYPE_LENGTH_DELIMITED) {
