@@ -263,7 +263,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   Eigen::VectorXd x0;
   OutlineFn outline;
   std::vector<cv::Point2f> bpts(boundary.begin(), boundary.end());
-  if (in.type == ObjectType::kCylinder) {
+  if (in.type == SolidType::kCylinder) {
     const cv::RotatedRect rr = cv::minAreaRect(bpts);
     cv::Point2f c[4];
     rr.points(c);
@@ -336,7 +336,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                              Fmt(f.rms_px[v]) + " px RMS (limit " + Fmt(opt.max_rms_px) + ")"));
   }
   const Eigen::VectorXd& x = f.params;
-  if (in.type == ObjectType::kCylinder) {
+  if (in.type == SolidType::kCylinder) {
     auto outputs = [](const Eigen::VectorXd& p) {
       Eigen::VectorXd o(5);
       o.head<3>() = 0.5 * (p.segment<3>(0) + p.segment<3>(3));
