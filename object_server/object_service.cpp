@@ -57,7 +57,7 @@ net::Status ValidateLocateRequest(const igms::object::LocateRequest& request) {
 void ResultToProto(const LocateResult& r, igms::object::LocateResponse* out) {
   out->set_found(r.found);
   out->set_type(r.type == SolidType::kCylinder ? igms::object::OBJECT_TYPE_CYLINDER
-                                                : igms::object::OBJECT_TYPE_BOX);
+                                               : igms::object::OBJECT_TYPE_BOX);
   out->set_reason(static_cast<igms::object::FailureReason>(static_cast<int>(r.reason)));
   out->set_detail(r.detail);
   if (r.found && r.type == SolidType::kCylinder) {
@@ -204,8 +204,8 @@ void ObjectService::Run(const igms::object::LocateRequest& request,
     return;
   }
   LocateInput input;
-  input.type = request.type() == igms::object::OBJECT_TYPE_CYLINDER ? SolidType::kCylinder
-                                                                     : SolidType::kBox;
+  input.type =
+      request.type() == igms::object::OBJECT_TYPE_CYLINDER ? SolidType::kCylinder : SolidType::kBox;
   for (int i = 0; i < 4; ++i) {
     const auto& m = request.marks(i);
     input.marks[i] = Eigen::Vector3d(m.x(), m.y(), m.z());

@@ -5,13 +5,13 @@
 // modelled pose and size with the errors and times. Writes table.txt and results.json into
 // the --out folder. Starts no server. Exit: 0 all found, 1 a step failed (named on stderr),
 // 2 bad arguments or configuration.
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <filesystem>
-#include <fmt/format.h>
 #include <fstream>
 #include <iostream>
 #include <thread>
@@ -46,10 +46,10 @@ std::string Vec(const Eigen::Vector3d& v) {
 }
 
 std::string Table(const std::vector<Row>& rows) {
-  std::string t = fmt::format(
-      "{:<10} {:<8} {:>24} {:>24} {:>6} {:>19} {:>19} {:>6} {:>6} {:>7} {:>7}\n", "object",
-      "type", "true centre (in)", "modelled centre (in)", "d pos", "true size", "modelled size",
-      "d size", "d axis", "loc ms", "rtt ms");
+  std::string t =
+      fmt::format("{:<10} {:<8} {:>24} {:>24} {:>6} {:>19} {:>19} {:>6} {:>6} {:>7} {:>7}\n",
+                  "object", "type", "true centre (in)", "modelled centre (in)", "d pos",
+                  "true size", "modelled size", "d size", "d axis", "loc ms", "rtt ms");
   for (const Row& r : rows) {
     auto size = [&](const Eigen::Vector3d& s) {
       return r.kind == "box" ? fmt::format("{:.2f} {:.2f} {:.2f}", s.x(), s.y(), s.z())
@@ -63,10 +63,11 @@ std::string Table(const std::vector<Row>& rows) {
                        centre(r.true_center), "-", r.reason);
       continue;
     }
-    t += fmt::format("{:<10} {:<8} {:>24} {:>24} {:>6.3f} {:>19} {:>19} {:>6.3f} {:>6.2f} {:>7.0f} {:>7.0f}\n",
-                     r.name, r.kind, centre(r.true_center), centre(r.found_center),
-                     r.position_error, size(r.true_size), size(r.found_size), r.size_error,
-                     r.axis_error_deg, r.locate_ms, r.round_trip_ms);
+    t += fmt::format(
+        "{:<10} {:<8} {:>24} {:>24} {:>6.3f} {:>19} {:>19} {:>6.3f} {:>6.2f} {:>7.0f} {:>7.0f}\n",
+        r.name, r.kind, centre(r.true_center), centre(r.found_center), r.position_error,
+        size(r.true_size), size(r.found_size), r.size_error, r.axis_error_deg, r.locate_ms,
+        r.round_trip_ms);
   }
   return t;
 }
@@ -198,8 +199,8 @@ int Run(int argc, char** argv) {
   };
 
   // A missing server is named at once rather than after a call's full timeout.
-  for (const auto& [name, client] : {std::pair{video_name, video.get()},
-                                      std::pair{object_name, object.get()}}) {
+  for (const auto& [name, client] :
+       {std::pair{video_name, video.get()}, std::pair{object_name, object.get()}}) {
     const auto deadline = std::chrono::steady_clock::now() + 5s;
     while (!client->connected() && std::chrono::steady_clock::now() < deadline) {
       std::this_thread::sleep_for(20ms);
@@ -244,15 +245,15 @@ int Run(int argc, char** argv) {
     }
     request.set_frame_id(frame_id);
     const auto start = std::chrono::steady_clock::now();
-    auto got = object->CallSync<igms::object::LocateResponse>(
-        "igms.object.ObjectService.Locate", request, 60s);
+    auto got = object->CallSync<igms::object::LocateResponse>("igms.object.ObjectService.Locate",
+                                                              request, 60s);
     row.round_trip_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (!got.ok()) {
       stop();
-      return Fail("locate " + row.name, fmt::format("{}:{}: {}", process->HostOf(object_name),
-                                                    process->PortOf(object_name),
-                                                    got.status.message));
+      return Fail("locate " + row.name,
+                  fmt::format("{}:{}: {}", process->HostOf(object_name),
+                              process->PortOf(object_name), got.status.message));
     }
     Compare(object_i.shape, got.value, &row);
     if (!row.found && failed.empty()) failed = "locate " + row.name;

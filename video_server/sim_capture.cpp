@@ -12,17 +12,17 @@ namespace igms::video {
 std::unique_ptr<CaptureBackend> MakeSimCapture(site::Scene scene, std::string origin) {
   const auto size = scene.cameras.left.image_size();
   std::string description =
-      fmt::format("sim: {} ({} objects, {}x{}, seed {})", origin, scene.objects.size(),
-                  size.width, size.height, scene.sensor.seed);
+      fmt::format("sim: {} ({} objects, {}x{}, seed {})", origin, scene.objects.size(), size.width,
+                  size.height, scene.sensor.seed);
   // The renderer is deterministic and keeps no state, so the scene is captured by value.
-  return std::make_unique<RenderCapture>(
-      std::move(description), [scene = std::move(scene)](const PoseStamp&) {
-        site::StereoImages pair = site::RenderStereo(scene);
-        StereoImages images;
-        images.left = std::move(pair.left);
-        images.right = std::move(pair.right);
-        return CaptureResult::Ok(std::move(images));
-      });
+  return std::make_unique<RenderCapture>(std::move(description),
+                                         [scene = std::move(scene)](const PoseStamp&) {
+                                           site::StereoImages pair = site::RenderStereo(scene);
+                                           StereoImages images;
+                                           images.left = std::move(pair.left);
+                                           images.right = std::move(pair.right);
+                                           return CaptureResult::Ok(std::move(images));
+                                         });
 }
 
 SimSceneChoice ConfiguredSimScene(const config::ProcessOptions& process) {

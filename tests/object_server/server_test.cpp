@@ -72,8 +72,10 @@ class Process {
 };
 
 std::vector<std::string> VideoArgs(uint16_t port) {
-  return {"--name", "video", "--port", std::to_string(port), "--set",
-          "processes.video.backend=sim", "--set", "lab.calibration=" + Calibration()};
+  return {"--name", "video",
+          "--port", std::to_string(port),
+          "--set",  "processes.video.backend=sim",
+          "--set",  "lab.calibration=" + Calibration()};
 }
 
 LocateRequest RequestFor(const site::Shape& shape, uint64_t frame_id, uint64_t seed) {
@@ -131,12 +133,15 @@ TEST_F(ObjectServerTest, LocatesTheTestbedsFirstCylinderAndBox) {
     const auto* cyl = std::get_if<site::Cylinder>(&scene.objects[i].shape);
     const auto* box = std::get_if<site::Box>(&scene.objects[i].shape);
     if ((cyl && cylinders++ > 0) || (box && boxes++ > 0) || (!cyl && !box)) continue;
-    auto got = client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[i].shape, frame, i), 60s);
+    auto got = client->CallSync<LocateResponse>(kLocate,
+                                                RequestFor(scene.objects[i].shape, frame, i), 60s);
     ASSERT_TRUE(got.ok()) << got.status.message;
     ASSERT_TRUE(got.value.found()) << scene.objects[i].name << ": " << got.value.detail();
     if (cyl) {
       const auto& c = got.value.cylinder();
-      EXPECT_LT((Eigen::Vector3d(c.center().x(), c.center().y(), c.center().z()) - cyl->center).norm(), 0.5);
+      EXPECT_LT(
+          (Eigen::Vector3d(c.center().x(), c.center().y(), c.center().z()) - cyl->center).norm(),
+          0.5);
       EXPECT_NEAR(c.radius(), cyl->radius, 0.1);
       EXPECT_NEAR(c.height(), cyl->height, 0.3);
     } else {
@@ -189,8 +194,8 @@ TEST_F(ObjectServerTest, VideoServerGoneIsUnavailableAndItsReturnIsNoticed) {
   const site::Scene scene = site::DefaultTestbedScene();
   TestClient client(object_port_);
   video_->Stop();
-  auto got = client->CallSync<LocateResponse>(
-      kLocate, RequestFor(scene.objects[0].shape, first, 1), 20s);
+  auto got =
+      client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[0].shape, first, 1), 20s);
   EXPECT_EQ(got.status.code, igms::UNAVAILABLE) << got.status.message;
 
   video_ = std::make_unique<Process>(scratch_, "igms-video-server", VideoArgs(video_port_));
@@ -198,7 +203,8 @@ TEST_F(ObjectServerTest, VideoServerGoneIsUnavailableAndItsReturnIsNoticed) {
   const uint64_t second = Grab(video_port_);
   bool found = false;
   for (int attempt = 0; attempt < 20 && !found; ++attempt) {
-    got = client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[0].shape, second, 1), 60s);
+    got = client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[0].shape, second, 1),
+                                           60s);
     found = got.ok() && got.value.found();
     if (!found) std::this_thread::sleep_for(500ms);
   }

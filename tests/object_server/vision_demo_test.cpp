@@ -27,14 +27,13 @@ int RunShell(const std::string& command) {
 }
 
 TEST(VisionDemo, ScriptLocatesEveryTestbedObject) {
-  const auto run = std::filesystem::temp_directory_path() /
-                   ("igms_vision_demo_" + std::to_string(::getpid()));
+  const auto run =
+      std::filesystem::temp_directory_path() / ("igms_vision_demo_" + std::to_string(::getpid()));
   std::filesystem::remove_all(run);
   const std::string out = (run / "stdout.txt").string();
   std::filesystem::create_directories(run);
   const int rc = RunShell("IGMS_RUN_DIR=" + run.string() + " " + Env("IGMS_SOURCE_DIR") +
-                          "/deploy/vision-demo.sh " + Env("IGMS_BUILD_DIR") + " >" + out +
-                          " 2>&1");
+                          "/deploy/vision-demo.sh " + Env("IGMS_BUILD_DIR") + " >" + out + " 2>&1");
   const std::string printed = Slurp(out);
   EXPECT_EQ(rc, 0) << printed;
   std::string json;
@@ -58,10 +57,9 @@ TEST(VisionDemo, DriverNamesTheFailedStep) {
   const std::string out = (std::filesystem::temp_directory_path() /
                            ("igms_vision_demo_fail_" + std::to_string(::getpid())))
                               .string();
-  const int rc = RunShell(Env("IGMS_BIN_DIR") + "/igms-vision-demo --config " +
-                          Env("IGMS_SOURCE_DIR") +
-                          "/deploy/lab.yaml --set processes.video.port=1 --out " + out +
-                          " >" + out + ".txt 2>&1");
+  const int rc = RunShell(
+      Env("IGMS_BIN_DIR") + "/igms-vision-demo --config " + Env("IGMS_SOURCE_DIR") +
+      "/deploy/lab.yaml --set processes.video.port=1 --out " + out + " >" + out + ".txt 2>&1");
   const std::string printed = Slurp(out + ".txt");
   EXPECT_EQ(rc, 1) << printed;
   EXPECT_NE(printed.find("step 'connect video' failed"), std::string::npos) << printed;

@@ -50,9 +50,9 @@ void ExpectSame(const cv::Mat& expected, const Image& got) {
 TEST(SimBackend, DefaultTestbedThroughTheLabCalibration) {
   ScratchDir scratch;
   const std::string calibration = SourceDir() + "/common/calibration/data/thesis_calibration.yaml";
-  ServerProcess server(scratch, {"--set", "processes.video.backend=sim", "--set",
-                                 "lab.calibration=" + calibration, "--set",
-                                 "processes.video.sim.seed=7"});
+  ServerProcess server(
+      scratch, {"--set", "processes.video.backend=sim", "--set", "lab.calibration=" + calibration,
+                "--set", "processes.video.sim.seed=7"});
   const uint16_t port = server.WaitPort();
   ASSERT_NE(port, 0) << "the server did not start";
   GetImagesResponse got = GrabPair(port);
