@@ -32,7 +32,7 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
     e.scene_name = scene_name;
     e.object_name = object.name;
     LocateInput in;
-    in.type = cyl ? ObjectType::kCylinder : ObjectType::kBox;
+    in.type = cyl ? SolidType::kCylinder : SolidType::kBox;
     in.marks = *marks;
     in.left = images.left;
     in.right = images.right;

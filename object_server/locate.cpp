@@ -2,7 +2,6 @@
 
 #include <Eigen/Dense>
 #include <chrono>
-#include <cstdio>
 #include <cstdlib>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
@@ -263,7 +262,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   Eigen::VectorXd x0;
   OutlineFn outline;
   std::vector<cv::Point2f> bpts(boundary.begin(), boundary.end());
-  if (in.type == ObjectType::kCylinder) {
+  if (in.type == SolidType::kCylinder) {
     const cv::RotatedRect rr = cv::minAreaRect(bpts);
     cv::Point2f c[4];
     rr.points(c);
@@ -310,11 +309,9 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     outline = BoxOutline;
   }
   fit.step = Eigen::VectorXd::Constant(x0.size(), 1e-4);
-  if (std::getenv("IGMS_LOCATE_DEBUG")) std::fprintf(stderr, "depth marks %.2f matched %.2f ssd %.1f boundary %zu init %.2f %.2f %.2f / %.2f %.2f %.2f r %.3f\n", mark_depth, depth0, match.rms, boundary.size(), x0[0], x0[1], x0[2], x0[3], x0[4], x0[5], x0.size() > 6 ? x0[6] : 0.0);
   spdlog::debug("locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
-                mark_depth, depth0, match.rms, boundary.size(), Fmt(x0[0]) + " " + Fmt(x0[1]) + " " + Fmt(x0[2]) + " / " + Fmt(x0[3]) + " " + Fmt(x0[4]) + " " + Fmt(x0[5]));
+                mark_depth, depth0, match.rms, boundary.size(), Fmt(x0[0]) + " " + Fmt(x0[1]) + " " + Fmt(x0[2]) + " / " + Fmt(x0[3]) + " " + Fmt(x0[4]) + " " + Fmt(x0[5]) + (x0.size() > 6 ? " r " + Fmt(x0[6]) : ""));
   const FitOutcome f = FitSilhouette(outline, x0, views, fit);
-  if (std::getenv("IGMS_LOCATE_DEBUG")) std::fprintf(stderr, "fit %d left %d/%d rms %.3f right %d/%d rms %.3f\n", f.ok, f.used[0], f.sampled[0], f.rms_px[0], f.used[1], f.sampled[1], f.rms_px[1]);
   spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}", f.ok ? "ok" : f.error, f.used[0],
                 f.sampled[0], f.rms_px[0], f.used[1], f.sampled[1], f.rms_px[1]);
   res.outline_samples = f.used[0] + f.used[1];
@@ -336,7 +333,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                              Fmt(f.rms_px[v]) + " px RMS (limit " + Fmt(opt.max_rms_px) + ")"));
   }
   const Eigen::VectorXd& x = f.params;
-  if (in.type == ObjectType::kCylinder) {
+  if (in.type == SolidType::kCylinder) {
     auto outputs = [](const Eigen::VectorXd& p) {
       Eigen::VectorXd o(5);
       o.head<3>() = 0.5 * (p.segment<3>(0) + p.segment<3>(3));

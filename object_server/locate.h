@@ -35,7 +35,8 @@
 
 namespace igms::object {
 
-enum class ObjectType { kCylinder, kBox };
+// Named apart from igms.object.ObjectType (object.proto) so both can be used in one file.
+enum class SolidType { kCylinder, kBox };
 
 // Mirrors igms.object.FailureReason in proto/igms/object.proto.
 enum class Failure {
@@ -70,7 +71,7 @@ struct LocateOptions {
 };
 
 struct LocateInput {
-  ObjectType type = ObjectType::kCylinder;
+  SolidType type = SolidType::kCylinder;
   std::array<Eigen::Vector3d, 4> marks;
   cv::Mat left, right;            // 8-bit grey (or BGR, converted), same size as the cameras
   cv::Mat left_edges;             // optional: 8-bit edge map of the left image (non-zero = edge)
@@ -94,7 +95,7 @@ struct BoxResult {
 
 struct LocateResult {
   bool found = false;
-  ObjectType type = ObjectType::kCylinder;
+  SolidType type = SolidType::kCylinder;
   Failure reason = Failure::kNone;
   std::string detail;  // for a person: what failed and what to try
   CylinderResult cylinder;

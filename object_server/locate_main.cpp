@@ -60,8 +60,8 @@ int Run(int argc, char** argv) {
   if (calibration.empty() || left_path.empty() || right_path.empty() || type.empty())
     return bad("--calibration, --left, --right and --type are required (see --help)");
   igms::object::LocateInput input;
-  if (type == "cylinder") input.type = igms::object::ObjectType::kCylinder;
-  else if (type == "box") input.type = igms::object::ObjectType::kBox;
+  if (type == "cylinder") input.type = igms::object::SolidType::kCylinder;
+  else if (type == "box") input.type = igms::object::SolidType::kBox;
   else return bad("--type must be cylinder or box, not '" + type + "'");
   if (marks.size() != 4) return bad("give exactly four --mark X,Y,Z (got " + std::to_string(marks.size()) + ")");
   for (size_t i = 0; i < 4; ++i) {
@@ -82,7 +82,7 @@ int Run(int argc, char** argv) {
   const auto result = igms::object::Locate(input);
   if (vm.count("json")) {
     std::cout << igms::object::ResultToJson(result) << std::endl;
-  } else if (result.found && result.type == igms::object::ObjectType::kCylinder) {
+  } else if (result.found && result.type == igms::object::SolidType::kCylinder) {
     const auto& c = result.cylinder;
     std::cout << "cylinder: center (" << c.center.transpose() << ") axis (" << c.axis.transpose() << ") radius "
               << c.radius << " height " << c.height << "\n";

@@ -41,11 +41,11 @@ std::string JsonEscape(const std::string& text) {
 
 std::string ResultToJson(const LocateResult& r) {
   std::ostringstream o;
-  const char* type = r.type == ObjectType::kCylinder ? "cylinder" : "box";
+  const char* type = r.type == SolidType::kCylinder ? "cylinder" : "box";
   o << "{\"found\": " << (r.found ? "true" : "false") << ", \"type\": \"" << type << "\"";
   if (!r.found) {
     o << ", \"reason\": \"" << FailureName(r.reason) << "\", \"detail\": \"" << JsonEscape(r.detail) << "\"";
-  } else if (r.type == ObjectType::kCylinder) {
+  } else if (r.type == SolidType::kCylinder) {
     const auto& c = r.cylinder;
     o << ", \"center\": " << Vec(c.center) << ", \"axis\": " << Vec(c.axis) << ", \"radius\": " << Num(c.radius)
       << ", \"height\": " << Num(c.height) << ", \"sigma\": {\"center\": " << Vec(c.center_sigma)

@@ -1,9 +1,10 @@
 #include "object_server/silhouette_fit.h"
 
+#include <spdlog/spdlog.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <string>
 
@@ -160,7 +161,12 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
           ms.push_back({v, pts[i] + s * normals[i]});
       }
     }
-    if (std::getenv("IGMS_LOCATE_DEBUG")) std::fprintf(stderr, "outer %d: sampled %d/%d measured %zu x=%s\n", outer, out.sampled[0], out.sampled[1], ms.size(), [&]{ std::string t; for (int i = 0; i < x.size(); ++i) t += std::to_string(x[i]) + " "; return t; }().c_str());
+    if (spdlog::should_log(spdlog::level::debug)) {
+      std::string params;
+      for (int i = 0; i < x.size(); ++i) params += fmt::format("{:.4f} ", x[i]);
+      spdlog::debug("silhouette fit, pass {}: sampled {}/{}, {} edge measurements, x = {}", outer,
+                    out.sampled[0], out.sampled[1], ms.size(), params);
+    }
     if (static_cast<int>(ms.size()) < 2 * np) {
       out.error = "too few edge points along the model's outline";
       return out;

@@ -2,6 +2,7 @@
 
 #include "video_server/camera_capture.h"
 #include "video_server/files_capture.h"
+#include "video_server/sim_capture.h"
 
 namespace igms::video {
 namespace {
@@ -45,9 +46,12 @@ BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process) {
     choice.backend = MakeCameraCapture(camera, &error);
     if (!choice.backend) choice.error = process.Key("camera") + ": " + error;
   } else if (backend == "sim") {
-    choice.error = process.Key("backend") +
-                   ": the sim backend needs the simulated site renderer, which this build "
-                   "does not include yet; use files or camera";
+    SimSceneChoice sim = ConfiguredSimScene(process);
+    if (sim.scene) {
+      choice.backend = MakeSimCapture(std::move(*sim.scene), sim.origin);
+    } else {
+      choice.error = sim.error;
+    }
   } else {
     choice.error = process.Key("backend") + ": unknown backend '" + backend +
                    "' (files, camera or sim)";

@@ -4,6 +4,7 @@
 //     program: igms-video-server
 //     port: 7302
 //     backend: files            # files | camera | sim
+//     sim: {scene: testbed.yaml, seed: 1}   # sim_capture.h; cameras from lab.calibration
 //     files: {left: left%02d.jpg, right: right%02d.jpg, first: 0, last: 9999, colour: false}
 //     camera: {left: "0", right: "1", side_by_side: false, width: 0, height: 0, colour: false,
 //              pace_fps: 0, frame_timeout_ms: 1000, retry_ms: 1000}

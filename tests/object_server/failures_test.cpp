@@ -22,7 +22,7 @@ class Failures : public ::testing::Test {
         object_ = i;
         break;
       }
-    input_.type = ObjectType::kCylinder;
+    input_.type = SolidType::kCylinder;
     input_.marks = *site::GenerateMarks(scene_.objects[object_].shape, scene_.cameras.left, 7);
     input_.left = images_.left;
     input_.right = images_.right;

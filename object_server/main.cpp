@@ -1,0 +1,94 @@
+// igms-object-server: locates cylinders and boxes from the operator's marks on a video
+// server's grab (docs/protocol-object.md). Configuration, processes.NAME:
+//   object: {port: 7302, video: video, fetch_timeout_ms: 5000, cache_frames: 4}
+// and lab.calibration (required) for the cameras.
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/executor_work_guard.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <cstdio>
+#include <fstream>
+
+#include "common/calibration/calibration_file.h"
+#include "common/config/process_options.h"
+#include "common/net/client.h"
+#include "common/net/server.h"
+#include "object_server/object_service.h"
+
+namespace po = boost::program_options;
+
+int main(int argc, char** argv) {
+  try {
+    po::options_description extra("Object server options");
+    extra.add_options()("port-file", po::value<std::string>(),
+                        "write the port listened on to this file once listening");
+    int exit_code = 0;
+    auto process = igms::config::ParseProcessOptions(
+        argc, argv, "object", "igms-object-server: cylinders and boxes from marks and a grab",
+        extra, &exit_code);
+    if (!process) return exit_code;
+
+    const std::string calibration_file = process->config.Get<std::string>("lab.calibration", "");
+    if (calibration_file.empty()) {
+      spdlog::critical("lab.calibration: the object server needs the cameras' calibration");
+      return 2;
+    }
+    std::string error;
+    const auto calibration =
+        igms::calibration::LoadCalibration(process->config.ResolvePath(calibration_file), &error);
+    if (!calibration) {
+      spdlog::critical("lab.calibration: {}", error);
+      return 2;
+    }
+    igms::object::ObjectServiceOptions options;
+    options.fetch_timeout = std::chrono::milliseconds(process->Get<int>("fetch_timeout_ms", 5000));
+    options.cache_frames = static_cast<size_t>(std::max(0, process->Get<int>("cache_frames", 4)));
+    if (std::string problem = options.Check(); !problem.empty()) {
+      spdlog::critical("{}: {}", process->Key(""), problem);
+      return 2;
+    }
+    const std::string video_name = process->Get<std::string>("video", "video");
+
+    boost::asio::io_context io;
+    igms::net::ClientOptions video_options;
+    video_options.name = process->name;
+    video_options.host = process->HostOf(video_name);
+    video_options.port = process->PortOf(video_name);
+    video_options.token = process->Token();
+    video_options.max_frame_bytes = 64u << 20;  // a raw colour pair is about 1.5 MB
+    igms::net::Client video(io, video_options);
+
+    igms::net::ServerOptions server_options;
+    server_options.name = process->name;
+    server_options.bind_address = process->BindAddress();
+    server_options.port = process->Port(0);
+    server_options.token = process->Token();
+    igms::net::Server server(io, server_options);
+    igms::object::ObjectService service(video, calibration->left.Camera(),
+                                        calibration->right.Camera(), options);
+    service.Register(server);
+    video.Start();
+    server.Start();
+    spdlog::info("listening on port {}; frames from {} at {}:{}", server.port(), video_name,
+                 video_options.host, video_options.port);
+    if (process->flags.count("port-file")) {
+      const std::string path = process->flags["port-file"].as<std::string>();
+      std::ofstream(path + ".tmp") << server.port() << "\n";
+      std::rename((path + ".tmp").c_str(), path.c_str());
+    }
+    boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+    signals.async_wait([&](const boost::system::error_code&, int signal) {
+      spdlog::info("signal {}: shutting down", signal);
+      server.Stop();
+      video.Stop();
+      io.stop();
+    });
+    // The worker's CallSync needs the io context running on another thread than its own.
+    io.run();
+    return 0;
+  } catch (const std::exception& e) {
+    spdlog::critical("igms-object-server: {}", e.what());
+    return 1;
+  }
+}

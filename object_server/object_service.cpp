@@ -1,0 +1,227 @@
+#include "object_server/object_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+
+#include "igms/video.pb.h"
+#include "video_server/proto_convert.h"
+
+namespace igms::object {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+const std::string kGetImages = "igms.video.VideoService.GetImages";
+
+void SetVec(const Eigen::Vector3d& v, igms::object::Vec3* out) {
+  out->set_x(v.x());
+  out->set_y(v.y());
+  out->set_z(v.z());
+}
+
+double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
+
+}  // namespace
+
+std::string ObjectServiceOptions::Check() const {
+  if (fetch_timeout.count() <= 0) return "fetch_timeout_ms must be positive";
+  if (cache_frames == 0) return "cache_frames must be at least 1";
+  if (max_queue == 0) return "max_queue must be at least 1";
+  return locate.Check();
+}
+
+net::Status ValidateLocateRequest(const igms::object::LocateRequest& request) {
+  if (request.type() != igms::object::OBJECT_TYPE_CYLINDER &&
+      request.type() != igms::object::OBJECT_TYPE_BOX) {
+    return net::Status::Error(igms::BAD_REQUEST,
+                              "type must be OBJECT_TYPE_CYLINDER or OBJECT_TYPE_BOX, not " +
+                                  std::to_string(request.type()));
+  }
+  if (request.marks_size() != 4) {
+    return net::Status::Error(igms::BAD_REQUEST, "exactly four marks are needed, got " +
+                                                     std::to_string(request.marks_size()));
+  }
+  for (int i = 0; i < 4; ++i) {
+    const auto& m = request.marks(i);
+    if (!std::isfinite(m.x()) || !std::isfinite(m.y()) || !std::isfinite(m.z())) {
+      return net::Status::Error(igms::BAD_REQUEST,
+                                "mark " + std::to_string(i + 1) + " is not three finite numbers");
+    }
+  }
+  if (!std::isfinite(request.range()) || request.range() < 0) {
+    return net::Status::Error(igms::BAD_REQUEST, "range must be finite and not negative");
+  }
+  return net::Status::Ok();
+}
+
+void ResultToProto(const LocateResult& r, igms::object::LocateResponse* out) {
+  out->set_found(r.found);
+  out->set_type(r.type == SolidType::kCylinder ? igms::object::OBJECT_TYPE_CYLINDER
+                                               : igms::object::OBJECT_TYPE_BOX);
+  out->set_reason(static_cast<igms::object::FailureReason>(static_cast<int>(r.reason)));
+  out->set_detail(r.detail);
+  if (r.found && r.type == SolidType::kCylinder) {
+    auto* c = out->mutable_cylinder();
+    SetVec(r.cylinder.center, c->mutable_center());
+    SetVec(r.cylinder.axis, c->mutable_axis());
+    c->set_radius(r.cylinder.radius);
+    c->set_height(r.cylinder.height);
+    SetVec(r.cylinder.center_sigma, c->mutable_center_sigma());
+    c->set_radius_sigma(r.cylinder.radius_sigma);
+    c->set_height_sigma(r.cylinder.height_sigma);
+  } else if (r.found) {
+    auto* b = out->mutable_box();
+    SetVec(r.box.min, b->mutable_min());
+    SetVec(r.box.max, b->mutable_max());
+    SetVec(r.box.min_sigma, b->mutable_min_sigma());
+    SetVec(r.box.max_sigma, b->mutable_max_sigma());
+    b->set_texture_u0(r.box.texture_rect.x);
+    b->set_texture_v0(r.box.texture_rect.y);
+    b->set_texture_u1(r.box.texture_rect.x + r.box.texture_rect.width - 1);
+    b->set_texture_v1(r.box.texture_rect.y + r.box.texture_rect.height - 1);
+  }
+  out->set_boundary_pixels(r.boundary_pixels);
+  out->set_ssd_rms(r.ssd_rms);
+  out->set_outline_samples(r.outline_samples);
+  out->set_rms_left_px(r.rms_left_px);
+  out->set_rms_right_px(r.rms_right_px);
+  out->set_locate_ms(r.elapsed_ms);
+}
+
+ObjectService::ObjectService(net::Client& video, geometry::ProjectiveCamera left,
+                             geometry::ProjectiveCamera right, ObjectServiceOptions options)
+    : video_(video),
+      left_camera_(std::move(left)),
+      right_camera_(std::move(right)),
+      options_(std::move(options)),
+      worker_([this] { Work(); }) {}
+
+ObjectService::~ObjectService() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  worker_.join();
+}
+
+void ObjectService::Register(net::Server& server) {
+  using igms::object::LocateRequest;
+  using igms::object::LocateResponse;
+  server.HandleAsync<LocateRequest, LocateResponse>(
+      "igms.object.ObjectService.Locate",
+      [this](const LocateRequest& request, net::Reply<LocateResponse> reply) {
+        if (net::Status bad = ValidateLocateRequest(request); !bad.ok()) {
+          reply(bad);
+          return;
+        }
+        std::unique_lock lock(mutex_);
+        if (stopping_ || queue_.size() >= options_.max_queue) {
+          const bool stopping = stopping_;
+          lock.unlock();
+          reply(stopping ? net::Status::Error(igms::SHUTTING_DOWN, "the object server is stopping")
+                         : net::Status::Error(igms::UNAVAILABLE,
+                                              "the object server is busy; try again shortly"));
+          return;
+        }
+        queue_.push_back([this, request, reply](bool run) {
+          if (run) {
+            Run(request, reply);
+          } else {
+            reply(net::Status::Error(igms::SHUTTING_DOWN, "the object server is stopping"));
+          }
+        });
+        lock.unlock();
+        wake_.notify_one();
+      });
+}
+
+void ObjectService::Work() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+    if (stopping_) {
+      for (auto& job : queue_) job(false);
+      queue_.clear();
+      return;
+    }
+    Job job = std::move(queue_.front());
+    queue_.pop_front();
+    lock.unlock();
+    job(true);
+    lock.lock();
+  }
+}
+
+net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_ms) {
+  for (auto it = cache_.begin(); it != cache_.end(); ++it) {
+    if (it->id != frame_id) continue;
+    cache_.splice(cache_.begin(), cache_, it);
+    *frame = cache_.front();
+    *fetch_ms = 0;
+    return net::Status::Ok();
+  }
+  const auto start = Clock::now();
+  igms::video::GetImagesRequest request;
+  request.set_frame_id(frame_id);
+  request.set_side(igms::video::BOTH);
+  request.set_encoding(igms::video::RAW);  // loopback: no time spent compressing
+  auto got =
+      video_.CallSync<igms::video::GetImagesResponse>(kGetImages, request, options_.fetch_timeout);
+  *fetch_ms = Ms(Clock::now() - start);
+  if (!got.ok()) {
+    if (got.status.code == igms::NOT_FOUND) {
+      return net::Status::Error(igms::NOT_FOUND, "the video server does not hold frame " +
+                                                     std::to_string(frame_id) + ": " +
+                                                     got.status.message);
+    }
+    return net::Status::Error(igms::UNAVAILABLE,
+                              "cannot fetch frame " + std::to_string(frame_id) +
+                                  " from the video server: " + got.status.message);
+  }
+  Frame fetched;
+  fetched.id = frame_id;
+  fetched.left = video::DecodeProtoImage(got.value.left());
+  fetched.right = video::DecodeProtoImage(got.value.right());
+  if (fetched.left.empty() || fetched.right.empty()) {
+    return net::Status::Error(igms::UNAVAILABLE, "the video server sent frame " +
+                                                     std::to_string(frame_id) +
+                                                     " with images that do not decode");
+  }
+  cache_.push_front(fetched);
+  while (cache_.size() > options_.cache_frames) cache_.pop_back();
+  *frame = std::move(fetched);
+  return net::Status::Ok();
+}
+
+void ObjectService::Run(const igms::object::LocateRequest& request,
+                        net::Reply<igms::object::LocateResponse> reply) {
+  Frame frame;
+  double fetch_ms = 0;
+  if (net::Status status = Fetch(request.frame_id(), &frame, &fetch_ms); !status.ok()) {
+    spdlog::warn("locate on frame {}: {}", request.frame_id(), status.message);
+    reply(status);
+    return;
+  }
+  LocateInput input;
+  input.type =
+      request.type() == igms::object::OBJECT_TYPE_CYLINDER ? SolidType::kCylinder : SolidType::kBox;
+  for (int i = 0; i < 4; ++i) {
+    const auto& m = request.marks(i);
+    input.marks[i] = Eigen::Vector3d(m.x(), m.y(), m.z());
+  }
+  input.left = frame.left;
+  input.right = frame.right;
+  input.left_camera = left_camera_;
+  input.right_camera = right_camera_;
+  const LocateResult result = Locate(input, options_.locate);
+  igms::object::LocateResponse response;
+  ResultToProto(result, &response);
+  response.set_fetch_ms(fetch_ms);
+  spdlog::info("locate {} on frame {}: {} ({:.0f} ms locate, {:.0f} ms fetch)",
+               input.type == SolidType::kCylinder ? "cylinder" : "box", request.frame_id(),
+               result.found ? "found" : FailureName(result.reason), result.elapsed_ms, fetch_ms);
+  reply(net::Status::Ok(), response);
+}
+
+}  // namespace igms::object

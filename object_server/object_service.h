@@ -1,0 +1,81 @@
+// The object server's service: igms.object.ObjectService.Locate over the net library
+// (docs/protocol-object.md). A request is validated on the io thread, then queued for one
+// worker thread, which fetches the frame's images from the video server (kept in a small
+// cache: an operator models several objects on one grab), runs the locator and replies.
+//
+// Errors (envelope ERROR): BAD_REQUEST for a request that is not four finite marks and a
+// known type; NOT_FOUND for a frame the video server does not hold; UNAVAILABLE when the
+// video server does not answer within fetch_timeout (the video client reconnects by itself,
+// so a later request succeeds once the video server is back). A locate that runs and finds
+// nothing is a normal response with found = false and a reason.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <list>
+#include <mutex>
+#include <thread>
+#include <utility>
+
+#include "common/geometry/camera.h"
+#include "common/net/client.h"
+#include "common/net/server.h"
+#include "igms/object.pb.h"
+#include "object_server/locate.h"
+
+namespace igms::object {
+
+struct ObjectServiceOptions {
+  std::chrono::milliseconds fetch_timeout{5000};  // one GetImages call to the video server
+  size_t cache_frames = 4;                        // grabs' images kept
+  size_t max_queue = 16;                          // locates waiting; more are UNAVAILABLE
+  LocateOptions locate;
+  // Empty when valid, else what is wrong.
+  std::string Check() const;
+};
+
+// BAD_REQUEST with a message naming what is wrong, or Ok.
+net::Status ValidateLocateRequest(const igms::object::LocateRequest& request);
+
+// The response form of a locator result.
+void ResultToProto(const LocateResult& result, igms::object::LocateResponse* response);
+
+class ObjectService {
+ public:
+  // `video` must outlive the service and be started; its calls are made from the worker.
+  ObjectService(net::Client& video, geometry::ProjectiveCamera left,
+                geometry::ProjectiveCamera right, ObjectServiceOptions options);
+  ~ObjectService();  // finishes the locate running, answers the queued ones SHUTTING_DOWN
+  ObjectService(const ObjectService&) = delete;
+  ObjectService& operator=(const ObjectService&) = delete;
+
+  void Register(net::Server& server);
+
+ private:
+  struct Frame {
+    uint64_t id = 0;
+    cv::Mat left, right;
+  };
+  using Job = std::function<void(bool run)>;  // run false: shutting down
+  void Work();
+  void Run(const igms::object::LocateRequest& request,
+           net::Reply<igms::object::LocateResponse> reply);
+  // The frame's images from the cache or the video server; status NOT_FOUND / UNAVAILABLE.
+  net::Status Fetch(uint64_t frame_id, Frame* frame, double* fetch_ms);
+
+  net::Client& video_;
+  geometry::ProjectiveCamera left_camera_, right_camera_;
+  ObjectServiceOptions options_;
+  std::list<Frame> cache_;  // most recent first; worker thread only
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<Job> queue_;
+  bool stopping_ = false;
+  std::thread worker_;
+};
+
+}  // namespace igms::object

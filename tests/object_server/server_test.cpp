@@ -1,0 +1,215 @@
+// igms-object-server and igms-video-server as real processes on loopback: locating the
+// simulated testbed's objects from generated marks, request validation, and what happens
+// while the video server is gone and after it returns.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "common/calibration/calibration_file.h"
+#include "common/site/marks.h"
+#include "common/site/testbed.h"
+#include "igms/object.pb.h"
+#include "igms/video.pb.h"
+#include "tests/video_server/server_process.h"
+
+namespace igms::object {
+namespace {
+
+using namespace std::chrono_literals;
+using video::testing::ScratchDir;
+using video::testing::TestClient;
+
+std::string SourceDir() {
+  const char* dir = std::getenv("IGMS_SOURCE_DIR");
+  return dir ? dir : ".";
+}
+std::string Calibration() {
+  return SourceDir() + "/common/calibration/data/thesis_calibration.yaml";
+}
+
+// Any IGMS server program, stopped with SIGTERM when destroyed.
+class Process {
+ public:
+  Process(const ScratchDir& scratch, const std::string& program, std::vector<std::string> args) {
+    port_file_ = scratch.File(program + "-port-" + std::to_string(++starts_));
+    std::vector<std::string> argv = {video::testing::BinDir() + "/" + program, "--port-file",
+                                     port_file_};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> raw;
+    for (auto& a : argv) raw.push_back(a.data());
+    raw.push_back(nullptr);
+    if (posix_spawn(&pid_, raw[0], nullptr, nullptr, raw.data(), environ) != 0) pid_ = -1;
+  }
+  ~Process() { Stop(); }
+  uint16_t WaitPort() {
+    for (int i = 0; i < 400 && pid_ > 0; ++i) {
+      std::ifstream in(port_file_);
+      int port = 0;
+      if (in >> port && port > 0) return static_cast<uint16_t>(port);
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return 0;
+      }
+      std::this_thread::sleep_for(50ms);
+    }
+    return 0;
+  }
+  void Stop() {
+    if (pid_ > 0) {
+      kill(pid_, SIGTERM);
+      int status = 0;
+      waitpid(pid_, &status, 0);
+      pid_ = -1;
+    }
+  }
+
+ private:
+  static inline int starts_ = 0;
+  pid_t pid_ = -1;
+  std::string port_file_;
+};
+
+std::vector<std::string> VideoArgs(uint16_t port) {
+  return {"--name", "video",
+          "--port", std::to_string(port),
+          "--set",  "processes.video.backend=sim",
+          "--set",  "lab.calibration=" + Calibration()};
+}
+
+LocateRequest RequestFor(const site::Shape& shape, uint64_t frame_id, uint64_t seed) {
+  auto cal = calibration::LoadCalibration(Calibration());
+  auto marks = site::GenerateMarks(shape, cal->left.Camera(), seed);
+  LocateRequest request;
+  request.set_type(std::holds_alternative<site::Cylinder>(shape) ? OBJECT_TYPE_CYLINDER
+                                                                 : OBJECT_TYPE_BOX);
+  for (const auto& m : *marks) {
+    auto* v = request.add_marks();
+    v->set_x(m.x());
+    v->set_y(m.y());
+    v->set_z(m.z());
+  }
+  request.set_frame_id(frame_id);
+  return request;
+}
+
+uint64_t Grab(uint16_t video_port) {
+  TestClient client(video_port);
+  auto grab = client->CallSync<video::GrabResponse>("igms.video.VideoService.Grab",
+                                                    video::GrabRequest{}, 60s);
+  EXPECT_TRUE(grab.ok()) << grab.status.message;
+  return grab.value.frame_id();
+}
+
+const std::string kLocate = "igms.object.ObjectService.Locate";
+
+class ObjectServerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    video_ = std::make_unique<Process>(scratch_, "igms-video-server", VideoArgs(0));
+    video_port_ = video_->WaitPort();
+    ASSERT_NE(video_port_, 0);
+    object_ = std::make_unique<Process>(
+        scratch_, "igms-object-server",
+        std::vector<std::string>{"--name", "object", "--port", "0", "--set",
+                                 "processes.video.port=" + std::to_string(video_port_), "--set",
+                                 "processes.object.fetch_timeout_ms=1500", "--set",
+                                 "lab.calibration=" + Calibration()});
+    object_port_ = object_->WaitPort();
+    ASSERT_NE(object_port_, 0);
+  }
+  ScratchDir scratch_;
+  std::unique_ptr<Process> video_, object_;
+  uint16_t video_port_ = 0, object_port_ = 0;
+};
+
+TEST_F(ObjectServerTest, LocatesTheTestbedsFirstCylinderAndBox) {
+  const uint64_t frame = Grab(video_port_);
+  const site::Scene scene = site::DefaultTestbedScene();
+  TestClient client(object_port_);
+  int cylinders = 0, boxes = 0;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const auto* cyl = std::get_if<site::Cylinder>(&scene.objects[i].shape);
+    const auto* box = std::get_if<site::Box>(&scene.objects[i].shape);
+    if ((cyl && cylinders++ > 0) || (box && boxes++ > 0) || (!cyl && !box)) continue;
+    auto got = client->CallSync<LocateResponse>(kLocate,
+                                                RequestFor(scene.objects[i].shape, frame, i), 60s);
+    ASSERT_TRUE(got.ok()) << got.status.message;
+    ASSERT_TRUE(got.value.found()) << scene.objects[i].name << ": " << got.value.detail();
+    if (cyl) {
+      const auto& c = got.value.cylinder();
+      EXPECT_LT(
+          (Eigen::Vector3d(c.center().x(), c.center().y(), c.center().z()) - cyl->center).norm(),
+          0.5);
+      EXPECT_NEAR(c.radius(), cyl->radius, 0.1);
+      EXPECT_NEAR(c.height(), cyl->height, 0.3);
+    } else {
+      const auto& b = got.value.box();
+      const Eigen::Vector3d mid = 0.5 * (Eigen::Vector3d(b.min().x(), b.min().y(), b.min().z()) +
+                                         Eigen::Vector3d(b.max().x(), b.max().y(), b.max().z()));
+      EXPECT_LT((mid - box->center).norm(), 0.6);
+    }
+  }
+  EXPECT_EQ(cylinders > 0 && boxes > 0, true);
+}
+
+TEST_F(ObjectServerTest, BadRequestsAndUnknownFrames) {
+  const uint64_t frame = Grab(video_port_);
+  const site::Scene scene = site::DefaultTestbedScene();
+  TestClient client(object_port_);
+  LocateRequest good = RequestFor(scene.objects[0].shape, frame, 1);
+
+  LocateRequest three = good;
+  three.mutable_marks()->RemoveLast();
+  auto got = client->CallSync<LocateResponse>(kLocate, three, 10s);
+  EXPECT_EQ(got.status.code, igms::BAD_REQUEST) << got.status.message;
+
+  LocateRequest nan = good;
+  nan.mutable_marks(2)->set_y(std::numeric_limits<double>::quiet_NaN());
+  got = client->CallSync<LocateResponse>(kLocate, nan, 10s);
+  EXPECT_EQ(got.status.code, igms::BAD_REQUEST) << got.status.message;
+  LocateRequest inf = good;
+  inf.mutable_marks(0)->set_x(std::numeric_limits<double>::infinity());
+  got = client->CallSync<LocateResponse>(kLocate, inf, 10s);
+  EXPECT_EQ(got.status.code, igms::BAD_REQUEST);
+
+  LocateRequest untyped = good;
+  untyped.set_type(OBJECT_TYPE_UNSPECIFIED);
+  got = client->CallSync<LocateResponse>(kLocate, untyped, 10s);
+  EXPECT_EQ(got.status.code, igms::BAD_REQUEST);
+
+  LocateRequest unknown = good;
+  unknown.set_frame_id(frame + 1000);
+  got = client->CallSync<LocateResponse>(kLocate, unknown, 10s);
+  EXPECT_EQ(got.status.code, igms::NOT_FOUND) << got.status.message;
+
+  // After all that the server still answers.
+  got = client->CallSync<LocateResponse>(kLocate, good, 60s);
+  EXPECT_TRUE(got.ok()) << got.status.message;
+}
+
+TEST_F(ObjectServerTest, VideoServerGoneIsUnavailableAndItsReturnIsNoticed) {
+  const uint64_t first = Grab(video_port_);
+  const site::Scene scene = site::DefaultTestbedScene();
+  TestClient client(object_port_);
+  video_->Stop();
+  auto got =
+      client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[0].shape, first, 1), 20s);
+  EXPECT_EQ(got.status.code, igms::UNAVAILABLE) << got.status.message;
+
+  video_ = std::make_unique<Process>(scratch_, "igms-video-server", VideoArgs(video_port_));
+  ASSERT_EQ(video_->WaitPort(), video_port_);
+  const uint64_t second = Grab(video_port_);
+  bool found = false;
+  for (int attempt = 0; attempt < 20 && !found; ++attempt) {
+    got = client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[0].shape, second, 1),
+                                           60s);
+    found = got.ok() && got.value.found();
+    if (!found) std::this_thread::sleep_for(500ms);
+  }
+  EXPECT_TRUE(found) << got.status.message;
+}
+
+}  // namespace
+}  // namespace igms::object
