@@ -70,7 +70,7 @@ TEST(VideoServerWithIgmsctl, GrabEdgesOverlayAndLive) {
   EXPECT_NE(get.output.find("\"u_offset_px\":3"), std::string::npos) << get.output;
   EXPECT_NE(get.output.find("\"key_level\":61"), std::string::npos) << get.output;
 
-  const CtlRun live = Igmsctl(port, "subscribe Live '{\"fps\": 20, \"width\": 64, \"height\": 48}' "
+  const CtlRun live = Igmsctl(port, "subscribe VideoService.Live '{\"fps\": 20, \"width\": 64, \"height\": 48}' "
                                  "--count 10 -q --timeout 20000");
   EXPECT_EQ(live.status, 0) << live.output;
   EXPECT_NE(live.output.find("10 messages"), std::string::npos) << live.output;
