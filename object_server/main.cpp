@@ -13,6 +13,7 @@
 #include "common/calibration/calibration_file.h"
 #include "common/config/process_options.h"
 #include "common/net/client.h"
+#include "common/net/process_server.h"
 #include "common/net/server.h"
 #include "object_server/object_service.h"
 
@@ -59,12 +60,7 @@ int main(int argc, char** argv) {
     video_options.max_frame_bytes = 64u << 20;  // a raw colour pair is about 1.5 MB
     igms::net::Client video(io, video_options);
 
-    igms::net::ServerOptions server_options;
-    server_options.name = process->name;
-    server_options.bind_address = process->BindAddress();
-    server_options.port = process->Port(0);
-    server_options.token = process->Token();
-    igms::net::Server server(io, server_options);
+    igms::net::Server server(io, igms::net::ServerOptionsFor(*process, 0));
     igms::object::ObjectService service(video, calibration->left.Camera(),
                                         calibration->right.Camera(), options);
     service.Register(server);
@@ -72,14 +68,8 @@ int main(int argc, char** argv) {
     server.Start();
     spdlog::info("listening on port {}; frames from {} at {}:{}", server.port(), video_name,
                  video_options.host, video_options.port);
-    if (process->flags.count("port-file")) {
-      const std::string path = process->flags["port-file"].as<std::string>();
-      std::ofstream(path + ".tmp") << server.port() << "\n";
-      std::rename((path + ".tmp").c_str(), path.c_str());
-    }
-    boost::asio::signal_set signals(io, SIGINT, SIGTERM);
-    signals.async_wait([&](const boost::system::error_code&, int signal) {
-      spdlog::info("signal {}: shutting down", signal);
+    igms::net::WritePortFile(*process, server.port());
+    const auto signals = igms::net::StopOnSignal(io, [&] {
       server.Stop();
       video.Stop();
       io.stop();

@@ -4,10 +4,10 @@
 #include <spdlog/spdlog.h>
 
 #include <boost/asio/io_context.hpp>
-#include <boost/asio/signal_set.hpp>
 #include <filesystem>
 
 #include "common/config/process_options.h"
+#include "common/net/process_server.h"
 #include "common/net/server.h"
 #include "sound_server/server_options.h"
 #include "sound_server/sound_service.h"
@@ -51,17 +51,10 @@ int Run(int argc, char** argv) {
                engine.engine->Bank().size(), engine.engine->Bank().size() - engine.warnings.size());
 
   boost::asio::io_context io;
-  igms::net::ServerOptions server_options;
-  server_options.name = process->name;
-  server_options.bind_address = process->BindAddress();
-  server_options.port = process->Port(sound::kDefaultPort);
-  server_options.token = process->Token();
-  igms::net::Server server(io, server_options);
+  igms::net::Server server(io, igms::net::ServerOptionsFor(*process, sound::kDefaultPort));
   sound::RegisterSoundService(server, *engine.engine);
   server.Start();
-  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
-  signals.async_wait([&](const boost::system::error_code&, int signal) {
-    spdlog::info("signal {}: stopping", signal);
+  const auto signals = igms::net::StopOnSignal(io, [&] {
     server.Stop();
     io.stop();
   });

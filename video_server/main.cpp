@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "common/config/process_options.h"
+#include "common/net/process_server.h"
 #include "common/net/server.h"
 #include "video_server/video_config.h"
 #include "video_server/video_service.h"
@@ -48,25 +49,12 @@ int main(int argc, char** argv) {
                  options.edges.low_threshold, options.edges.high_threshold);
 
     boost::asio::io_context io;
-    igms::net::ServerOptions server_options;
-    server_options.name = process->name;
-    server_options.bind_address = process->BindAddress();
-    server_options.port = process->Port(0);
-    server_options.token = process->Token();
-    server_options.max_frame_bytes =
-        process->Get<std::size_t>("max_frame_bytes", server_options.max_frame_bytes);
-    igms::net::Server server(io, server_options);
+    igms::net::Server server(io, igms::net::ServerOptionsFor(*process, 0));
     igms::video::VideoService service(io, std::move(backend.backend), options, *overlay);
     service.Register(server);
     server.Start();
-    if (process->flags.count("port-file")) {
-      const std::string path = process->flags["port-file"].as<std::string>();
-      std::ofstream(path + ".tmp") << server.port() << "\n";
-      std::rename((path + ".tmp").c_str(), path.c_str());
-    }
-    boost::asio::signal_set signals(io, SIGINT, SIGTERM);
-    signals.async_wait([&](const boost::system::error_code&, int signal) {
-      spdlog::info("signal {}: shutting down", signal);
+    igms::net::WritePortFile(*process, server.port());
+    const auto signals = igms::net::StopOnSignal(io, [&] {
       server.Stop();
       io.stop();
     });

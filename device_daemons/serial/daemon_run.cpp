@@ -1,8 +1,7 @@
 #include <spdlog/spdlog.h>
 
-#include <boost/asio/signal_set.hpp>
-#include <csignal>
 
+#include "common/net/process_server.h"
 #include "device_daemons/serial/daemon_base.h"
 
 namespace igms::devices {
@@ -14,10 +13,7 @@ int RunDaemonProcess(boost::asio::io_context& io, const std::function<bool(std::
     spdlog::error("{}", error);
     return 1;
   }
-  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
-  signals.async_wait([&](const boost::system::error_code& ec, int) {
-    if (ec) return;
-    spdlog::info("stopping");
+  const auto signals = net::StopOnSignal(io, [&] {
     stop();
     io.stop();
   });
