@@ -1,5 +1,6 @@
 // Helpers shared by the device daemon tests: unique pseudo-terminal link paths, an
-// io_context on its own thread, and waiting for a condition with a deadline.
+// io_context on its own thread, waiting for a condition with a deadline, and a thread-safe
+// collector of readings.
 #pragma once
 
 #include <unistd.h>
@@ -9,15 +10,18 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace igms::devices::testing {
 
 inline std::string TempPath(const std::string& name) {
   static int counter = 0;
   return (std::filesystem::temp_directory_path() /
-          ("igms-test-" + name + "-" + std::to_string(::getpid()) + "-" + std::to_string(++counter)))
+          ("igms-test-" + name + "-" + std::to_string(::getpid()) + "-" +
+           std::to_string(++counter)))
       .string();
 }
 
@@ -47,6 +51,25 @@ class IoThread {
   boost::asio::io_context io_;
   boost::asio::executor_work_guard<boost::asio::io_context::executor_type> guard_;
   std::thread thread_;
+};
+
+// Readings a driver delivered on its io thread, read from the test's thread.
+template <class Reading>
+struct Collected {
+  std::mutex mutex;
+  std::vector<Reading> readings;
+  void Add(const Reading& r) {
+    std::lock_guard lock(mutex);
+    readings.push_back(r);
+  }
+  std::size_t size() {
+    std::lock_guard lock(mutex);
+    return readings.size();
+  }
+  Reading last() {
+    std::lock_guard lock(mutex);
+    return readings.back();
+  }
 };
 
 }  // namespace igms::devices::testing

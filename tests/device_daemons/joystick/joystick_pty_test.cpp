@@ -15,18 +15,7 @@ using testing::IoThread;
 using testing::TempPath;
 using testing::WaitFor;
 
-struct Collected {
-  std::mutex mutex;
-  std::vector<JoystickState> readings;
-  size_t size() {
-    std::lock_guard lock(mutex);
-    return readings.size();
-  }
-  JoystickState last() {
-    std::lock_guard lock(mutex);
-    return readings.back();
-  }
-};
+using Collected = testing::Collected<JoystickState>;
 
 class JoystickPty : public ::testing::Test {
  protected:
@@ -40,16 +29,15 @@ class JoystickPty : public ::testing::Test {
   void Set(const JoystickState& s) {
     host_->WithDevice([&](SimulatedDevice&) { sim_->Set(s); });
   }
-  std::unique_ptr<JoystickDriver> MakeDriver(IoThread& io, Collected& got, double hz, bool continuous) {
+  std::unique_ptr<JoystickDriver> MakeDriver(IoThread& io, Collected& got, double hz,
+                                             bool continuous) {
     JoystickDriverOptions options;
     options.link.port = host_->port();
     options.link.silence_timeout = std::chrono::milliseconds(200);
     options.poll_hz = hz;
     options.continuous = continuous;
-    return std::make_unique<JoystickDriver>(io.io(), options, [&got](const JoystickState& s) {
-      std::lock_guard lock(got.mutex);
-      got.readings.push_back(s);
-    });
+    return std::make_unique<JoystickDriver>(io.io(), options,
+                                            [&got](const JoystickState& s) { got.Add(s); });
   }
   FlyBoxSim* sim_ = nullptr;
   std::unique_ptr<PtyHost> host_;
@@ -72,8 +60,9 @@ TEST_F(JoystickPty, PolledReadingsArriveAtTheRateWithTheRightValues) {
   const size_t first = got.size();
   const auto start = std::chrono::steady_clock::now();
   std::this_thread::sleep_for(std::chrono::seconds(1));
-  const double rate = (got.size() - first) /
-                      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double rate =
+      (got.size() - first) /
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_NEAR(rate, 25.0, 3.0);
   const JoystickState last = got.last();
   EXPECT_NEAR(last.x(), 0.75, 1e-3);
@@ -90,7 +79,8 @@ TEST_F(JoystickPty, PolledReadingsArriveAtTheRateWithTheRightValues) {
   s.set_x(-0.5);
   s.set_trigger(false);
   Set(s);
-  ASSERT_TRUE(WaitFor([&] { return std::abs(got.last().x() + 0.5) < 1e-3; }, std::chrono::seconds(2)));
+  ASSERT_TRUE(
+      WaitFor([&] { return std::abs(got.last().x() + 0.5) < 1e-3; }, std::chrono::seconds(2)));
   EXPECT_FALSE(got.last().trigger());
   driver->Stop();
   io.Stop();

@@ -17,18 +17,7 @@ using testing::IoThread;
 using testing::TempPath;
 using testing::WaitFor;
 
-struct Collected {
-  std::mutex mutex;
-  std::vector<PlatformState> readings;
-  size_t size() {
-    std::lock_guard lock(mutex);
-    return readings.size();
-  }
-  PlatformState last() {
-    std::lock_guard lock(mutex);
-    return readings.back();
-  }
-};
+using Collected = testing::Collected<PlatformState>;
 
 std::pair<bool, std::string> Wait(std::future<std::pair<bool, std::string>>& f) {
   if (f.wait_for(std::chrono::seconds(5)) != std::future_status::ready) return {false, "no answer"};
@@ -48,10 +37,8 @@ class PlatformPty : public ::testing::Test {
     PlatformDriverOptions driver_options;
     driver_options.link.port = host_->port();
     driver_options.link.silence_timeout = std::chrono::milliseconds(200);
-    driver_ = std::make_unique<PlatformDriver>(io_.io(), driver_options, [this](const PlatformState& s) {
-      std::lock_guard lock(got_.mutex);
-      got_.readings.push_back(s);
-    });
+    driver_ = std::make_unique<PlatformDriver>(io_.io(), driver_options,
+                                               [this](const PlatformState& s) { got_.Add(s); });
     driver_->Start();
     ASSERT_TRUE(WaitFor([&] { return got_.size() >= 3; }));
   }
@@ -62,7 +49,9 @@ class PlatformPty : public ::testing::Test {
   std::pair<bool, std::string> Set(molly::Ticks t, uint32_t steps) {
     std::promise<std::pair<bool, std::string>> p;
     auto f = p.get_future();
-    driver_->SetOrientation(t, steps, [&p](bool ok, const std::string& m) { p.set_value({ok, m}); });
+    driver_->SetOrientation(t, steps, [&p](bool ok, const std::string& m) {
+      p.set_value({ok, m});
+    });
     return Wait(f);
   }
   MollySim* sim_ = nullptr;
@@ -74,15 +63,18 @@ class PlatformPty : public ::testing::Test {
 
 TEST_F(PlatformPty, SetOrientationIsReachedAndPublishedInTicksAndDegrees) {
   const molly::Ticks target{static_cast<int32_t>(std::lround(30.0 / molly::kYawDegPerTick)),
-                            static_cast<int32_t>(std::lround(10.0 / molly::kPitchRollDegPerTick)), -57};
+                            static_cast<int32_t>(std::lround(10.0 / molly::kPitchRollDegPerTick)),
+                            -57};
   auto [ok, message] = Set(target, 50);
   ASSERT_TRUE(ok) << message;
   // Published while moving, then settled exactly on the target ticks.
   ASSERT_TRUE(WaitFor([&] { return got_.last().moving(); }, std::chrono::seconds(2)));
-  ASSERT_TRUE(WaitFor([&] {
-    const auto s = got_.last();
-    return !s.moving() && s.yaw_ticks() == target.yaw;
-  }, std::chrono::seconds(5)));
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        const auto s = got_.last();
+        return !s.moving() && s.yaw_ticks() == target.yaw;
+      },
+      std::chrono::seconds(5)));
   const PlatformState s = got_.last();
   EXPECT_EQ(s.pitch_ticks(), target.pitch);
   EXPECT_EQ(s.roll_ticks(), target.roll);
@@ -93,16 +85,26 @@ TEST_F(PlatformPty, SetOrientationIsReachedAndPublishedInTicksAndDegrees) {
 }
 
 TEST_F(PlatformPty, ResetZeroAndBacklashAsTheThesisMeasured) {
-  ASSERT_TRUE(Set({0, static_cast<int32_t>(std::lround(20.0 / molly::kPitchRollDegPerTick)), 0}, 1).first);
-  ASSERT_TRUE(WaitFor([&] { const auto s = got_.last(); return !s.moving() && s.pitch_ticks() > 1000; }));
+  ASSERT_TRUE(
+      Set({0, static_cast<int32_t>(std::lround(20.0 / molly::kPitchRollDegPerTick)), 0}, 1).first);
+  ASSERT_TRUE(WaitFor([&] {
+    const auto s = got_.last();
+    return !s.moving() && s.pitch_ticks() > 1000;
+  }));
   ASSERT_TRUE(Set({0, 0, 0}, 1).first);
-  ASSERT_TRUE(WaitFor([&] { const auto s = got_.last(); return !s.moving() && s.pitch_ticks() == 0; }));
+  ASSERT_TRUE(WaitFor([&] {
+    const auto s = got_.last();
+    return !s.moving() && s.pitch_ticks() == 0;
+  }));
   double camera_pitch = 0;
   host_->WithDevice([&](SimulatedDevice&) { camera_pitch = sim_->TrueDegrees()[1]; });
   EXPECT_NEAR(camera_pitch, 1.59 / 2, 1e-6);  // started at -1.59/2: back 1.59 degrees off
 
   ASSERT_TRUE(Set({5000, 0, 0}, 1).first);
-  ASSERT_TRUE(WaitFor([&] { const auto s = got_.last(); return !s.moving() && s.yaw_ticks() == 5000; }));
+  ASSERT_TRUE(WaitFor([&] {
+    const auto s = got_.last();
+    return !s.moving() && s.yaw_ticks() == 5000;
+  }));
   std::promise<std::pair<bool, std::string>> p;
   auto f = p.get_future();
   driver_->ResetZero([&p](bool ok, const std::string& m) { p.set_value({ok, m}); });
@@ -116,7 +118,8 @@ TEST_F(PlatformPty, CommandsFailCleanlyWhileThePortIsGoneAndWorkAfter) {
   auto [ok, message] = Set({100, 0, 0}, 1);
   EXPECT_FALSE(ok);
   EXPECT_NE(message.find("not connected"), std::string::npos);
-  ASSERT_TRUE(WaitFor([&] { return driver_->status().state() == CONNECTED; }, std::chrono::seconds(10)));
+  ASSERT_TRUE(
+      WaitFor([&] { return driver_->status().state() == CONNECTED; }, std::chrono::seconds(10)));
   ASSERT_TRUE(Set({100, 0, 0}, 1).first);
   ASSERT_TRUE(WaitFor([&] { return got_.last().yaw_ticks() == 100; }));
   host_->InjectGarbage(30);

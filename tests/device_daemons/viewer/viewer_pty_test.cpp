@@ -15,18 +15,7 @@ using testing::IoThread;
 using testing::TempPath;
 using testing::WaitFor;
 
-struct Collected {
-  std::mutex mutex;
-  std::vector<ViewerState> readings;
-  size_t size() {
-    std::lock_guard lock(mutex);
-    return readings.size();
-  }
-  ViewerState last() {
-    std::lock_guard lock(mutex);
-    return readings.back();
-  }
-};
+using Collected = testing::Collected<ViewerState>;
 
 class ViewerPty : public ::testing::Test {
  protected:
@@ -43,10 +32,8 @@ class ViewerPty : public ::testing::Test {
     options.link.silence_timeout = std::chrono::milliseconds(200);
     options.poll_hz = hz;
     options.stream = stream;
-    return std::make_unique<ViewerDriver>(io.io(), options, [&got](const ViewerState& s) {
-      std::lock_guard lock(got.mutex);
-      got.readings.push_back(s);
-    });
+    return std::make_unique<ViewerDriver>(io.io(), options,
+                                          [&got](const ViewerState& s) { got.Add(s); });
   }
   ViewerSim* sim_ = nullptr;
   std::unique_ptr<PtyHost> host_;
@@ -56,7 +43,8 @@ double RateOver(Collected& got, std::chrono::milliseconds window) {
   const size_t first = got.size();
   const auto start = std::chrono::steady_clock::now();
   std::this_thread::sleep_for(window);
-  return (got.size() - first) / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return (got.size() - first) /
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 TEST_F(ViewerPty, PolledAtTheRequestedRateWithTheSteadyPoseAndButtons) {
@@ -119,7 +107,8 @@ TEST_F(ViewerPty, GarbageTruncationStallAndVanishingAreSurvived) {
   ASSERT_TRUE(WaitFor([&] { return got.size() >= 5; }));
   host_->InjectGarbage(50);
   host_->TruncateNext();
-  ASSERT_TRUE(WaitFor([&] { return driver->status().bad_frames() >= 1 && driver->status().garbage_bytes() >= 1; }));
+  ASSERT_TRUE(WaitFor(
+      [&] { return driver->status().bad_frames() >= 1 && driver->status().garbage_bytes() >= 1; }));
   host_->Stall(std::chrono::milliseconds(300));
   ASSERT_TRUE(WaitFor([&] { return driver->status().state() == STALE; }, std::chrono::seconds(3)));
   size_t before = got.size();
