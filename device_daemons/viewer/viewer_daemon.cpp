@@ -12,7 +12,7 @@ ViewerDaemon::ViewerDaemon(boost::asio::io_context& io, DaemonOptions options, n
       viewer_(std::move(viewer)) {}
 
 std::unique_ptr<SimulatedDevice> ViewerDaemon::MakeSimulator(std::string* error) {
-  auto sim = std::make_unique<ViewerSim>();
+  auto sim = std::make_unique<ViewerSim>(viewer_.sim);
   if (!viewer_.path_file.empty()) {
     std::ifstream in(viewer_.path_file);
     if (!in) {

@@ -1,6 +1,6 @@
 // igms-viewerd's body: the BOOM driver (or its simulator, or a replay) behind
 // igms.devices.ViewerService (Live, Status) and igms.devices.SimService.Inject, which takes
-// a ViewerState as a steady head pose and the handle buttons. The simulator can also
+// a ViewerState as a steady head pose in the site and the handle buttons. The simulator can also
 // follow a path file (viewer_sim.h). See daemon_base.h.
 #pragma once
 
@@ -14,6 +14,7 @@ struct ViewerDaemonOptions {
   bool stream = false;      // the viewer streams instead of being polled
   double poll_hz = boom::kMaxRateHz;
   std::string path_file;    // simulator: scripted head motion
+  ViewerSimOptions sim;     // simulator: the head's power-up pose in the site
 };
 
 class ViewerDaemon : public DaemonBase<ViewerState> {

@@ -71,6 +71,25 @@ boom::Pose PoseAt(const std::vector<ViewerKeyframe>& path, double t_s) {
   return p;
 }
 
+namespace {
+
+Eigen::Isometry3d SitePose(const boom::Pose& p, double units_per_metre) {
+  return site::HeadPoseFromMetres({p.x_m, p.y_m, p.z_m}, {p.yaw_deg, p.pitch_deg, p.roll_deg},
+                                  units_per_metre);
+}
+
+site::PoseTrackerOptions TrackerOptions(const ViewerSimOptions& o) {
+  site::PoseTrackerOptions t;
+  t.site_from_power_up = SitePose(o.power_up, t.site_units_per_metre);
+  t.position_step_m = boom::kPositionStepM;
+  t.angle_step_deg = boom::kAngleStepDeg;
+  return t;
+}
+
+}  // namespace
+
+ViewerSim::ViewerSim(ViewerSimOptions options) : tracker_(TrackerOptions(options)) {}
+
 void ViewerSim::SetSteady(const boom::Pose& pose) {
   steady_ = pose;
   path_.clear();
@@ -83,10 +102,23 @@ void ViewerSim::SetPath(std::vector<ViewerKeyframe> path) {
 
 void ViewerSim::SetButtons(bool left, bool right) { buttons_ = std::make_pair(left, right); }
 
-boom::Pose ViewerSim::PoseNow(int64_t now_ns) const {
+boom::Pose ViewerSim::HeadNow(int64_t now_ns) const {
   boom::Pose p = steady_;
   if (!path_.empty()) p = PoseAt(path_, path_start_ns_ < 0 ? 0 : (now_ns - path_start_ns_) * 1e-9);
   if (buttons_) std::tie(p.left, p.right) = *buttons_;
+  return p;
+}
+
+boom::Pose ViewerSim::PoseNow(int64_t now_ns) const {
+  const boom::Pose head = HeadNow(now_ns);
+  const site::TrackerReading r = tracker_.Read(SitePose(head, tracker_.options().site_units_per_metre));
+  boom::Pose p = head;
+  p.x_m = r.position_m.x();
+  p.y_m = r.position_m.y();
+  p.z_m = r.position_m.z();
+  p.yaw_deg = r.ypr_deg[0];
+  p.pitch_deg = r.ypr_deg[1];
+  p.roll_deg = r.ypr_deg[2];
   return p;
 }
 

@@ -96,5 +96,41 @@ TEST(ViewerPath, ParsesInterpolatesAndLoops) {
   EXPECT_FALSE(ParseViewerPath("", &error));
 }
 
+// The simulator is a pose tracker of the site: a head pose in the site is reported relative
+// to the power-up pose, on the serial line, at the BOOM's resolution.
+TEST(ViewerSim, ReportsTheHeadRelativeToItsPowerUpPose) {
+  ViewerSimOptions options;
+  options.power_up = {0.5, -0.2, 0.3, 90, 0, 0};  // 90 degrees to the left of the site's x
+  ViewerSim sim(options);
+  Frame7Parser parser(BodyLength);
+  // At the power-up pose: zero, whatever the site pose.
+  sim.SetSteady(options.power_up);
+  auto p = ParseOne(sim.OnInput("P", 0).at(0), parser);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(std::abs(p->x_m) + std::abs(p->y_m) + std::abs(p->z_m) + std::abs(p->yaw_deg), 0, 1e-9);
+  // 0.1 m further along the site's y is 0.1 m forward for the head; turning to the site's
+  // -x is a further 90 degrees left; a 20-degree nod stays a pitch.
+  sim.SetSteady({0.5, -0.1, 0.3, 180, 20, 0});
+  sim.SetButtons(true, false);
+  p = ParseOne(sim.OnInput("P", 0).at(0), parser);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->x_m, 0.1, kPositionStepM);
+  EXPECT_NEAR(p->y_m, 0, kPositionStepM);
+  EXPECT_NEAR(p->z_m, 0, kPositionStepM);
+  EXPECT_NEAR(p->yaw_deg, 90, kAngleStepDeg);
+  EXPECT_NEAR(p->pitch_deg, 20, kAngleStepDeg);
+  EXPECT_NEAR(p->roll_deg, 0, kAngleStepDeg);
+  EXPECT_TRUE(p->left);
+  EXPECT_FALSE(p->right);
+  // A path drives it the same way: its first keyframe is at the power-up pose.
+  std::string error;
+  auto path = ParseViewerPath("0 0.5 -0.2 0.3 90 0 0\n1 0.5 -0.2 0.3 90 0 0\n", &error);
+  ASSERT_TRUE(path) << error;
+  sim.SetPath(*path);
+  p = ParseOne(sim.OnInput("P", 0).at(0), parser);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(std::abs(p->x_m) + std::abs(p->yaw_deg), 0, 1e-9);
+}
+
 }  // namespace
 }  // namespace igms::devices::boom
