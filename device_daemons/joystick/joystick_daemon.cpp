@@ -1,21 +1,66 @@
 #include "device_daemons/joystick/joystick_daemon.h"
 
+#include <algorithm>
+#include <vector>
+
 namespace igms::devices {
 
+namespace {
+
+template <class T, size_t N>
+bool ReadList(const config::ProcessOptions& p, const std::string& sub, std::array<T, N>* out, std::string* error) {
+  const std::vector<T> values = p.Get<std::vector<T>>(sub, {});
+  if (values.empty()) return true;
+  if (values.size() != N) {
+    *error = p.Key(sub) + ": expected " + std::to_string(N) + " values, got " + std::to_string(values.size());
+    return false;
+  }
+  std::copy(values.begin(), values.end(), out->begin());
+  return true;
+}
+
+}  // namespace
+
+bool ReadGamepadMapping(const config::ProcessOptions& p, GamepadMapping* mapping, std::string* error) {
+  GamepadMapping m;
+  if (!ReadList(p, "gamepad_map.axes", &m.axes, error) || !ReadList(p, "gamepad_map.invert", &m.invert, error) ||
+      !ReadList(p, "gamepad_map.buttons", &m.buttons, error)) {
+    return false;
+  }
+  m.trigger = p.Get<int>("gamepad_map.trigger", m.trigger);
+  if (!m.Check(error)) {
+    *error = p.Key("gamepad_map") + ": " + *error;
+    return false;
+  }
+  *mapping = m;
+  return true;
+}
+
 JoystickDaemon::JoystickDaemon(boost::asio::io_context& io, DaemonOptions options,
-                               net::ServerOptions server, bool continuous)
+                               net::ServerOptions server, JoystickDaemonOptions joystick)
     : DaemonBase(io, "joystick", "igms.devices.JoystickService", std::move(options), std::move(server),
                  FlyBoxSim::kMaxRateHz),
-      continuous_(continuous) {}
+      joystick_(std::move(joystick)) {}
 
 std::unique_ptr<SimulatedDevice> JoystickDaemon::MakeSimulator(std::string*) {
   return std::make_unique<FlyBoxSim>();
 }
 
 bool JoystickDaemon::StartDevice(const SerialLinkOptions& link, std::string* error) {
+  if (joystick_.gamepad) {
+    GamepadReaderOptions options;
+    options.path = link.port;
+    options.mapping = joystick_.mapping;
+    options.backoff_min = link.backoff_min;
+    options.backoff_max = link.backoff_max;
+    if (!options.Check(error)) return false;
+    gamepad_ = std::make_unique<GamepadReader>(io_, options, [this](const JoystickState& s) { hub().Publish(s); });
+    gamepad_->Start();
+    return true;
+  }
   JoystickDriverOptions options;
   options.link = link;
-  options.continuous = continuous_;
+  options.continuous = joystick_.continuous;
   if (!options.Check(error)) return false;
   driver_ = std::make_unique<JoystickDriver>(io_, options, [this](const JoystickState& s) { hub().Publish(s); });
   driver_->Start();
@@ -24,9 +69,13 @@ bool JoystickDaemon::StartDevice(const SerialLinkOptions& link, std::string* err
 
 void JoystickDaemon::StopDevice() {
   if (driver_) driver_->Stop();
+  if (gamepad_) gamepad_->Stop();
 }
 
-LinkStatus JoystickDaemon::DeviceStatus() const { return driver_ ? driver_->status() : LinkStatus(); }
+LinkStatus JoystickDaemon::DeviceStatus() const {
+  if (gamepad_) return gamepad_->status();
+  return driver_ ? driver_->status() : LinkStatus();
+}
 
 bool JoystickDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) {
   if (!request.has_joystick()) {

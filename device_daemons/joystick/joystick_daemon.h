@@ -1,18 +1,35 @@
 // igms-joystickd's body: the FlyBox driver (or its simulator, or a replay) behind
 // igms.devices.JoystickService (Live, Status) and igms.devices.SimService.Inject, which
 // takes a JoystickState as the operator's hand on the simulated box. See daemon_base.h.
+// With `gamepad` the device is a Linux joystick at the source's port path, read by a
+// GamepadReader (gamepad_reader.h) instead of the FlyBox driver; it publishes the same
+// JoystickState.
 #pragma once
 
 #include "device_daemons/joystick/flybox_sim.h"
+#include "device_daemons/joystick/gamepad_reader.h"
 #include "device_daemons/joystick/joystick_driver.h"
+#include "common/config/process_options.h"
 #include "device_daemons/serial/daemon_base.h"
 
 namespace igms::devices {
 
+struct JoystickDaemonOptions {
+  bool continuous = false;  // the FlyBox streams ('C') instead of being polled
+  bool gamepad = false;     // the port is a Linux joystick device, not a FlyBox
+  GamepadMapping mapping;
+};
+
+// The gamepad mapping from the configuration (keys under processes.NAME.gamepad_map, each
+// optional, defaults as GamepadMapping's): axes: [x, y, twist, lever0, lever1] (device axis
+// numbers, -1 unmapped), invert: [5 booleans], buttons: [the device buttons of FlyBox
+// buttons 1-8], trigger: N. False with a message naming the key when it is invalid.
+bool ReadGamepadMapping(const config::ProcessOptions& process, GamepadMapping* mapping, std::string* error);
+
 class JoystickDaemon : public DaemonBase<JoystickState> {
  public:
   JoystickDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
-                 bool continuous = false);
+                 JoystickDaemonOptions joystick = {});
 
  private:
   std::unique_ptr<SimulatedDevice> MakeSimulator(std::string* error) override;
@@ -21,8 +38,9 @@ class JoystickDaemon : public DaemonBase<JoystickState> {
   LinkStatus DeviceStatus() const override;
   bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) override;
 
-  bool continuous_;
+  JoystickDaemonOptions joystick_;
   std::unique_ptr<JoystickDriver> driver_;
+  std::unique_ptr<GamepadReader> gamepad_;
 };
 
 }  // namespace igms::devices

@@ -10,15 +10,37 @@ int main(int argc, char** argv) {
   namespace po = boost::program_options;
   po::options_description flags("Joystick");
   igms::devices::AddDaemonFlags(&flags);
-  flags.add_options()("continuous", po::bool_switch(), "let the box stream ('C') instead of polling");
+  flags.add_options()
+      ("continuous", po::bool_switch(), "let the box stream ('C') instead of polling")
+      ("gamepad", po::value<std::string>(), "read a Linux joystick or gamepad (e.g. /dev/input/js0) instead of a FlyBox");
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
       argc, argv, "joystick", "The FlyBox joystick daemon: CerealBox protocol to TCP readings.", flags, &exit_code);
   if (!process) return exit_code;
   try {
+    // A gamepad is the source when named by the flag, or by the configuration unless a
+    // flag names another source; it stands where a serial port would.
+    igms::config::ProcessOptions source = *process;
+    const auto& f = process->flags;
+    const bool other_flag = f.count("serial") || f["simulate"].as<bool>() || f.count("replay");
+    std::string gamepad = f.count("gamepad") ? f["gamepad"].as<std::string>() : "";
+    if (gamepad.empty() && !other_flag) gamepad = process->Get<std::string>("gamepad", "");
+    if (!gamepad.empty()) {
+      std::string quoted;
+      for (char c : gamepad) quoted += c == '\'' ? std::string("''") : std::string(1, c);
+      source.config.Set(process->Key("serial"), "'" + quoted + "'");
+      source.config.Set(process->Key("replay"), "''");
+    }
     igms::devices::DaemonOptions options;
     std::string error;
-    if (!igms::devices::ReadDaemonOptions(*process, "joystick", &options, &error)) {
+    if (!igms::devices::ReadDaemonOptions(source, "joystick", &options, &error)) {
+      spdlog::error("{}", error);
+      return 2;
+    }
+    igms::devices::JoystickDaemonOptions joystick;
+    joystick.continuous = f["continuous"].as<bool>() || process->Get<bool>("continuous", false);
+    joystick.gamepad = !gamepad.empty();
+    if (!igms::devices::ReadGamepadMapping(*process, &joystick.mapping, &error)) {
       spdlog::error("{}", error);
       return 2;
     }
@@ -28,8 +50,7 @@ int main(int argc, char** argv) {
     server.bind_address = process->BindAddress();
     server.port = process->Port(7310);
     server.token = process->Token();
-    igms::devices::JoystickDaemon daemon(io, options, server,
-                                         process->flags["continuous"].as<bool>() || process->Get<bool>("continuous", false));
+    igms::devices::JoystickDaemon daemon(io, options, server, joystick);
     return igms::devices::RunDaemonProcess(
         io,
         [&](std::string* e) {

@@ -9,7 +9,11 @@
 #include <map>
 #include <mutex>
 
+#include <linux/joystick.h>
+#include <sys/stat.h>
+
 #include "common/net/client.h"
+#include "device_daemons/joystick/gamepad.h"
 #include "device_daemons/serial/recording.h"
 #include "igms/devices.pb.h"
 #include "tests/device_daemons/daemons/daemon_process.h"
@@ -310,6 +314,99 @@ TEST(RangerDaemon, BadSiteFilesFailWithAMessage) {
   DaemonProcess ranger("igms-rangerd", {"--simulate", "--port", "0", "--scene", "/nonexistent/site.yaml"});
   EXPECT_NE(ranger.WaitExit(), 0);
   EXPECT_NE(ranger.Log().find("/nonexistent/site.yaml"), std::string::npos) << ranger.Log();
+}
+
+// A Linux joystick as the FlyBox's stand-in, through real file descriptors: a FIFO the test
+// writes js_event records into, read by the real daemon, checked through a real TCP
+// subscriber; the lab configuration names the device and overrides the mapping.
+class JsWriter {
+ public:
+  explicit JsWriter(const std::string& path) {
+    // Non-blocking open fails (ENXIO) until the daemon has the FIFO open for reading.
+    WaitFor([&] { return (fd_ = ::open(path.c_str(), O_WRONLY | O_NONBLOCK)) >= 0; }, 15s);
+  }
+  ~JsWriter() { Close(); }
+  bool ok() const { return fd_ >= 0; }
+  void Send(uint8_t type, uint8_t number, int16_t value) {
+    const std::string e = EncodeJsEvent(++time_ms_, value, type, number);
+    ASSERT_EQ(::write(fd_, e.data(), e.size()), static_cast<ssize_t>(e.size()));
+  }
+  void Close() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+
+ private:
+  int fd_ = -1;
+  uint32_t time_ms_ = 1000;
+};
+
+TEST(JoystickDaemon, GamepadFromTheLabConfigurationPublishesFlyBoxReadings) {
+  const std::string fifo = testing::TempPath("js0"), lab = testing::TempPath("lab.yaml");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // Lab configuration: simulate by default, but the gamepad picked; trigger moved to
+  // device button 7 and FlyBox button 1 to device button 0.
+  testing::WriteFile(lab, "processes:\n"
+                          "  joystick: {program: igms-joystickd, host: 127.0.0.1, port: 0, serial: simulate,\n"
+                          "             gamepad: " + fifo + ",\n"
+                          "             gamepad_map: {trigger: 7, buttons: [0, 2, 3, 4, 5, 6, 8, 9]}}\n");
+  DaemonProcess daemon("igms-joystickd", {"--config", lab, "--name", "joystick"});
+  const uint16_t port = daemon.WaitForPort();
+  ASSERT_NE(port, 0) << daemon.Log();
+  Connected client(port);
+  Stream<JoystickState> live;
+  client->Subscribe<JoystickState>("igms.devices.JoystickService.Live", SubscribeRequest(), live.Sink());
+  {
+    JsWriter js(fifo);
+    ASSERT_TRUE(js.ok()) << daemon.Log();
+    for (uint8_t a = 0; a < 6; ++a) js.Send(JS_EVENT_AXIS | JS_EVENT_INIT, a, 0);
+    for (uint8_t b = 0; b < 10; ++b) js.Send(JS_EVENT_BUTTON | JS_EVENT_INIT, b, 0);
+    js.Send(JS_EVENT_AXIS, 1, -16384);  // forward, half
+    js.Send(JS_EVENT_AXIS, 3, 32767);   // twist right
+    js.Send(JS_EVENT_BUTTON, 0, 1);     // FlyBox button 1 (remapped)
+    js.Send(JS_EVENT_BUTTON, 7, 1);     // trigger (remapped)
+    ASSERT_TRUE(WaitFor([&] { return live.size() > 0 && live.last().trigger(); })) << daemon.Log();
+    const JoystickState s = live.last();
+    EXPECT_NEAR(s.x(), 0.5, 1e-3);
+    EXPECT_NEAR(s.twist(), 1.0, 1e-9);
+    EXPECT_EQ(s.buttons(), 1u);
+    EXPECT_EQ(s.stamp().device_time_us(), 1020u * 1000);
+    // The FlyBox's rate while the stick is held still.
+    EXPECT_NEAR(live.RateOver(1000ms), 50.0, 10.0);
+    const LinkStatus st = StatusOf(*client, "igms.devices.JoystickService");
+    EXPECT_EQ(st.state(), CONNECTED);
+    EXPECT_EQ(st.port(), fifo);
+    js.Send(JS_EVENT_BUTTON, 7, 0);
+    ASSERT_TRUE(WaitFor([&] { return !live.last().trigger(); }));
+  }  // the writer closes: the device vanished
+  ASSERT_TRUE(WaitFor([&] { return StatusOf(*client, "igms.devices.JoystickService").state() != CONNECTED; }));
+  LinkStatus st = StatusOf(*client, "igms.devices.JoystickService");
+  EXPECT_NE(st.message().find(fifo), std::string::npos) << st.DebugString();
+  const size_t before = live.size();
+  std::this_thread::sleep_for(200ms);
+  EXPECT_LE(live.size(), before + 1);  // nothing published while it is gone
+  // It comes back: reopened, the stream resumes with the state it reports.
+  JsWriter js(fifo);
+  ASSERT_TRUE(js.ok());
+  js.Send(JS_EVENT_AXIS | JS_EVENT_INIT, 0, 32767);
+  ASSERT_TRUE(WaitFor([&] { return live.size() > before + 5 && std::abs(live.last().y() - 1.0) < 1e-9; }, 15s));
+  st = StatusOf(*client, "igms.devices.JoystickService");
+  EXPECT_EQ(st.state(), CONNECTED);
+  EXPECT_GE(st.reopens(), 1u);
+  EXPECT_NEAR(live.last().x(), 0.0, 1e-9);  // a reopened device reports afresh
+  // The sim service has nothing to drive.
+  SimInjectRequest req;
+  req.mutable_joystick()->set_x(0.5);
+  EXPECT_EQ(Inject(*client, req).code, igms::UNAVAILABLE);
+  EXPECT_EQ(daemon.Stop(), 0);
+}
+
+TEST(JoystickDaemon, BadGamepadMappingFailsWithAMessage) {
+  const std::string lab = testing::TempPath("lab.yaml");
+  testing::WriteFile(lab, "processes:\n  joystick: {port: 0, gamepad: /dev/null, gamepad_map: {axes: [1, 2]}}\n");
+  DaemonProcess daemon("igms-joystickd", {"--config", lab, "--name", "joystick"});
+  EXPECT_EQ(daemon.WaitExit(), 2);
+  EXPECT_NE(daemon.Log().find("gamepad_map.axes"), std::string::npos) << daemon.Log();
 }
 
 TEST(Daemons, BadCommandLinesFailWithAMessage) {
