@@ -5,10 +5,15 @@
 // The simulator runs here on a real pseudo-terminal paced at 9600 baud; the daemon is the
 // real process, started with --serial on that pseudo-terminal as it would be on hardware.
 // Baseline, same run: the same simulator read in-process by a bare SerialLink (no daemon,
-// no TCP). Both clocks are CLOCK_MONOTONIC, shared by processes on one host.
+// no TCP). Last, the gamepad stand-in (--gamepad) fed js_event records through a FIFO. Both clocks are CLOCK_MONOTONIC, shared by processes on one host.
 //
 //   build/bench/bench_devices [seconds per device, default 5]
+#include <linux/joystick.h>
+#include <sys/stat.h>
+
 #include <boost/asio/io_context.hpp>
+#include <cmath>
+#include <thread>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +23,7 @@
 
 #include "common/net/client.h"
 #include "device_daemons/joystick/flybox_sim.h"
+#include "device_daemons/joystick/gamepad.h"
 #include "device_daemons/platform/molly_sim.h"
 #include "device_daemons/ranger/ranger_sim.h"
 #include "device_daemons/serial/clock.h"
@@ -187,6 +193,116 @@ void RunDevice(const std::string& label, const std::string& program, std::vector
               label.c_str(), f.rate, f.p50_ms, f.p99_ms, s.p50_ms, baseline.p50_ms, baseline.p99_ms, rss);
 }
 
+// The gamepad stand-in: js_event records written into a FIFO at 50 Hz, each a new x value;
+// latency from the write() to the subscriber receiving that value. Baseline: the same
+// records read from a FIFO by a blocking read() in this process.
+int OpenWriter(const std::string& path) {
+  for (int i = 0; i < 5000; ++i) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK);
+    if (fd >= 0) return fd;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return -1;
+}
+
+// Writes `seconds` of x-axis events at 50 Hz; value i is written at times[i].
+void WriteEvents(int fd, double seconds, std::vector<int64_t>* times, std::mutex* mutex) {
+  const int count = static_cast<int>(seconds * 50);
+  auto next = std::chrono::steady_clock::now();
+  for (int i = 1; i <= count; ++i) {
+    const std::string e = EncodeJsEvent(static_cast<uint32_t>(i), static_cast<int16_t>(-(i % 30000)), JS_EVENT_AXIS, 1);
+    {
+      // Stamped just before the write, so the reader never sees a value before its time.
+      std::lock_guard lock(*mutex);
+      times->push_back(MonotonicNs());
+    }
+    if (::write(fd, e.data(), e.size()) != static_cast<ssize_t>(e.size())) {
+      std::lock_guard lock(*mutex);
+      times->back() = 0;
+    }
+    next += std::chrono::milliseconds(20);
+    std::this_thread::sleep_until(next);
+  }
+}
+
+void RunGamepad(double seconds) {
+  const std::string fifo = testing::TempPath("bench-js");
+  ::mkfifo(fifo.c_str(), 0600);
+  std::vector<int64_t> times;
+  std::mutex mutex;
+  // Baseline.
+  std::vector<double> base;
+  {
+    std::thread reader([&] {
+      const int fd = ::open(fifo.c_str(), O_RDONLY);
+      char buf[8];
+      size_t i = 0;
+      while (::read(fd, buf, sizeof buf) == static_cast<ssize_t>(sizeof buf)) {
+        const int64_t now = MonotonicNs();
+        std::lock_guard lock(mutex);
+        if (i < times.size() && times[i] > 0) base.push_back((now - times[i]) / 1e6);
+        ++i;
+      }
+      ::close(fd);
+    });
+    const int fd = OpenWriter(fifo);
+    WriteEvents(fd, seconds, &times, &mutex);
+    ::close(fd);
+    reader.join();
+  }
+  const Figures baseline = Summarise(base, seconds);
+  times.clear();
+  DaemonProcess daemon("igms-joystickd", {"--gamepad", fifo, "--port", "0"});
+  const uint16_t port = daemon.WaitForPort();
+  if (port == 0) {
+    std::fprintf(stderr, "igms-joystickd did not start:\n%s\n", daemon.Log().c_str());
+    return;
+  }
+  IoThread io;
+  igms::net::ClientOptions options;
+  options.port = port;
+  igms::net::Client client(io.io(), options);
+  client.Start();
+  std::vector<double> latencies;
+  size_t readings = 0;
+  int last_index = 0;
+  client.Subscribe<igms::devices::JoystickState>(
+      "igms.devices.JoystickService.Live", igms::devices::SubscribeRequest(), [&](const igms::devices::JoystickState& m) {
+        const int64_t now = MonotonicNs();
+        std::lock_guard lock(mutex);
+        ++readings;
+        const int index = static_cast<int>(std::lround(m.x() * 32767.0));  // x = -axis
+        if (index <= last_index || index > static_cast<int>(times.size())) return;
+        last_index = index;
+        if (times[index - 1] > 0) latencies.push_back((now - times[index - 1]) / 1e6);
+      });
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const int fd = OpenWriter(fifo);
+  size_t before = 0;
+  {
+    std::lock_guard lock(mutex);
+    before = readings;
+  }
+  WriteEvents(fd, seconds, &times, &mutex);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  Figures f;
+  size_t n = 0;
+  {
+    std::lock_guard lock(mutex);
+    f = Summarise(latencies, seconds);
+    n = readings - before;
+  }
+  const double rss = RssMb(daemon.pid());
+  ::close(fd);
+  client.Stop();
+  io.Stop();
+  daemon.Stop();
+  std::filesystem::remove(fifo);
+  std::printf("%-9s %8.1f/s   event write -> subscriber p50 %6.3f ms  p99 %6.3f ms   (%zu changes)   "
+              "baseline bare FIFO read p50 %6.3f ms p99 %6.3f ms   RSS %5.1f MB\n",
+              "gamepad", n / seconds, f.p50_ms, f.p99_ms, f.n, baseline.p50_ms, baseline.p99_ms, rss);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -217,5 +333,7 @@ int main(int argc, char** argv) {
   const Figures ranger_base = Baseline(std::make_unique<RangerSim>(), "", "R", 6, 5, seconds);
   RunDevice<igms::devices::RangerState>("ranger", "igms-rangerd", {"--poll-hz", "6"}, std::make_unique<RangerSim>(),
                                         "igms.devices.RangerService.Live", seconds, ranger_base);
+
+  RunGamepad(seconds);
   return 0;
 }

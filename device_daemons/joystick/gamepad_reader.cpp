@@ -21,6 +21,10 @@ bool GamepadReaderOptions::Check(std::string* error) const {
     *error = "gamepad rate must be in (0, 1000] Hz";
     return false;
   }
+  if (min_spacing.count() < 0 || min_spacing > std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate_hz))) {
+    *error = "gamepad min_spacing must be in [0, 1 / rate_hz]";
+    return false;
+  }
   if (backoff_min.count() <= 0 || backoff_max < backoff_min) {
     *error = "gamepad backoff must satisfy 0 < min <= max";
     return false;
@@ -127,8 +131,13 @@ void GamepadReader::ReadMore() {
         reported_ = true;
         SetState(CONNECTED, "receiving from " + options_.path);
       }
-      // A change goes out at once unless that would exceed the rate; the tick covers it.
-      if (now - last_publish_ns_ >= period_.count()) PublishNow(now);
+      // A change goes out at once, or as soon as the spacing allows.
+      const int64_t due = last_publish_ns_ + std::chrono::nanoseconds(options_.min_spacing).count();
+      if (now >= due) {
+        PublishNow(now);
+      } else {
+        ArmTick(std::chrono::nanoseconds(due - now));
+      }
     }
     ReadMore();
   });
@@ -160,11 +169,11 @@ void GamepadReader::PublishNow(int64_t now_ns) {
   }
   last_publish_ns_ = now_ns;
   on_reading_(s);
-  ArmTick();
+  ArmTick(period_);
 }
 
-void GamepadReader::ArmTick() {
-  tick_timer_.expires_after(period_);
+void GamepadReader::ArmTick(std::chrono::nanoseconds delay) {
+  tick_timer_.expires_after(delay);
   tick_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec || stopped_ || !reported_) return;
     PublishNow(MonotonicNs());

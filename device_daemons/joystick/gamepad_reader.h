@@ -3,10 +3,11 @@
 // (gamepad.h) and publishes the FlyBox's JoystickState at the FlyBox's 50 Hz.
 //
 // Publishing: while the device is open and has reported (its INIT events come at once on a
-// real device), a reading goes out every 1/rate_hz seconds, and at once when events arrive
-// if the last reading is at least that old, so a change reaches subscribers without
-// waiting a period while the rate never exceeds rate_hz. device_time_us is the driver's
-// time of the latest event (milliseconds, times 1000).
+// real device), a reading goes out every 1/rate_hz seconds (the FlyBox's 50 Hz) while the
+// stick is still, and at once when events arrive, so a change reaches subscribers without
+// waiting for the next period; min_spacing bounds the rate while the stick moves (200 a
+// second by default). A subscriber asking a rate gets that rate (reading_hub.h).
+// device_time_us is the driver's time of the latest event (milliseconds, times 1000).
 //
 // Faults, as a serial port's (serial_link.h): a device that cannot be opened, fails a read
 // or reaches end of file (unplugged; a FIFO whose writer closed) is reported REOPENING with
@@ -36,6 +37,7 @@ struct GamepadReaderOptions {
   std::string path;
   GamepadMapping mapping;
   double rate_hz = 50.0;
+  std::chrono::milliseconds min_spacing{5};
   std::chrono::milliseconds backoff_min{20};
   std::chrono::milliseconds backoff_max{2000};
   bool Check(std::string* error) const;
@@ -54,7 +56,7 @@ class GamepadReader {
   void TryOpen();
   void ReadMore();
   void Vanished(const std::string& why);
-  void ArmTick();
+  void ArmTick(std::chrono::nanoseconds delay);
   void PublishNow(int64_t now_ns);
   void SetState(LinkState state, const std::string& message);
 
