@@ -10,7 +10,9 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-double RoundTo(double value, double step) { return step > 0 ? std::round(value / step) * step : value; }
+double RoundTo(double value, double step) {
+  return step > 0 ? std::round(value / step) * step : value;
+}
 
 double Wrap180(double deg) {
   deg = std::fmod(deg + 180.0, 360.0);
@@ -45,9 +47,12 @@ bool PoseTrackerOptions::Check(std::string* error) const {
     if (error) *error = "pose tracker: " + why;
     return false;
   };
-  if (!(position_step_m >= 0) || !std::isfinite(position_step_m)) return fail("position_step_m must be >= 0");
-  if (!(angle_step_deg >= 0) || !std::isfinite(angle_step_deg)) return fail("angle_step_deg must be >= 0");
-  if (!(position_range_m > 0) || !std::isfinite(position_range_m)) return fail("position_range_m must be > 0");
+  if (!(position_step_m >= 0) || !std::isfinite(position_step_m))
+    return fail("position_step_m must be >= 0");
+  if (!(angle_step_deg >= 0) || !std::isfinite(angle_step_deg))
+    return fail("angle_step_deg must be >= 0");
+  if (!(position_range_m > 0) || !std::isfinite(position_range_m))
+    return fail("position_range_m must be > 0");
   if (!(site_units_per_metre > 0) || !std::isfinite(site_units_per_metre)) {
     return fail("site_units_per_metre must be > 0");
   }
@@ -91,8 +96,8 @@ Eigen::Isometry3d PoseTracker::HeadInSite(const TrackerReading& reading) const {
   return options_.site_from_power_up * relative;
 }
 
-Eigen::Isometry3d HeadPoseFromMetres(const Eigen::Vector3d& position_m, const Eigen::Vector3d& ypr_deg,
-                                     double site_units_per_metre) {
+Eigen::Isometry3d HeadPoseFromMetres(const Eigen::Vector3d& position_m,
+                                     const Eigen::Vector3d& ypr_deg, double site_units_per_metre) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = RotationFromYpr(ypr_deg[0], ypr_deg[1], ypr_deg[2]);
   pose.translation() = position_m * site_units_per_metre;

@@ -40,7 +40,7 @@ struct PoseTrackerOptions {
 struct TrackerReading {
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d ypr_deg = Eigen::Vector3d::Zero();  // yaw, pitch, roll
-  bool clamped = false;  // a position was outside the tracker's range
+  bool clamped = false;                               // a position was outside the tracker's range
 };
 
 class PoseTracker {

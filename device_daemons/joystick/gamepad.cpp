@@ -73,11 +73,21 @@ void GamepadDecoder::Apply(uint32_t time_ms, int16_t value, uint8_t type, uint8_
       double v = std::clamp(value / 32767.0, -1.0, 1.0);
       if (mapping_.invert[i]) v = -v;
       switch (i) {
-        case GamepadMapping::kX: state_.set_x(v); break;
-        case GamepadMapping::kY: state_.set_y(v); break;
-        case GamepadMapping::kTwist: state_.set_twist(v); break;
-        case GamepadMapping::kLever0: state_.set_lever0(v); break;
-        default: state_.set_lever1(v); break;
+        case GamepadMapping::kX:
+          state_.set_x(v);
+          break;
+        case GamepadMapping::kY:
+          state_.set_y(v);
+          break;
+        case GamepadMapping::kTwist:
+          state_.set_twist(v);
+          break;
+        case GamepadMapping::kLever0:
+          state_.set_lever0(v);
+          break;
+        default:
+          state_.set_lever1(v);
+          break;
       }
     }
   } else if (kind == JS_EVENT_BUTTON) {

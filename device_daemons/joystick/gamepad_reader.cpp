@@ -21,7 +21,8 @@ bool GamepadReaderOptions::Check(std::string* error) const {
     *error = "gamepad rate must be in (0, 1000] Hz";
     return false;
   }
-  if (min_spacing.count() < 0 || min_spacing > std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate_hz))) {
+  if (min_spacing.count() < 0 ||
+      min_spacing > std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate_hz))) {
     *error = "gamepad min_spacing must be in [0, 1 / rate_hz]";
     return false;
   }
@@ -32,7 +33,8 @@ bool GamepadReaderOptions::Check(std::string* error) const {
   return mapping.Check(error);
 }
 
-GamepadReader::GamepadReader(boost::asio::io_context& io, GamepadReaderOptions options, ReadingFn on_reading)
+GamepadReader::GamepadReader(boost::asio::io_context& io, GamepadReaderOptions options,
+                             ReadingFn on_reading)
     : io_(io),
       options_(std::move(options)),
       on_reading_(std::move(on_reading)),
@@ -109,38 +111,41 @@ void GamepadReader::TryOpen() {
 void GamepadReader::ReadMore() {
   // Wait for readability, then read without blocking: a FIFO reopened after its writer left
   // reads end-of-file at once, but is not readable until a writer comes back.
-  device_.async_wait(boost::asio::posix::descriptor_base::wait_read, [this](const boost::system::error_code& ec) {
-    if (stopped_ || ec == boost::asio::error::operation_aborted) return;
-    boost::system::error_code read_ec = ec;
-    size_t n = 0;
-    if (!read_ec) n = device_.read_some(boost::asio::buffer(buffer_), read_ec);
-    if (read_ec == boost::asio::error::would_block || read_ec == boost::asio::error::try_again) {
-      ReadMore();
-      return;
-    }
-    if (read_ec) {
-      Vanished(read_ec == boost::asio::error::eof
-                   ? options_.path + " closed (unplugged, or its writer went away)"
-                   : "reading " + options_.path + ": " + read_ec.message());
-      return;
-    }
-    const int64_t now = MonotonicNs();
-    if (decoder_.Feed(buffer_, n) > 0) {
-      backoff_ = options_.backoff_min;
-      if (!reported_) {
-        reported_ = true;
-        SetState(CONNECTED, "receiving from " + options_.path);
-      }
-      // A change goes out at once, or as soon as the spacing allows.
-      const int64_t due = last_publish_ns_ + std::chrono::nanoseconds(options_.min_spacing).count();
-      if (now >= due) {
-        PublishNow(now);
-      } else {
-        ArmTick(std::chrono::nanoseconds(due - now));
-      }
-    }
-    ReadMore();
-  });
+  device_.async_wait(
+      boost::asio::posix::descriptor_base::wait_read, [this](const boost::system::error_code& ec) {
+        if (stopped_ || ec == boost::asio::error::operation_aborted) return;
+        boost::system::error_code read_ec = ec;
+        size_t n = 0;
+        if (!read_ec) n = device_.read_some(boost::asio::buffer(buffer_), read_ec);
+        if (read_ec == boost::asio::error::would_block ||
+            read_ec == boost::asio::error::try_again) {
+          ReadMore();
+          return;
+        }
+        if (read_ec) {
+          Vanished(read_ec == boost::asio::error::eof
+                       ? options_.path + " closed (unplugged, or its writer went away)"
+                       : "reading " + options_.path + ": " + read_ec.message());
+          return;
+        }
+        const int64_t now = MonotonicNs();
+        if (decoder_.Feed(buffer_, n) > 0) {
+          backoff_ = options_.backoff_min;
+          if (!reported_) {
+            reported_ = true;
+            SetState(CONNECTED, "receiving from " + options_.path);
+          }
+          // A change goes out at once, or as soon as the spacing allows.
+          const int64_t due =
+              last_publish_ns_ + std::chrono::nanoseconds(options_.min_spacing).count();
+          if (now >= due) {
+            PublishNow(now);
+          } else {
+            ArmTick(std::chrono::nanoseconds(due - now));
+          }
+        }
+        ReadMore();
+      });
 }
 
 void GamepadReader::Vanished(const std::string& why) {

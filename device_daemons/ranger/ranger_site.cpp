@@ -31,7 +31,8 @@ RangerMount RangerMount::FromCalibration(const calibration::StereoCalibration& c
     mount.sensor = BetweenTheCameras(c.left.Camera(), c.right.Camera());
     if (mount.platform) {
       const std::vector<double> zero(mount.platform->joints.size(), 0.0);
-      const Eigen::Isometry3d end_from_world = geometry::WorldFromEnd(*mount.platform, zero).inverse();
+      const Eigen::Isometry3d end_from_world =
+          geometry::WorldFromEnd(*mount.platform, zero).inverse();
       mount.sensor.origin = end_from_world * mount.sensor.origin;
       mount.sensor.axis = end_from_world.linear() * mount.sensor.axis;
     }
@@ -57,7 +58,8 @@ std::vector<double> RangerMount::AnglesOf(const PlatformState& reading) const {
                            static_cast<double>(reading.pitch_ticks()),
                            static_cast<double>(reading.roll_ticks())};
   std::vector<double> q(platform->joints.size(), 0.0);
-  for (size_t i = 0; i < q.size() && i < 3; ++i) q[i] = ticks[i] * platform->joints[i].radians_per_tick;
+  for (size_t i = 0; i < q.size() && i < 3; ++i)
+    q[i] = ticks[i] * platform->joints[i].radians_per_tick;
   return q;
 }
 

@@ -63,7 +63,6 @@ struct RangerWorld {
   RangerMount mount;
 };
 std::optional<RangerWorld> LoadRangerWorld(const std::string& scene_file,
-                                           const std::string& calibration_file,
-                                           std::string* error);
+                                           const std::string& calibration_file, std::string* error);
 
 }  // namespace igms::devices

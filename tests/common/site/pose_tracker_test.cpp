@@ -12,9 +12,12 @@ constexpr double kInch = 0.0254;
 
 TEST(PoseTracker, YprRoundTripsAndFollowsItsConvention) {
   // Yaw turns x (forward) towards y (left); positive pitch puts the nose down.
-  EXPECT_TRUE((RotationFromYpr(90, 0, 0) * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY()));
-  EXPECT_TRUE((RotationFromYpr(0, 90, 0) * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitZ()));
-  EXPECT_TRUE((RotationFromYpr(0, 0, 90) * Eigen::Vector3d::UnitY()).isApprox(Eigen::Vector3d::UnitZ()));
+  EXPECT_TRUE(
+      (RotationFromYpr(90, 0, 0) * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY()));
+  EXPECT_TRUE(
+      (RotationFromYpr(0, 90, 0) * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitZ()));
+  EXPECT_TRUE(
+      (RotationFromYpr(0, 0, 90) * Eigen::Vector3d::UnitY()).isApprox(Eigen::Vector3d::UnitZ()));
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> yaw(-180, 180), pitch(-89, 89);
   for (int i = 0; i < 500; ++i) {

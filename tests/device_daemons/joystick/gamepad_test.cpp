@@ -14,7 +14,8 @@ TEST(Gamepad, DefaultMappingGivesTheFlyBoxReading) {
   GamepadDecoder d;
   // The state reported on opening, then changes.
   std::string init;
-  for (uint8_t axis = 0; axis < 6; ++axis) init += EncodeJsEvent(10, 0, JS_EVENT_AXIS | JS_EVENT_INIT, axis);
+  for (uint8_t axis = 0; axis < 6; ++axis)
+    init += EncodeJsEvent(10, 0, JS_EVENT_AXIS | JS_EVENT_INIT, axis);
   for (uint8_t b = 0; b < 11; ++b) init += EncodeJsEvent(10, 0, JS_EVENT_BUTTON | JS_EVENT_INIT, b);
   Send(d, init);
   EXPECT_EQ(d.events(), 17u);
@@ -48,7 +49,8 @@ TEST(Gamepad, DefaultMappingGivesTheFlyBoxReading) {
 
 TEST(Gamepad, RecordsSplitAcrossReadsAndResets) {
   GamepadDecoder d;
-  const std::string e = EncodeJsEvent(5, 32767, JS_EVENT_AXIS, 0) + EncodeJsEvent(6, 1, JS_EVENT_BUTTON, 1);
+  const std::string e =
+      EncodeJsEvent(5, 32767, JS_EVENT_AXIS, 0) + EncodeJsEvent(6, 1, JS_EVENT_BUTTON, 1);
   for (char c : e) Send(d, std::string(1, c));  // byte by byte
   EXPECT_EQ(d.events(), 2u);
   EXPECT_DOUBLE_EQ(d.state().y(), 1.0);

@@ -57,7 +57,8 @@ inline std::string TestSceneYaml() {
   y.precision(12);
   y << "table: {enabled: false}\n"
     << "objects:\n"
-    << "  - {name: ahead, type: box, center: [20, " << -(kBoxRangeIn + 2) << ", 10], size: [8, 4, 8]}\n"
+    << "  - {name: ahead, type: box, center: [20, " << -(kBoxRangeIn + 2)
+    << ", 10], size: [8, 4, 8]}\n"
     << "  - {name: aside, type: sphere, center: [" << s.x() << ", " << s.y() << ", " << s.z()
     << "], radius: 3}\n";
   return y.str();
