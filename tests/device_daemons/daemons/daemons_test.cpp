@@ -202,6 +202,33 @@ TEST(ViewerDaemon, InjectedPoseAndButtonsAt70Hz) {
   EXPECT_EQ(daemon.Stop(), 0);
 }
 
+// The simulator as a pose tracker of the site: powered up 1 m along the site's x, turned
+// 90 degrees left, a head pose in the site is reported relative to that.
+TEST(ViewerDaemon, ReportsHeadPosesInTheSiteRelativeToPowerUp) {
+  DaemonProcess daemon("igms-viewerd", {"--simulate", "--port", "0", "--power-up", "1 0 0 90 0 0"});
+  const uint16_t port = daemon.WaitForPort();
+  ASSERT_NE(port, 0) << daemon.Log();
+  Connected client(port);
+  SimInjectRequest req;
+  ViewerState* v = req.mutable_viewer();
+  v->set_x_m(1.0);
+  v->set_y_m(0.25);  // 0.25 m forward of the power-up pose
+  v->set_yaw_deg(60);  // 30 degrees right of it
+  v->set_button_left(true);
+  ASSERT_TRUE(WaitFor([&] { return Inject(*client, req).ok(); }));
+  Stream<ViewerState> all;
+  client->Subscribe<ViewerState>("igms.devices.ViewerService.Live", SubscribeRequest(), all.Sink());
+  ASSERT_TRUE(WaitFor([&] { return all.size() > 5 && all.last().button_left(); }));
+  const ViewerState s = all.last();
+  EXPECT_NEAR(s.x_m(), 0.25, 0.0005);
+  EXPECT_NEAR(s.y_m(), 0.0, 0.0005);
+  EXPECT_NEAR(s.yaw_deg(), -30, 0.05);
+  EXPECT_EQ(daemon.Stop(), 0);
+  DaemonProcess bad("igms-viewerd", {"--simulate", "--port", "0", "--power-up", "1 2 3"});
+  EXPECT_EQ(bad.WaitExit(), 2);
+  EXPECT_NE(bad.Log().find("power-up pose takes 6 numbers"), std::string::npos) << bad.Log();
+}
+
 TEST(PlatformDaemon, SetOrientationResetZeroAndBadRequests) {
   DaemonProcess daemon("igms-platformd", {"--simulate", "--port", "0", "--backlash-deg", "1.59"});
   const uint16_t port = daemon.WaitForPort();
