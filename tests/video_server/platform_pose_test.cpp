@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <mutex>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <regex>
 #include <sstream>
@@ -19,6 +20,7 @@
 #include "igms/devices.pb.h"
 #include "igms/video.pb.h"
 #include "tests/video_server/server_process.h"
+#include "tests/video_server/test_data.h"
 #include "video_server/proto_convert.h"
 #include "video_server/sim_capture.h"
 
@@ -140,14 +142,18 @@ site::Scene OneSphereScene() {
 }
 
 // The lab: the platform daemon at `platform_port`, the video server's section naming it.
-std::string WriteLab(const ScratchDir& scratch, uint16_t platform_port) {
-  const std::string scene = scratch.File("scene.yaml");
-  std::ofstream(scene) << site::SceneToYaml(OneSphereScene());
+// `backend`: the video section's backend lines (the one-sphere site by default).
+std::string WriteLab(const ScratchDir& scratch, uint16_t platform_port,
+                     std::string backend = "") {
+  if (backend.empty()) {
+    const std::string scene = scratch.File("scene.yaml");
+    std::ofstream(scene) << site::SceneToYaml(OneSphereScene());
+    backend = "    backend: sim\n    sim: {scene: " + scene + "}\n";
+  }
   const std::string path = scratch.File("lab.yaml");
   std::ofstream(path) << "lab:\n  calibration: " << CalibrationPath()
                       << "\nprocesses:\n  video:\n    program: igms-video-server\n"
-                      << "    backend: sim\n    sim: {scene: " << scene << "}\n"
-                      << "    platform: platform\n"
+                      << backend << "    platform: platform\n"
                       << "  platform:\n    program: igms-platformd\n    host: 127.0.0.1\n"
                       << "    port: " << platform_port << "\n    serial: simulate\n";
   return path;
@@ -347,6 +353,51 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
     ++losses;
   }
   EXPECT_EQ(losses, 1u) << text;
+  EXPECT_EQ(server.Stop(), 0);
+}
+
+TEST(PlatformPose, FilesBackendPassesThePoseThrough) {
+  IGMS_REQUIRE_OPENCV_DATA();
+  ScratchDir scratch;
+  PlatformDaemon platformd(scratch);
+  const uint16_t platform_port = platformd.WaitPort();
+  ASSERT_NE(platform_port, 0) << platformd.Log();
+  const std::string backend = "    backend: files\n    files: {left: " +
+                              testing::OpenCvData("left01.jpg") +
+                              ", right: " + testing::OpenCvData("right01.jpg") + "}\n";
+  const std::string log = scratch.File("video.log");
+  ServerProcess server(scratch, {"--config", WriteLab(scratch, platform_port, backend)}, log);
+  const uint16_t port = server.WaitPort();
+  ASSERT_NE(port, 0) << ReadFile(log);
+  TestClient platform(platform_port);
+  PlatformWatch watch(platform);
+  devices::SetOrientationRequest set;
+  set.set_yaw_ticks(-2714);  // 10 degrees right
+  set.set_roll_ticks(30);
+  ASSERT_TRUE(WaitFor([&] { return watch.count() > 0; }));
+  ASSERT_TRUE(platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation",
+                                                                  set, 5s)
+                  .ok());
+  ASSERT_TRUE(WaitFor([&] {
+    const auto s = watch.last();
+    return !s.moving() && s.yaw_ticks() == -2714 && s.roll_ticks() == 30;
+  }));
+  const auto calibration = calibration::LoadCalibration(CalibrationPath());
+  ASSERT_TRUE(calibration && calibration->platform);
+  TestClient video(port);
+  Grabbed grabbed;
+  ASSERT_TRUE(WaitFor([&] {
+    grabbed = Grab(video);
+    return grabbed.pose.joints_rad_size() == 3 && grabbed.pose.joints_rad(0) < 0.0 &&
+           grabbed.pose.joints_rad(2) != 0.0;
+  }));
+  EXPECT_TRUE(grabbed.pose.from_platform());
+  EXPECT_EQ(grabbed.pose.joints_rad(0), -2714 * calibration->platform->joints[0].radians_per_tick);
+  EXPECT_EQ(grabbed.pose.joints_rad(1), 0.0);
+  EXPECT_EQ(grabbed.pose.joints_rad(2), 30 * calibration->platform->joints[2].radians_per_tick);
+  // The images are the files, untouched by the pose.
+  const cv::Mat left = cv::imread(testing::OpenCvData("left01.jpg"), cv::IMREAD_GRAYSCALE);
+  EXPECT_EQ(cv::norm(left, grabbed.left, cv::NORM_INF), 0.0);
   EXPECT_EQ(server.Stop(), 0);
 }
 
