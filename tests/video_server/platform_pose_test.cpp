@@ -424,5 +424,16 @@ TEST(PlatformPose, NoPlatformDaemonListeningGrabsAtTheZeroPose) {
   EXPECT_EQ(server.Stop(), 0);
 }
 
+TEST(PlatformPose, NamingAProcessTheLabDoesNotHaveIsAConfigurationError) {
+  ScratchDir scratch;
+  const std::string log = scratch.File("video.log");
+  ServerProcess server(scratch,
+                       {"--set", "processes.video.backend=sim", "--set",
+                        "processes.video.platform=nowhere"},
+                       log);
+  EXPECT_EQ(server.WaitExit(20s), 2);
+  EXPECT_NE(ReadFile(log).find("processes.video.platform"), std::string::npos) << ReadFile(log);
+}
+
 }  // namespace
 }  // namespace igms::video
