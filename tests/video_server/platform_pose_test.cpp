@@ -63,8 +63,8 @@ bool WaitFor(F done, std::chrono::milliseconds timeout = 15s) {
 class PlatformDaemon {
  public:
   explicit PlatformDaemon(const ScratchDir& scratch) : log_(scratch.File("platformd.log")) {
-    std::vector<std::string> argv = {testing::BinDir() + "/igms-platformd", "--simulate",
-                                     "--port", "0"};
+    std::vector<std::string> argv = {testing::BinDir() + "/igms-platformd", "--simulate", "--port",
+                                     "0"};
     std::vector<char*> raw;
     for (auto& a : argv) raw.push_back(a.data());
     raw.push_back(nullptr);
@@ -105,12 +105,12 @@ class PlatformDaemon {
 class PlatformWatch {
  public:
   explicit PlatformWatch(TestClient& client) {
-    client->Subscribe<devices::PlatformState>(
-        kPlatform + "Live", devices::SubscribeRequest(), [this](const devices::PlatformState& s) {
-          std::lock_guard lock(mutex_);
-          last_ = s;
-          ++count_;
-        });
+    client->Subscribe<devices::PlatformState>(kPlatform + "Live", devices::SubscribeRequest(),
+                                              [this](const devices::PlatformState& s) {
+                                                std::lock_guard lock(mutex_);
+                                                last_ = s;
+                                                ++count_;
+                                              });
   }
   devices::PlatformState last() {
     std::lock_guard lock(mutex_);
@@ -143,8 +143,7 @@ site::Scene OneSphereScene() {
 
 // The lab: the platform daemon at `platform_port`, the video server's section naming it.
 // `backend`: the video section's backend lines (the one-sphere site by default).
-std::string WriteLab(const ScratchDir& scratch, uint16_t platform_port,
-                     std::string backend = "") {
+std::string WriteLab(const ScratchDir& scratch, uint16_t platform_port, std::string backend = "") {
   if (backend.empty()) {
     const std::string scene = scratch.File("scene.yaml");
     std::ofstream(scene) << site::SceneToYaml(OneSphereScene());
@@ -227,8 +226,8 @@ TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
   devices::SetOrientationRequest set;
   set.set_yaw_ticks(543);
   set.set_pitch_ticks(57);
-  auto moved = platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation",
-                                                                   set, 5s);
+  auto moved =
+      platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation", set, 5s);
   ASSERT_TRUE(moved.ok()) << moved.status.message;
   ASSERT_TRUE(WaitFor([&] {
     const auto s = watch.last();
@@ -322,10 +321,11 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
     devices::SetOrientationRequest set;
     set.set_yaw_ticks(-800);
     ASSERT_TRUE(WaitFor([&] { return watch.count() > 0; }));
-    ASSERT_TRUE(platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation",
-                                                                    set, 5s)
-                    .ok());
-    ASSERT_TRUE(WaitFor([&] { return !watch.last().moving() && watch.last().yaw_ticks() == -800; }));
+    ASSERT_TRUE(
+        platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation", set, 5s)
+            .ok());
+    ASSERT_TRUE(
+        WaitFor([&] { return !watch.last().moving() && watch.last().yaw_ticks() == -800; }));
   }
   TestClient video(port);
   Grabbed before;
@@ -344,8 +344,8 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
     EXPECT_EQ(cv::norm(after.left, before.left, cv::NORM_INF), 0.0);
     std::this_thread::sleep_for(300ms);  // across a few reconnection attempts
   }
-  ASSERT_TRUE(WaitFor([&] { return ReadFile(log).find("lost the platform daemon") !=
-                                   std::string::npos; }));
+  ASSERT_TRUE(
+      WaitFor([&] { return ReadFile(log).find("lost the platform daemon") != std::string::npos; }));
   const std::string text = ReadFile(log);
   size_t losses = 0;
   for (size_t at = text.find("lost the platform"); at != std::string::npos;
@@ -362,9 +362,9 @@ TEST(PlatformPose, FilesBackendPassesThePoseThrough) {
   PlatformDaemon platformd(scratch);
   const uint16_t platform_port = platformd.WaitPort();
   ASSERT_NE(platform_port, 0) << platformd.Log();
-  const std::string backend = "    backend: files\n    files: {left: " +
-                              testing::OpenCvData("left01.jpg") +
-                              ", right: " + testing::OpenCvData("right01.jpg") + "}\n";
+  const std::string backend =
+      "    backend: files\n    files: {left: " + testing::OpenCvData("left01.jpg") +
+      ", right: " + testing::OpenCvData("right01.jpg") + "}\n";
   const std::string log = scratch.File("video.log");
   ServerProcess server(scratch, {"--config", WriteLab(scratch, platform_port, backend)}, log);
   const uint16_t port = server.WaitPort();
@@ -375,9 +375,9 @@ TEST(PlatformPose, FilesBackendPassesThePoseThrough) {
   set.set_yaw_ticks(-2714);  // 10 degrees right
   set.set_roll_ticks(30);
   ASSERT_TRUE(WaitFor([&] { return watch.count() > 0; }));
-  ASSERT_TRUE(platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation",
-                                                                  set, 5s)
-                  .ok());
+  ASSERT_TRUE(
+      platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation", set, 5s)
+          .ok());
   ASSERT_TRUE(WaitFor([&] {
     const auto s = watch.last();
     return !s.moving() && s.yaw_ticks() == -2714 && s.roll_ticks() == 30;
@@ -427,10 +427,9 @@ TEST(PlatformPose, NoPlatformDaemonListeningGrabsAtTheZeroPose) {
 TEST(PlatformPose, NamingAProcessTheLabDoesNotHaveIsAConfigurationError) {
   ScratchDir scratch;
   const std::string log = scratch.File("video.log");
-  ServerProcess server(scratch,
-                       {"--set", "processes.video.backend=sim", "--set",
-                        "processes.video.platform=nowhere"},
-                       log);
+  ServerProcess server(
+      scratch,
+      {"--set", "processes.video.backend=sim", "--set", "processes.video.platform=nowhere"}, log);
   EXPECT_EQ(server.WaitExit(20s), 2);
   EXPECT_NE(ReadFile(log).find("processes.video.platform"), std::string::npos) << ReadFile(log);
 }
