@@ -20,6 +20,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "device_daemons/voice/command_language.h"
 #include "device_daemons/voice/grammar.h"
@@ -31,7 +32,7 @@ struct RecognizerOptions {
   std::string model_dir = "/usr/share/pocketsphinx/model/en-us";
   // Accept a command only when its confidence is at least this. 0 skips the confidence
   // pass altogether (about half the decode time; confidence is then reported as 0).
-  double min_confidence = 0.5;
+  double min_confidence = 0.2;
   // Confidence is a logistic function of the command's acoustic score per frame minus a
   // free phone decoding's over the same frames: 1 / (1 + exp(-(d - offset) / scale)).
   // Tuned on espeak-ng voices en-us and en-gb+f3 at 140 and 190 words a minute.
@@ -41,17 +42,28 @@ struct RecognizerOptions {
   OperatorState initial_state = OperatorState::kVerification;
   // After accepting a command, move to PredictNextState() until told otherwise.
   bool predict_state = true;
+  // Reject a command when more than this much speech (10 ms frames within 35 dB of the
+  // utterance's loudest) lies outside the command word's frames: "market" heard as "mark"
+  // and silence. Tuned on the tuning voices.
+  double max_uncovered_speech_ms = 100.0;
+  // Second opinion from general English: the utterance is also decoded with the en-us
+  // n-gram language model (the three commands missing from it added), and a command is
+  // accepted only when that decoding is the command's words too (english_match).
+  bool english_check = false;
+  // More pocketsphinx arguments, in pairs ("-beam", "1e-40"), after the built-in ones.
+  std::vector<std::string> decoder_args;
   DecoyOptions decoys;
   GrammarOptions grammar;
   bool Check(std::string* error) const;
 };
 
 enum class RejectReason {
-  kNone,             // accepted
-  kNoSpeech,         // nothing decoded (silence, too short, or no path through the grammar)
-  kOutOfVocabulary,  // best path is decoy words or phones
-  kNotValidInState,  // a command, but not one of the current state's
-  kLowConfidence,    // a valid command whose posterior is below min_confidence
+  kNone,               // accepted
+  kNoSpeech,           // nothing decoded (silence, too short, or no path through the grammar)
+  kOutOfVocabulary,    // best path is decoy words or phones
+  kNotValidInState,    // a command, but not one of the current state's
+  kLowConfidence,      // a valid command whose posterior is below min_confidence
+  kUnexplainedSpeech,  // a valid command, but too much speech outside it
 };
 std::string_view RejectReasonName(RejectReason reason);
 
@@ -66,6 +78,11 @@ struct Recognition {
   double score_per_frame = 0.0;  // command minus phone loop, pocketsphinx's scaled log units
   double audio_seconds = 0.0;
   double decode_ms = 0.0;  // wall time spent decoding
+  std::string english;     // the general English decoding, when english_check is on
+  // Speech (10 ms frames within 35 dB of the loudest) outside the command word's frames:
+  // what the decoder had to explain as silence or noise.
+  double uncovered_speech_ms = 0.0;
+  bool english_match = false;
 };
 
 class Recognizer {
