@@ -184,14 +184,15 @@ struct Recognizer::Impl {
     return true;
   }
 
-  static double UncoveredSpeechMs(std::span<const int16_t> samples, int first, int last) {
+  static double UncoveredSpeechMs(std::span<const int16_t> samples, int first, int last,
+                                  double floor_db) {
     constexpr size_t kFrame = kModelSampleRate / 100;
     std::vector<double> db;
     for (size_t i = 0; i + kFrame <= samples.size(); i += kFrame) {
       db.push_back(RmsDbfs(samples.subspan(i, kFrame)));
     }
     if (db.empty()) return 0.0;
-    const double floor = std::max(-50.0, *std::max_element(db.begin(), db.end()) - 35.0);
+    const double floor = std::max(-50.0, *std::max_element(db.begin(), db.end()) - floor_db);
     int uncovered = 0;
     for (int f = 0; f < static_cast<int>(db.size()); ++f) {
       if (db[f] > floor && (f < first - 2 || f > last + 2)) ++uncovered;
@@ -264,7 +265,8 @@ struct Recognizer::Impl {
         ps_seg_prob(seg, &span.ascr, &lscr, &lback);
       }
       if (tokens.size() == 1)
-        r.uncovered_speech_ms = UncoveredSpeechMs(samples, span.first, span.last);
+        r.uncovered_speech_ms =
+            UncoveredSpeechMs(samples, span.first, span.last, options.speech_floor_db);
       if (tokens.size() == 1 && span.last >= span.first && options.min_confidence > 0.0) {
         const double loop = PhoneLoopScore(samples, span);
         r.score_per_frame = (span.ascr - loop) / (span.last - span.first + 1);

@@ -5,8 +5,10 @@
 // recogniser decodes with the grammar of the state it was last told (SetState) and accepts
 // a result only when
 //   1. the best path is exactly one command token (not a decoy, not phones),
-//   2. that command is valid in the current state, and
-//   3. its confidence is at least min_confidence. The confidence compares the command's
+//   2. that command is valid in the current state,
+//   3. no more than max_uncovered_speech_ms of speech lies outside the command's frames
+//      (the fillers around it swallowed the rest of a longer word), and
+//   4. its confidence is at least min_confidence. The confidence compares the command's
 //      acoustic score per frame with a free decoding of the same frames by a phone loop
 //      (pocketsphinx's allphone search), squashed into [0, 1].
 // Anything else is a Rejection with a reason a person can read.
@@ -46,6 +48,7 @@ struct RecognizerOptions {
   // utterance's loudest) lies outside the command word's frames: "market" heard as "mark"
   // and silence. Tuned on the tuning voices.
   double max_uncovered_speech_ms = 100.0;
+  double speech_floor_db = 35.0;  // "speech" for the above: within this of the loudest frame
   // Second opinion from general English: the utterance is also decoded with the en-us
   // n-gram language model (the three commands missing from it added), and a command is
   // accepted only when that decoding is the command's words too (english_match).
