@@ -81,7 +81,8 @@ double Quantile(std::vector<double> v, double q) {
 
 int main(int argc, char** argv) {
   // The daemon is found next to this program's folder (build/bench -> build/bin).
-  const std::string bin = (std::filesystem::absolute(argv[0]).parent_path().parent_path() / "bin").string();
+  const std::string bin =
+      (std::filesystem::absolute(argv[0]).parent_path().parent_path() / "bin").string();
   setenv("IGMS_BIN_DIR", bin.c_str(), 0);
   const double seconds = argc > 1 ? std::atof(argv[1]) : 5.0;
   const int period_ms = argc > 2 ? std::atoi(argv[2]) : 100;
