@@ -13,6 +13,7 @@ DragonDriver::DragonDriver(boost::asio::io_context& io, devices::SerialLinkOptio
     : DeviceDriver(io, std::move(link), "voice", std::move(on_status)),
       on_reading_(std::move(on_reading)),
       probe_timer_(io),
+      idle_timer_(io),
       state_(static_cast<int>(initial_state)) {}
 
 void DragonDriver::SetState(OperatorState state, std::function<void()> done) {
@@ -36,7 +37,10 @@ void DragonDriver::SetState(OperatorState state, std::function<void()> done) {
 }
 
 void DragonDriver::Stop() {
-  boost::asio::post(io_, [this] { probe_timer_.cancel(); });
+  boost::asio::post(io_, [this] {
+    probe_timer_.cancel();
+    idle_timer_.cancel();
+  });
   DeviceDriver::Stop();
 }
 
@@ -77,30 +81,37 @@ void DragonDriver::OnOpened() {
 
 void DragonDriver::OnSerialBytes(const uint8_t* data, size_t size, int64_t now_ns) {
   for (size_t i = 0; i < size; ++i) {
-    if (parser_.Feed(data[i]) != devices::ParseResult::kGood) continue;
-    const auto command = parser_.report().command;
-    if (!command) {
-      MarkConnected();
-      if (answers_ < requests_) ++answers_;
-      FinishWaiters(false);
-      continue;
-    }
-    const OperatorState now_state = state();
-    if (!IsValid(now_state, *command)) {
-      ++rejected_;
-      spdlog::warn("voice: \"{}\" ({}) is not valid in state {}; rejected", Phrase(*command),
-                   Code(*command), StateName(now_state));
-      continue;
-    }
-    state_ = static_cast<int>(PredictNextState(now_state, *command));
-    devices::VoiceState reading;
-    StampReading(reading.mutable_stamp(), now_ns);
-    reading.set_command(ToProto(*command));
-    reading.set_confidence(1.0);
-    reading.set_text(std::string(Phrase(*command)));
-    reading.set_state(ToProto(now_state));
-    on_reading_(reading);
+    if (parser_.Feed(data[i]) == devices::ParseResult::kGood) OnReport(now_ns);
   }
+  idle_timer_.expires_after(std::chrono::nanoseconds(dragon::kIdleNs));
+  idle_timer_.async_wait([this, now_ns](const boost::system::error_code& ec) {
+    if (!ec && parser_.Idle() == devices::ParseResult::kGood) OnReport(now_ns);
+  });
+}
+
+void DragonDriver::OnReport(int64_t now_ns) {
+  const auto command = parser_.report().command;
+  if (!command) {
+    MarkConnected();
+    if (answers_ < requests_) ++answers_;
+    FinishWaiters(false);
+    return;
+  }
+  const OperatorState now_state = state();
+  if (!IsValid(now_state, *command)) {
+    ++rejected_;
+    spdlog::warn("voice: \"{}\" ({}) is not valid in state {}; rejected", Phrase(*command),
+                 Code(*command), StateName(now_state));
+    return;
+  }
+  state_ = static_cast<int>(PredictNextState(now_state, *command));
+  devices::VoiceState reading;
+  StampReading(reading.mutable_stamp(), now_ns);
+  reading.set_command(ToProto(*command));
+  reading.set_confidence(1.0);
+  reading.set_text(std::string(Phrase(*command)));
+  reading.set_state(ToProto(now_state));
+  on_reading_(reading);
 }
 
 }  // namespace igms::voice

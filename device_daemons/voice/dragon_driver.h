@@ -49,9 +49,11 @@ class DragonDriver : public devices::DeviceDriver {
   void Request(std::string bytes);  // a request the device answers with "00"
   void ArmProbe();
   void FinishWaiters(bool all);
+  void OnReport(int64_t now_ns);
 
   ReadingFn on_reading_;
   boost::asio::steady_timer probe_timer_;
+  boost::asio::steady_timer idle_timer_;  // bare digit pairs: see ReportParser::Idle
   uint64_t requests_ = 0;  // requests written since the port opened
   uint64_t answers_ = 0;   // "00" lines received since then
   struct Waiter {

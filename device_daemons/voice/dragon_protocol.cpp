@@ -75,6 +75,16 @@ devices::ParseResult ReportParser::Feed(uint8_t byte) {
   return devices::ParseResult::kBad;
 }
 
+devices::ParseResult ReportParser::Idle() {
+  if (kept_ != 2) return devices::ParseResult::kNeedMore;
+  const auto command = CommandFromCode(std::string_view(reinterpret_cast<const char*>(last_), 2));
+  if (!command) return devices::ParseResult::kNeedMore;
+  kept_ = 0;
+  report_.command = command;
+  ++good_;
+  return devices::ParseResult::kGood;
+}
+
 devices::ParseResult HostParser::Feed(uint8_t byte) {
   if (!IsLineEnd(byte)) {
     Keep(byte, last_, kept_, garbage_);

@@ -35,6 +35,8 @@ inline constexpr char kSetState = 'S';
 // Probes a second while connected: the line is otherwise silent until the operator speaks,
 // and the watchdog needs to hear from the device.
 inline constexpr double kProbeHz = 5.0;
+// Quiet this long after a code without its CR, the code is taken (bare digit pairs).
+inline constexpr int64_t kIdleNs = 30'000'000;
 
 std::string EncodeCommand(Command command);       // "01\r"
 std::string EncodeAlive();                        // "00\r"
@@ -55,6 +57,9 @@ class ReportParser {
   // valid report (counted in bad_frames). Bytes pushed out of a line ahead of its last two
   // are counted in garbage_bytes as they go.
   devices::ParseResult Feed(uint8_t byte);
+  // The line has been quiet for kIdleNs: kGood when the line so far ends in a code (it is
+  // then taken), otherwise kNeedMore and nothing changes.
+  devices::ParseResult Idle();
   const Report& report() const { return report_; }
   void Reset() { kept_ = 0; }
   uint64_t good_frames() const { return good_; }

@@ -53,28 +53,33 @@ std::string EvaluationReport::Summary() const {
   out << "recognised " << recognised << "/" << commands << " commands ("
       << 100.0 * recognition_rate() << "%, target >= 95%)\n";
   out << "false accepts " << false_accepts << "/" << out_of_vocabulary
-      << " out-of-vocabulary utterances (" << 100.0 * false_accept_rate()
-      << "%, target <= 5%)\n";
+      << " out-of-vocabulary utterances (" << 100.0 * false_accept_rate() << "%, target <= 5%)\n";
   out << "decode time per utterance: median " << decode_ms_quantile(0.5) << " ms, p90 "
       << decode_ms_quantile(0.9) << " ms, max " << decode_ms_quantile(1.0) << " ms over "
       << decode_ms.size() << " utterances\n";
   return out.str();
 }
 
-std::string EvaluationReport::Failures() const {
+std::string EvaluationReport::Failures() const { return Lines(false); }
+std::string EvaluationReport::All() const { return Lines(true); }
+
+std::string EvaluationReport::Lines(bool all) const {
   std::ostringstream out;
   out.precision(2);
   out << std::fixed;
   for (const ItemResult& r : results) {
-    if (r.correct) continue;
+    if (r.correct && !all) continue;
+    out << (r.correct ? "  ok " : "  WRONG ");
     out << "  \"" << r.item.speech.text << "\" " << r.item.speech.voice << " "
         << r.item.speech.words_per_minute << " wpm in " << StateName(r.item.state) << ": "
-        << (r.recognition.accepted ? "accepted as \"" +
-                                         std::string(Phrase(*r.recognition.command)) + "\""
-                                   : "rejected, " + std::string(RejectReasonName(
-                                                        r.recognition.reason)))
-        << " (heard \"" << r.recognition.hypothesis << "\", confidence "
-        << r.recognition.confidence << ")\n";
+        << (r.recognition.accepted
+                ? "accepted as \"" + std::string(Phrase(*r.recognition.command)) + "\""
+                : "rejected, " + std::string(RejectReasonName(r.recognition.reason)))
+        << " (heard \"" << r.recognition.hypothesis << "\", confidence " << r.recognition.confidence
+        << ", score " << r.recognition.score_per_frame << ", uncovered "
+        << r.recognition.uncovered_speech_ms << " ms"
+        << (r.recognition.english.empty() ? "" : ", English \"" + r.recognition.english + "\"")
+        << ")\n";
   }
   return out.str();
 }
@@ -87,8 +92,8 @@ std::string EvaluationReport::Sweep(const std::vector<double>& thresholds) const
     int recognised_at = 0, false_at = 0;
     for (const ItemResult& r : results) {
       const Recognition& g = r.recognition;
-      const bool accepted = (g.accepted || g.reason == RejectReason::kLowConfidence) &&
-                            g.command && IsValid(r.item.state, *g.command) && g.confidence >= t;
+      const bool accepted = (g.accepted || g.reason == RejectReason::kLowConfidence) && g.command &&
+                            IsValid(r.item.state, *g.command) && g.confidence >= t;
       if (r.item.expected) {
         recognised_at += accepted && g.command == r.item.expected;
       } else {

@@ -51,16 +51,19 @@ struct EvaluationReport {
   double decode_ms_quantile(double q) const;  // q in [0, 1]; 0 when empty
   std::string Summary() const;                // a few lines for a person
   std::string Failures() const;               // one line per wrong result
+  std::string All() const;                    // one line per result
   // Recognition and false-accept rates had min_confidence been each of `thresholds`
   // (meaningful for thresholds at or above the one the corpus was decoded with), one line
   // each: how the confidence trades misses against false accepts.
   std::string Sweep(const std::vector<double>& thresholds) const;
+
+ private:
+  std::string Lines(bool all) const;
 };
 
 // Synthesises and decodes every item; the recogniser's state is set before each item and
 // its own prediction does not carry over. nullopt, with *error set, when espeak-ng fails.
 std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
-                                         const std::vector<CorpusItem>& corpus,
-                                         std::string* error);
+                                         const std::vector<CorpusItem>& corpus, std::string* error);
 
 }  // namespace igms::voice

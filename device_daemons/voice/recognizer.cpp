@@ -2,8 +2,8 @@
 // OpenCV's headers (both define int64), so it stays behind the Impl.
 #include "device_daemons/voice/recognizer.h"
 
-#include <sphinxbase/err.h>
 #include <pocketsphinx.h>
+#include <sphinxbase/err.h>
 
 #include <algorithm>
 #include <chrono>
@@ -48,6 +48,8 @@ std::string_view RejectReasonName(RejectReason reason) {
       return "not_valid_in_state";
     case RejectReason::kLowConfidence:
       return "low_confidence";
+    case RejectReason::kUnexplainedSpeech:
+      return "unexplained_speech";
   }
   return "unknown";
 }
@@ -55,6 +57,14 @@ std::string_view RejectReasonName(RejectReason reason) {
 bool RecognizerOptions::Check(std::string* error) const {
   if (model_dir.empty()) {
     if (error) *error = "recognizer model_dir is empty";
+    return false;
+  }
+  if (!(max_uncovered_speech_ms >= 0.0)) {
+    if (error) *error = "recognizer max_uncovered_speech_ms must be >= 0";
+    return false;
+  }
+  if (decoder_args.size() % 2 != 0) {
+    if (error) *error = "recognizer decoder_args must come in pairs";
     return false;
   }
   if (!(min_confidence >= 0.0 && min_confidence <= 1.0)) {
@@ -84,9 +94,16 @@ struct Recognizer::Impl {
     const std::string dict = options.model_dir + "/cmudict-en-us.dict";
     auto words = LoadDictionary(dict, error);
     if (!words) return false;
-    config = cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", hmm.c_str(), "-dict", dict.c_str(),
-                         "-remove_noise", "no", "-bestpath", "no", "-dither", "yes", "-seed", "1",
-                         "-allphone_ci", "yes", nullptr);
+    // Beams narrower than pocketsphinx's defaults (1e-48, 7e-29, 1e-48): speech far from
+    // every command then more often finds no path at all (tuned on the tuning voices).
+    std::vector<std::string> args = {
+        "-hmm",    hmm,     "-dict",  dict,   "-remove_noise", "no",  "-bestpath", "no",
+        "-dither", "yes",   "-seed",  "1",    "-allphone_ci",  "yes", "-beam",     "1e-20",
+        "-pbeam",  "1e-20", "-wbeam", "1e-15"};
+    args.insert(args.end(), options.decoder_args.begin(), options.decoder_args.end());
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    config = cmd_ln_parse_r(nullptr, ps_args(), static_cast<int32>(argv.size()), argv.data(), TRUE);
     if (config == nullptr) {
       if (error) *error = "pocketsphinx rejected its configuration";
       return false;
@@ -96,21 +113,22 @@ struct Recognizer::Impl {
       if (error) *error = "cannot load the pocketsphinx acoustic model from " + hmm;
       return false;
     }
-    std::vector<Pronunciation> extra = CommandPronunciations();
-    for (const std::string& phone : ModelPhones()) extra.push_back({PhoneToken(phone), {phone}});
-    for (const Pronunciation& p : extra) {
-      if (char* known = ps_lookup_word(decoder, p.word.c_str())) {
-        ckd_free(known);
-        continue;
-      }
-      if (ps_add_word(decoder, p.word.c_str(), Join(p.phones).c_str(), FALSE) < 0) {
-        if (error) *error = "cannot add the word '" + p.word + "' to the dictionary";
-        return false;
-      }
-    }
-    // The general English model ranks dictionary words by how common they are.
+    // Phone tokens go into the dictionary only; with the English check on, the command
+    // words the dictionary lacks also become unigrams of the English model, which must
+    // then be the current search when they are added.
+    std::vector<Pronunciation> phones;
+    for (const std::string& phone : ModelPhones()) phones.push_back({PhoneToken(phone), {phone}});
+    if (!AddWords(phones, FALSE, error)) return false;
     const std::string lm_path = options.model_dir + "/en-us.lm.bin";
-    ngram_model_t* lm = ngram_model_read(config, lm_path.c_str(), NGRAM_AUTO, ps_get_logmath(decoder));
+    if (options.english_check && (ps_set_lm_file(decoder, "english", lm_path.c_str()) < 0 ||
+                                  ps_set_search(decoder, "english") < 0)) {
+      if (error) *error = "cannot load the language model " + lm_path;
+      return false;
+    }
+    if (!AddWords(CommandPronunciations(), TRUE, error)) return false;
+    // The general English model ranks dictionary words by how common they are.
+    ngram_model_t* lm =
+        ngram_model_read(config, lm_path.c_str(), NGRAM_AUTO, ps_get_logmath(decoder));
     if (lm == nullptr) {
       if (error) *error = "cannot read the language model " + lm_path;
       return false;
@@ -127,9 +145,9 @@ struct Recognizer::Impl {
     decoys = decoy_words.size();
     for (OperatorState s : AllStates()) {
       grammars[s] = BuildGrammar(s, decoy_words, options.grammar);
-      if (ps_set_jsgf_string(decoder, std::string(StateName(s)).c_str(), grammars[s].c_str()) <
-          0) {
-        if (error) *error = "pocketsphinx rejected the grammar of state " + std::string(StateName(s));
+      if (ps_set_jsgf_string(decoder, std::string(StateName(s)).c_str(), grammars[s].c_str()) < 0) {
+        if (error)
+          *error = "pocketsphinx rejected the grammar of state " + std::string(StateName(s));
         return false;
       }
     }
@@ -138,6 +156,7 @@ struct Recognizer::Impl {
       if (error) *error = "cannot load the phone language model " + phone_lm;
       return false;
     }
+    if (options.english_check) English(warm_up_samples());
     // The first decode of each search builds its tables (about two seconds); do it now so
     // the operator's first command is not the slow one.
     const std::vector<int16_t> warm_up(kModelSampleRate / 2, 0);
@@ -148,6 +167,55 @@ struct Recognizer::Impl {
     PhoneLoopScore(warm_up, Span{});
     state = options.initial_state;
     return true;
+  }
+
+  // Adds the words the dictionary lacks.
+  bool AddWords(const std::vector<Pronunciation>& words, int update, std::string* error) {
+    for (const Pronunciation& p : words) {
+      if (char* known = ps_lookup_word(decoder, p.word.c_str())) {
+        ckd_free(known);
+        continue;
+      }
+      if (ps_add_word(decoder, p.word.c_str(), Join(p.phones).c_str(), update) < 0) {
+        if (error) *error = "cannot add the word '" + p.word + "' to the dictionary";
+        return false;
+      }
+    }
+    return true;
+  }
+
+  static double UncoveredSpeechMs(std::span<const int16_t> samples, int first, int last,
+                                  double floor_db) {
+    constexpr size_t kFrame = kModelSampleRate / 100;
+    std::vector<double> db;
+    for (size_t i = 0; i + kFrame <= samples.size(); i += kFrame) {
+      db.push_back(RmsDbfs(samples.subspan(i, kFrame)));
+    }
+    if (db.empty()) return 0.0;
+    const double floor = std::max(-50.0, *std::max_element(db.begin(), db.end()) - floor_db);
+    int uncovered = 0;
+    for (int f = 0; f < static_cast<int>(db.size()); ++f) {
+      if (db[f] > floor && (f < first - 2 || f > last + 2)) ++uncovered;
+    }
+    return uncovered * 10.0;
+  }
+
+  static std::vector<int16_t> warm_up_samples() {
+    return std::vector<int16_t>(kModelSampleRate / 2, 0);
+  }
+
+  // The general English decoding of the utterance: its words, fillers left out.
+  std::string English(std::span<const int16_t> samples) {
+    ps_set_search(decoder, "english");
+    ps_start_utt(decoder);
+    ps_process_raw(decoder, samples.data(), samples.size(), FALSE, TRUE);
+    ps_end_utt(decoder);
+    std::vector<std::string> words;
+    for (ps_seg_t* seg = ps_seg_iter(decoder); seg; seg = ps_seg_next(seg)) {
+      const std::string word = BaseWord(ps_seg_word(seg));
+      if (!IsFiller(word)) words.push_back(word);
+    }
+    return Join(words);
   }
 
   struct Span {
@@ -188,8 +256,7 @@ struct Recognizer::Impl {
       ps_end_utt(decoder);
       int32 score = 0;
       decoded = ps_get_hyp(decoder, &score) != nullptr;
-      for (ps_seg_t* seg = decoded ? ps_seg_iter(decoder) : nullptr; seg;
-           seg = ps_seg_next(seg)) {
+      for (ps_seg_t* seg = decoded ? ps_seg_iter(decoder) : nullptr; seg; seg = ps_seg_next(seg)) {
         const std::string word = BaseWord(ps_seg_word(seg));
         if (IsFiller(word)) continue;
         tokens.push_back(word);
@@ -197,12 +264,22 @@ struct Recognizer::Impl {
         int32 lscr = 0, lback = 0;
         ps_seg_prob(seg, &span.ascr, &lscr, &lback);
       }
+      if (tokens.size() == 1)
+        r.uncovered_speech_ms =
+            UncoveredSpeechMs(samples, span.first, span.last, options.speech_floor_db);
       if (tokens.size() == 1 && span.last >= span.first && options.min_confidence > 0.0) {
         const double loop = PhoneLoopScore(samples, span);
         r.score_per_frame = (span.ascr - loop) / (span.last - span.first + 1);
-        r.confidence = 1.0 / (1.0 + std::exp(-(r.score_per_frame - options.score_offset) /
-                                             options.score_scale));
+        r.confidence =
+            1.0 /
+            (1.0 + std::exp(-(r.score_per_frame - options.score_offset) / options.score_scale));
       }
+    }
+    if (options.english_check && tokens.size() == 1 && CommandFromToken(tokens[0])) {
+      r.english = English(samples);
+      std::string phrase = tokens[0];
+      std::replace(phrase.begin(), phrase.end(), '_', ' ');
+      r.english_match = r.english == phrase;
     }
     r.decode_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -229,6 +306,13 @@ struct Recognizer::Impl {
     if (!IsValid(state, *command)) {
       r.reason = RejectReason::kNotValidInState;
       why << "\"" << Phrase(*command) << "\" is not valid in state " << StateName(state);
+    } else if (r.uncovered_speech_ms > options.max_uncovered_speech_ms) {
+      r.reason = RejectReason::kUnexplainedSpeech;
+      why << "\"" << Phrase(*command) << "\" leaves " << r.uncovered_speech_ms
+          << " ms of speech unexplained";
+    } else if (options.english_check && !r.english_match) {
+      r.reason = RejectReason::kLowConfidence;
+      why << "\"" << Phrase(*command) << "\" heard as \"" << r.english << "\" in English";
     } else if (r.confidence < options.min_confidence) {
       r.reason = RejectReason::kLowConfidence;
       why << "\"" << Phrase(*command) << "\" confidence " << r.confidence << " is below "

@@ -5,8 +5,10 @@
 // recogniser decodes with the grammar of the state it was last told (SetState) and accepts
 // a result only when
 //   1. the best path is exactly one command token (not a decoy, not phones),
-//   2. that command is valid in the current state, and
-//   3. its confidence is at least min_confidence. The confidence compares the command's
+//   2. that command is valid in the current state,
+//   3. no more than max_uncovered_speech_ms of speech lies outside the command's frames
+//      (the fillers around it swallowed the rest of a longer word), and
+//   4. its confidence is at least min_confidence. The confidence compares the command's
 //      acoustic score per frame with a free decoding of the same frames by a phone loop
 //      (pocketsphinx's allphone search), squashed into [0, 1].
 // Anything else is a Rejection with a reason a person can read.
@@ -20,6 +22,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "device_daemons/voice/command_language.h"
 #include "device_daemons/voice/grammar.h"
@@ -31,7 +34,7 @@ struct RecognizerOptions {
   std::string model_dir = "/usr/share/pocketsphinx/model/en-us";
   // Accept a command only when its confidence is at least this. 0 skips the confidence
   // pass altogether (about half the decode time; confidence is then reported as 0).
-  double min_confidence = 0.5;
+  double min_confidence = 0.2;
   // Confidence is a logistic function of the command's acoustic score per frame minus a
   // free phone decoding's over the same frames: 1 / (1 + exp(-(d - offset) / scale)).
   // Tuned on espeak-ng voices en-us and en-gb+f3 at 140 and 190 words a minute.
@@ -41,17 +44,29 @@ struct RecognizerOptions {
   OperatorState initial_state = OperatorState::kVerification;
   // After accepting a command, move to PredictNextState() until told otherwise.
   bool predict_state = true;
+  // Reject a command when more than this much speech (10 ms frames within 35 dB of the
+  // utterance's loudest) lies outside the command word's frames: "market" heard as "mark"
+  // and silence. Tuned on the tuning voices.
+  double max_uncovered_speech_ms = 100.0;
+  double speech_floor_db = 35.0;  // "speech" for the above: within this of the loudest frame
+  // Second opinion from general English: the utterance is also decoded with the en-us
+  // n-gram language model (the three commands missing from it added), and a command is
+  // accepted only when that decoding is the command's words too (english_match).
+  bool english_check = false;
+  // More pocketsphinx arguments, in pairs ("-beam", "1e-40"), after the built-in ones.
+  std::vector<std::string> decoder_args;
   DecoyOptions decoys;
   GrammarOptions grammar;
   bool Check(std::string* error) const;
 };
 
 enum class RejectReason {
-  kNone,             // accepted
-  kNoSpeech,         // nothing decoded (silence, too short, or no path through the grammar)
-  kOutOfVocabulary,  // best path is decoy words or phones
-  kNotValidInState,  // a command, but not one of the current state's
-  kLowConfidence,    // a valid command whose posterior is below min_confidence
+  kNone,               // accepted
+  kNoSpeech,           // nothing decoded (silence, too short, or no path through the grammar)
+  kOutOfVocabulary,    // best path is decoy words or phones
+  kNotValidInState,    // a command, but not one of the current state's
+  kLowConfidence,      // a valid command whose posterior is below min_confidence
+  kUnexplainedSpeech,  // a valid command, but too much speech outside it
 };
 std::string_view RejectReasonName(RejectReason reason);
 
@@ -66,6 +81,11 @@ struct Recognition {
   double score_per_frame = 0.0;  // command minus phone loop, pocketsphinx's scaled log units
   double audio_seconds = 0.0;
   double decode_ms = 0.0;  // wall time spent decoding
+  std::string english;     // the general English decoding, when english_check is on
+  // Speech (10 ms frames within 35 dB of the loudest) outside the command word's frames:
+  // what the decoder had to explain as silence or noise.
+  double uncovered_speech_ms = 0.0;
+  bool english_match = false;
 };
 
 class Recognizer {

@@ -39,14 +39,15 @@ std::unique_ptr<SpeechListener> SpeechListener::Start(const SpeechListenerOption
     if (!audio) return nullptr;
     l->file_audio_.push_back(std::move(audio->samples));
   }
-  l->recognizer_ = Recognizer::Create(options.recognizer, error);
-  if (!l->recognizer_) return nullptr;
-  l->state_ = l->recognizer_->state();
+  // The microphone first: a missing one is reported at once, not after the model loads.
   if (options.microphone) {
     l->microphone_ = Microphone::Open(options.device, error);
     if (!l->microphone_) return nullptr;
     l->endpointer_.emplace(options.endpointer);
   }
+  l->recognizer_ = Recognizer::Create(options.recognizer, error);
+  if (!l->recognizer_) return nullptr;
+  l->state_ = l->recognizer_->state();
   l->running_ = true;
   l->thread_ = std::thread([raw = l.get()] { raw->Run(); });
   return l;

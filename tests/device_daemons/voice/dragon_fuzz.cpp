@@ -10,7 +10,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   dragon::ReportParser reports;
   dragon::HostParser host;
   for (size_t i = 0; i < size; ++i) {
-    if (reports.Feed(data[i]) == igms::devices::ParseResult::kGood) {
+    // 0xFF also stands for the line going quiet (bare digit pairs).
+    if ((data[i] == 0xFF ? reports.Idle() : reports.Feed(data[i])) ==
+        igms::devices::ParseResult::kGood) {
       const auto& r = reports.report();
       const std::string line =
           r.command ? dragon::EncodeCommand(*r.command) : dragon::EncodeAlive();
@@ -21,6 +23,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (q.probe == q.state.has_value()) __builtin_trap();  // exactly one of them
     }
   }
-  if (reports.good_frames() + reports.bad_frames() > size) __builtin_trap();
+  if (reports.good_frames() + reports.bad_frames() > size) __builtin_trap();  // one a byte at most
   return 0;
 }

@@ -63,6 +63,27 @@ TEST(DragonProtocol, ResynchronisesAfterGarbageAndCountsIt) {
   EXPECT_EQ(p.good_frames(), 3u);
 }
 
+TEST(DragonProtocol, BareDigitPairsAreTakenWhenTheLineGoesQuiet) {
+  dragon::ReportParser p;
+  for (char c : std::string("x10"))
+    EXPECT_EQ(p.Feed(static_cast<uint8_t>(c)), ParseResult::kNeedMore);
+  ASSERT_EQ(p.Idle(), ParseResult::kGood);
+  EXPECT_EQ(p.report().command, Command::kBox);
+  EXPECT_EQ(p.Idle(), ParseResult::kNeedMore);  // taken once
+  // The CR of a code split by a pause is then an empty line, not a second report.
+  EXPECT_EQ(p.Feed('\r'), ParseResult::kNeedMore);
+  // Half a code, or no code, waits for more.
+  p.Feed('0');
+  EXPECT_EQ(p.Idle(), ParseResult::kNeedMore);
+  EXPECT_EQ(p.Feed('3'), ParseResult::kNeedMore);
+  ASSERT_EQ(p.Idle(), ParseResult::kGood);
+  EXPECT_EQ(p.report().command, Command::kUnfreeze);
+  p.Feed('4');
+  p.Feed('5');
+  EXPECT_EQ(p.Idle(), ParseResult::kNeedMore);
+  EXPECT_EQ(p.Feed('\r'), ParseResult::kBad);
+}
+
 TEST(DragonProtocol, HostRequests) {
   dragon::HostParser p;
   std::vector<dragon::HostRequest> got;

@@ -164,6 +164,12 @@ TEST(VoiceDaemon, RecogniserGrammarFollowsTheStateRequest) {
 
   DaemonProcess bad("igms-voiced", {"--microphone", "--simulate", "--port", "0"});
   EXPECT_EQ(bad.WaitExit(), 2);
+  // This machine has no capture device: a clear error and exit status 1, no hang.
+  setenv("ALSOFT_DRIVERS", "null", 1);
+  DaemonProcess no_microphone("igms-voiced", {"--microphone", "--port", "0"});
+  EXPECT_EQ(no_microphone.WaitExit(), 1);
+  EXPECT_NE(no_microphone.Log().find("microphone"), std::string::npos) << no_microphone.Log();
+  unsetenv("ALSOFT_DRIVERS");
 
   // The recogniser with no input of its own: spoken phrases come from the sim service.
   const std::string wav = testing::TempPath("freeze.wav");
