@@ -46,6 +46,11 @@ struct FitOutcome {
   std::array<double, 2> rms_px{0, 0};
   std::array<int, 2> used{0, 0};     // measurements kept in the final pass, per view
   std::array<int, 2> sampled{0, 0};  // outline samples, per view
+  // For a person to look at (debug images): per view the fitted outline and the edge points
+  // measured in the final pass, each with whether it counted (within outlier_px).
+  std::array<std::vector<Eigen::Vector2d>, 2> outline;
+  std::array<std::vector<Eigen::Vector2d>, 2> measured;
+  std::array<std::vector<bool>, 2> inlier;
 };
 
 FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initial,
