@@ -13,6 +13,7 @@
 
 #include "common/geometry/triangulation.h"
 #include "object_server/image_ops.h"
+#include "object_server/ranger.h"
 #include "object_server/silhouette_fit.h"
 
 namespace igms::object {
@@ -107,6 +108,57 @@ Eigen::VectorXd Sigmas(const std::function<Eigen::VectorXd(const Eigen::VectorXd
     J.col(k) = (f(xp) - f0) / 1e-6;
   }
   return (J * cov * J.transpose()).diagonal().cwiseMax(0).cwiseSqrt();
+}
+
+// The pixels of the largest 8-connected set among `pixels`, gaps of one pixel bridged.
+std::vector<cv::Point> LargestConnected(const std::vector<cv::Point>& pixels) {
+  if (pixels.size() < 2) return pixels;
+  const cv::Rect box = cv::boundingRect(pixels);
+  cv::Mat mask = cv::Mat::zeros(box.height + 2, box.width + 2, CV_8U);
+  for (const auto& p : pixels) mask.at<uint8_t>(p.y - box.y + 1, p.x - box.x + 1) = 255;
+  cv::dilate(mask, mask, cv::Mat());
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+  std::vector<int> count(n, 0);
+  for (const auto& p : pixels) ++count[labels.at<int>(p.y - box.y + 1, p.x - box.x + 1)];
+  const int best = static_cast<int>(std::max_element(count.begin() + 1, count.end()) - count.begin());
+  std::vector<cv::Point> out;
+  for (const auto& p : pixels)
+    if (labels.at<int>(p.y - box.y + 1, p.x - box.x + 1) == best) out.push_back(p);
+  return out;
+}
+
+// The range against the located solid (RangeCheck in locate.h).
+void CheckRange(const LocateInput& in, const LocateOptions& opt, const Eigen::VectorXd& x,
+                RangeCheck* check) {
+  const double spacing = 0.05;
+  const std::vector<Eigen::Vector3d> surface =
+      in.type == SolidType::kCylinder
+          ? CylinderSurface(x.segment<3>(0), x.segment<3>(3), std::abs(x[6]), spacing)
+          : BoxSurface(x.head<3>().cwiseMin(x.tail<3>()), x.head<3>().cwiseMax(x.tail<3>()), spacing);
+  const RangerPose ranger{in.ranger_origin, in.ranger_axis.normalized()};
+  const auto beam = RangesInBeam(surface, ranger, opt.ranger_half_angle_deg * M_PI / 180, spacing);
+  if (!beam) {
+    check->agrees = false;
+    check->detail = "the ranger's " + Fmt(2 * opt.ranger_half_angle_deg, 0) +
+                    "-degree beam does not reach the located object: the range " + Fmt(check->measured) +
+                    " measured something else";
+    return;
+  }
+  check->expected_min = beam->nearest;
+  check->expected_max = beam->on_axis;
+  const double acc = opt.ranger_accuracy;
+  if (check->measured < beam->nearest - acc) {
+    check->agrees = false;
+    check->detail = "the range " + Fmt(check->measured) + " is " + Fmt(beam->nearest - check->measured) +
+                    " shorter than the located object's nearest point in the beam (" + Fmt(beam->nearest) +
+                    "): something nearer is in the beam, or the model is wrong";
+  } else if (check->measured > beam->on_axis + acc) {
+    check->agrees = false;
+    check->detail = "the range " + Fmt(check->measured) + " is " + Fmt(check->measured - beam->on_axis) +
+                    " beyond where the beam meets the located object (" + Fmt(beam->on_axis) +
+                    "): the model is nearer than the ranger says";
+  }
 }
 
 }  // namespace
@@ -207,8 +259,11 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
       grown.push_back(len > 0 ? p + d * (static_cast<float>(opt.boundary_grow_px) / len) : p);
     }
   }
-  const std::vector<cv::Point> boundary =
+  std::vector<cv::Point> boundary =
       StrongEdgePixels(grad_left, grown, in.left_edges, opt.edge_fraction, opt.min_edge_gradient, &strongest);
+  // The object is the largest connected edge (the thesis follows the boundary from the marks,
+  // 3.8.1): a neighbour's edge grazed by the marks' margin must not widen its outline.
+  boundary = LargestConnected(boundary);
   res.boundary_pixels = static_cast<int>(boundary.size());
   if (boundary.empty())
     return finish(Fail(res, Failure::kNoEdgeNearMarks,
@@ -227,14 +282,39 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                                object_rect.y + 0.5 * (object_rect.height - 1));
   const double d_near = std::max(0.5 * mark_depth, mark_depth - opt.depth_tolerance);
   const double d_far = mark_depth + opt.depth_tolerance;
-  const auto qa = in.right_camera.Project(AtDepth(in.left_camera, q_left, d_near));
-  const auto qb = in.right_camera.Project(AtDepth(in.left_camera, q_left, d_far));
-  if (!qa || !qb) return finish(Fail(res, Failure::kMarksBehindCamera, "the marks' depth range reaches a camera's focal plane"));
   const cv::Rect patch(object_rect.x - 3, object_rect.y - 3, object_rect.width + 6, object_rect.height + 6);
-  const SsdMatch match = MatchAlongSegment(left, right, patch & image_rect, *qa - q_left, *qb - q_left);
+  auto match_between = [&](double near, double far) {
+    const auto qa = in.right_camera.Project(AtDepth(in.left_camera, q_left, near));
+    const auto qb = in.right_camera.Project(AtDepth(in.left_camera, q_left, far));
+    if (!qa || !qb) return SsdMatch{};
+    return MatchAlongSegment(left, right, patch & image_rect, *qa - q_left, *qb - q_left);
+  };
+  SsdMatch match = match_between(d_near, d_far);
   if (!match.ok)
     return finish(Fail(res, Failure::kMatchOverThreshold,
-                       "the object's epipolar search region leaves the right image"));
+                       "the object's epipolar search region for the marks' depth +/- " +
+                           Fmt(opt.depth_tolerance, 1) + " leaves the right image"));
+  if (in.range) {
+    res.range.used = true;
+    res.range.measured = *in.range;
+    // The beam's axis point at the range is the object's front depth when it falls inside the
+    // marked region and agrees with the marks; off the axis the nearest surface may lie deeper
+    // by up to range * (1 - cos(half angle)). The narrower search is kept unless it matches
+    // clearly worse than the marks' (then the beam met something else).
+    const Eigen::Vector3d q = in.ranger_origin + *in.range * in.ranger_axis.normalized();
+    const auto qp = in.left_camera.Project(q);
+    const double qd = in.left_camera.Depth(q);
+    const double beam =
+        opt.ranger_accuracy + *in.range * (1 - std::cos(opt.ranger_half_angle_deg * M_PI / 180));
+    if (qp && qd > 0 && cv::pointPolygonTest(grown, cv::Point2f(qp->x(), qp->y()), false) >= 0 &&
+        std::abs(qd - mark_depth) <= opt.depth_tolerance) {
+      const SsdMatch ranged = match_between(std::max(0.5 * qd, qd - beam), qd + beam);
+      if (ranged.ok && ranged.rms <= 1.25 * match.rms + 1.0) {
+        match = ranged;
+        res.range.constrained = true;
+      }
+    }
+  }
   res.ssd_rms = match.rms;
   if (match.rms > opt.max_ssd_rms)
     return finish(Fail(res, Failure::kMatchOverThreshold,
@@ -260,6 +340,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const std::array<FitView, 2> views = {FitView{&in.left_camera, &grad_left},
                                         FitView{&in.right_camera, &grad_right}};
   Eigen::VectorXd x0;
+  std::vector<Eigen::VectorXd> extra_starts;
   OutlineFn outline;
   std::vector<cv::Point2f> bpts(boundary.begin(), boundary.end());
   if (in.type == SolidType::kCylinder) {
@@ -283,6 +364,41 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     x0.segment<3>(3) = AtDepth(in.left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
     x0[6] = radius;
     outline = CylinderOutline;
+    // A pipe lying towards the cameras has its ends at different depths, which one depth for
+    // both cannot start from (the fit then settles on a shorter pipe across the view): match
+    // each end's patch into the right image on its own and start also from those depths.
+    const double lateral = (AtDepth(in.left_camera, mid + half_len * along, depth0) -
+                            AtDepth(in.left_camera, mid - half_len * along, depth0))
+                               .norm();
+    Eigen::VectorXd tilted = x0;
+    bool have_tilted = true;
+    for (int end = 0; end < 2 && have_tilted; ++end) {
+      const Eigen::Vector2d e = mid + (end == 0 ? -1.0 : 1.0) * (half_len - half_width) * along;
+      const int side = static_cast<int>(std::ceil(2 * half_width)) + 8;
+      const cv::Rect end_patch(static_cast<int>(std::lround(e.x())) - side / 2,
+                               static_cast<int>(std::lround(e.y())) - side / 2, side, side);
+      const auto ea = in.right_camera.Project(AtDepth(in.left_camera, e, std::max(0.5 * d_near, d_near - lateral)));
+      const auto eb = in.right_camera.Project(AtDepth(in.left_camera, e, d_far + 2 * lateral));
+      const Eigen::Vector2d pc(end_patch.x + 0.5 * (side - 1), end_patch.y + 0.5 * (side - 1));
+      if (!ea || !eb) {
+        have_tilted = false;
+        break;
+      }
+      const SsdMatch m = MatchAlongSegment(left, right, end_patch & image_rect, *ea - pc, *eb - pc);
+      const auto xe = m.ok && m.rms <= opt.max_ssd_rms
+                          ? Triangulate(in.left_camera, pc, in.right_camera, pc + m.offset)
+                          : std::nullopt;
+      if (!xe) {
+        have_tilted = false;
+        break;
+      }
+      const Eigen::Vector2d tip = mid + (end == 0 ? -1.0 : 1.0) * (half_len - 0.5 * half_width) * along;
+      tilted.segment<3>(3 * end) = AtDepth(in.left_camera, tip, in.left_camera.Depth(*xe) + radius);
+    }
+    if (have_tilted &&
+        std::abs(in.left_camera.Depth(tilted.segment<3>(0)) - in.left_camera.Depth(tilted.segment<3>(3))) >
+            radius)
+      extra_starts.push_back(tilted);
   } else {
     // A world-axis-aligned block (3.8.2): the boundary back-projected onto its front plane
     // gives the two extents across the view; the one along the view starts as their mean.
@@ -311,9 +427,27 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   fit.step = Eigen::VectorXd::Constant(x0.size(), 1e-4);
   spdlog::debug("locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
                 mark_depth, depth0, match.rms, boundary.size(), Fmt(x0[0]) + " " + Fmt(x0[1]) + " " + Fmt(x0[2]) + " / " + Fmt(x0[3]) + " " + Fmt(x0[4]) + " " + Fmt(x0[5]) + (x0.size() > 6 ? " r " + Fmt(x0[6]) : ""));
-  const FitOutcome f = FitSilhouette(outline, x0, views, fit);
+  FitOutcome f = FitSilhouette(outline, x0, views, fit);
+  // Of several starts, the fit that explains both images best.
+  auto score = [](const FitOutcome& o) {
+    const int sampled = o.sampled[0] + o.sampled[1];
+    const double miss = sampled ? 1.0 - double(o.used[0] + o.used[1]) / sampled : 1.0;
+    return o.ok ? o.rms_px[0] + o.rms_px[1] + 2.0 * miss : 1e18;
+  };
+  for (const Eigen::VectorXd& start : extra_starts) {
+    FitOutcome g = FitSilhouette(outline, start, views, fit);
+    spdlog::debug("locate: another start: score {:.3f} against {:.3f}", score(g), score(f));
+    if (score(g) < score(f)) f = std::move(g);
+  }
   spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}", f.ok ? "ok" : f.error, f.used[0],
                 f.sampled[0], f.rms_px[0], f.used[1], f.sampled[1], f.rms_px[1]);
+  if (in.want_trace) {
+    for (const auto& p : hull4) res.trace.marks_left.emplace_back(p.x, p.y);
+    res.trace.boundary = boundary;
+    res.trace.outline = f.outline;
+    res.trace.measured = f.measured;
+    res.trace.inlier = f.inlier;
+  }
   res.outline_samples = f.used[0] + f.used[1];
   res.rms_left_px = f.rms_px[0];
   res.rms_right_px = f.rms_px[1];
@@ -376,6 +510,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                               cv::Point(static_cast<int>(std::ceil(u1)) + 1, static_cast<int>(std::ceil(v1)) + 1)) &
                      image_rect;
   }
+  if (in.range) CheckRange(in, opt, x, &res.range);
   res.found = true;
   return finish(res);
 }

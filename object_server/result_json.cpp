@@ -58,6 +58,15 @@ std::string ResultToJson(const LocateResult& r) {
       << b.texture_rect.y + b.texture_rect.height - 1 << "], \"sigma\": {\"min\": " << Vec(b.min_sigma)
       << ", \"max\": " << Vec(b.max_sigma) << "}";
   }
+  if (r.range.used) {
+    o << ", \"range\": {\"measured\": " << Num(r.range.measured) << ", \"constrained\": "
+      << (r.range.constrained ? "true" : "false");
+    if (r.found)
+      o << ", \"expected\": [" << Num(r.range.expected_min) << ", " << Num(r.range.expected_max)
+        << "], \"agrees\": " << (r.range.agrees ? "true" : "false") << ", \"detail\": \""
+        << JsonEscape(r.range.detail) << "\"";
+    o << "}";
+  }
   o << ", \"rms_px\": [" << Num(r.rms_left_px) << ", " << Num(r.rms_right_px) << "], \"outline_samples\": "
     << r.outline_samples << ", \"boundary_pixels\": " << r.boundary_pixels << ", \"ssd_rms\": " << Num(r.ssd_rms)
     << ", \"elapsed_ms\": " << Num(r.elapsed_ms) << "}";
