@@ -423,6 +423,15 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     x0.resize(6);
     x0 << lo, hi;
     outline = BoxOutline;
+    // The depth along the view is the least seen (a side face's strip, a sliver of the top):
+    // also start shallower and deeper, and keep the fit that explains both images best.
+    for (const double share : {0.4, 1.8}) {
+      const double other = front + (view_dir[k] > 0 ? 1 : -1) * share * across_mean;
+      Eigen::VectorXd start = x0;
+      start[k] = std::min(front, other);
+      start[3 + k] = std::max(front, other);
+      extra_starts.push_back(start);
+    }
   }
   fit.step = Eigen::VectorXd::Constant(x0.size(), 1e-4);
   spdlog::debug("locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",

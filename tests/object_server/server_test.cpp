@@ -184,6 +184,19 @@ TEST_F(ObjectServerTest, BadRequestsAndUnknownFrames) {
   got = client->CallSync<LocateResponse>(kLocate, unknown, 10s);
   EXPECT_EQ(got.status.code, igms::NOT_FOUND) << got.status.message;
 
+  // A range with no ranger in the server's calibration: located all the same, and said so.
+  LocateRequest ranged = good;
+  ranged.set_range(50);
+  got = client->CallSync<LocateResponse>(kLocate, ranged, 60s);
+  ASSERT_TRUE(got.ok()) << got.status.message;
+  EXPECT_FALSE(got.value.range().used());
+  EXPECT_NE(got.value.range().detail().find("no ranger map"), std::string::npos)
+      << got.value.range().detail();
+  LocateRequest negative = good;
+  negative.set_range(-1);
+  got = client->CallSync<LocateResponse>(kLocate, negative, 10s);
+  EXPECT_EQ(got.status.code, igms::BAD_REQUEST);
+
   // After all that the server still answers.
   got = client->CallSync<LocateResponse>(kLocate, good, 60s);
   EXPECT_TRUE(got.ok()) << got.status.message;
