@@ -436,17 +436,24 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   fit.step = Eigen::VectorXd::Constant(x0.size(), 1e-4);
   spdlog::debug("locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
                 mark_depth, depth0, match.rms, boundary.size(), Fmt(x0[0]) + " " + Fmt(x0[1]) + " " + Fmt(x0[2]) + " / " + Fmt(x0[3]) + " " + Fmt(x0[4]) + " " + Fmt(x0[5]) + (x0.size() > 6 ? " r " + Fmt(x0[6]) : ""));
-  FitOutcome f = FitSilhouette(outline, x0, views, fit);
-  // Of several starts, the fit that explains both images best.
+  // Of several starts, the one that explains both images best after two passes goes on.
   auto score = [](const FitOutcome& o) {
     const int sampled = o.sampled[0] + o.sampled[1];
     const double miss = sampled ? 1.0 - double(o.used[0] + o.used[1]) / sampled : 1.0;
     return o.ok ? o.rms_px[0] + o.rms_px[1] + 2.0 * miss : 1e18;
   };
+  FitOptions first = fit;
+  first.outer_iterations = extra_starts.empty() ? fit.outer_iterations : std::min(2, fit.outer_iterations);
+  FitOutcome f = FitSilhouette(outline, x0, views, first);
   for (const Eigen::VectorXd& start : extra_starts) {
-    FitOutcome g = FitSilhouette(outline, start, views, fit);
+    FitOutcome g = FitSilhouette(outline, start, views, first);
     spdlog::debug("locate: another start: score {:.3f} against {:.3f}", score(g), score(f));
     if (score(g) < score(f)) f = std::move(g);
+  }
+  if (f.ok && first.outer_iterations < fit.outer_iterations) {
+    FitOptions rest = fit;
+    rest.first_outer = first.outer_iterations;
+    f = FitSilhouette(outline, f.params, views, rest);
   }
   spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}", f.ok ? "ok" : f.error, f.used[0],
                 f.sampled[0], f.rms_px[0], f.used[1], f.sampled[1], f.rms_px[1]);

@@ -314,7 +314,7 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
   std::vector<Measurement> ms;
   Eigen::VectorXd r, w;
   Eigen::MatrixXd J;
-  for (int outer = 0; outer < options.outer_iterations; ++outer) {
+  for (int outer = options.first_outer; outer < options.outer_iterations; ++outer) {
     const double range = outer == 0   ? options.search_px
                          : outer == 1 ? std::max(2.0, 0.6 * options.search_px)
                                       : std::max(1.5, 0.4 * options.search_px);
