@@ -54,11 +54,14 @@ endfunction()
 
 # Adds every direct child folder holding a CMakeLists.txt, so components can grow
 # sub-libraries without editing their parent.
+# EXCEPT names child folders added elsewhere (tests/support, shared with the benchmarks).
 function(igms_add_subdirectories)
+  cmake_parse_arguments(ARG "" "" "EXCEPT" ${ARGN})
   file(GLOB children LIST_DIRECTORIES true RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR}/*)
   list(SORT children)
   foreach(child ${children})
-    if(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/${child} AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${child}/CMakeLists.txt)
+    if(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/${child} AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${child}/CMakeLists.txt
+       AND NOT child IN_LIST ARG_EXCEPT)
       add_subdirectory(${child})
     endif()
   endforeach()

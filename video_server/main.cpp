@@ -7,10 +7,12 @@
 #include <exception>
 #include <fstream>
 #include <iostream>
+#include <memory>
 
 #include "common/config/process_options.h"
 #include "common/net/process_server.h"
 #include "common/net/server.h"
+#include "video_server/platform_pose.h"
 #include "video_server/video_config.h"
 #include "video_server/video_service.h"
 
@@ -44,18 +46,31 @@ int main(int argc, char** argv) {
       spdlog::critical("{}", error);
       return 2;
     }
+    auto platform = igms::video::ConfiguredPlatformFollow(*process, &error);
+    if (!error.empty()) {
+      spdlog::critical("{}", error);
+      return 2;
+    }
     spdlog::info("backend {}; keeping {} grabs; edges sigma {:.3f} px, thresholds {}/{}",
                  backend.backend->Describe(), options.store_capacity, options.edges.sigma,
                  options.edges.low_threshold, options.edges.high_threshold);
 
     boost::asio::io_context io;
+    std::unique_ptr<igms::video::PlatformPoseFollower> follower;
+    igms::video::PoseSource pose;
+    if (platform) {
+      follower = std::make_unique<igms::video::PlatformPoseFollower>(io, std::move(*platform));
+      pose = [&follower] { return follower->Pose(); };
+    }
     igms::net::Server server(io, igms::net::ServerOptionsFor(*process, 0));
-    igms::video::VideoService service(io, std::move(backend.backend), options, *overlay);
+    igms::video::VideoService service(io, std::move(backend.backend), options, *overlay, pose);
     service.Register(server);
+    if (follower) follower->Start();
     server.Start();
     igms::net::WritePortFile(*process, server.port());
     const auto signals = igms::net::StopOnSignal(io, [&] {
       server.Stop();
+      if (follower) follower->Stop();
       io.stop();
     });
     io.run();

@@ -14,9 +14,16 @@
 //    computes from the lab's calibration is consistent with the pixels. The renderer casts
 //    rays through P alone: a lens in the calibration (K, dist) is not simulated.
 //
-// Every grab renders the same scene with the same seed, so two grabs give identical images
-// (the site does not change). The pair is rendered at the calibrated pose; a platform pose
-// passed to Capture is stamped on the result but does not move the cameras yet.
+// Every grab renders the same scene with the same seed, so two grabs at one pose give
+// identical images (the site does not change).
+//
+// The platform pose: the cameras' P are the calibrated ones, valid at the platform's zero
+// pose. With a platform model (the calibration's `platform` map) a capture at joint angles q
+// renders each camera with geometry::CameraAtPose(P, model, q), so panning the platform pans
+// the view exactly as the model predicts; q takes the pose's angles in the model's joint
+// order (pan, tilt, roll), joints beyond the pose's three at zero. Without a model the pose
+// is stamped on the result but cannot move the cameras: the first non-zero pose logs one
+// warning saying so.
 #pragma once
 
 #include <memory>
@@ -24,16 +31,27 @@
 #include <string>
 
 #include "common/config/process_options.h"
+#include "common/geometry/platform.h"
 #include "common/site/scene.h"
 #include "video_server/capture_backend.h"
 
 namespace igms::video {
 
-// A backend rendering `scene` (cameras included) on every capture.
-std::unique_ptr<CaptureBackend> MakeSimCapture(site::Scene scene, std::string origin);
+// A backend rendering `scene` (cameras included, at the platform's zero pose) on every
+// capture, moved by `platform` as above when there is one.
+std::unique_ptr<CaptureBackend> MakeSimCapture(
+    site::Scene scene, std::string origin,
+    std::optional<geometry::PlatformModel> platform = std::nullopt);
+
+// The scene's cameras moved to the platform pose: each P becomes CameraAtPose(P, platform, q)
+// (image size and lens kept). The scene unchanged when `platform` is empty.
+site::StereoCameras CamerasAtPose(const site::StereoCameras& cameras,
+                                  const std::optional<geometry::PlatformModel>& platform,
+                                  const PoseStamp& pose);
 
 struct SimSceneChoice {
   std::optional<site::Scene> scene;
+  std::optional<geometry::PlatformModel> platform;  // the calibration's, when it has one
   std::string origin;  // "default testbed" or the scene file's path
   std::string error;   // set when scene is empty; names the key at fault
 };

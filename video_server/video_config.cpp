@@ -48,7 +48,7 @@ BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process) {
   } else if (backend == "sim") {
     SimSceneChoice sim = ConfiguredSimScene(process);
     if (sim.scene) {
-      choice.backend = MakeSimCapture(std::move(*sim.scene), sim.origin);
+      choice.backend = MakeSimCapture(std::move(*sim.scene), sim.origin, std::move(sim.platform));
     } else {
       choice.error = sim.error;
     }

@@ -8,6 +8,7 @@
 //     files: {left: left%02d.jpg, right: right%02d.jpg, first: 0, last: 9999, colour: false}
 //     camera: {left: "0", right: "1", side_by_side: false, width: 0, height: 0, colour: false,
 //              pace_fps: 0, frame_timeout_ms: 1000, retry_ms: 1000}
+//     platform: platform        # follow this platform process's pose (platform_pose.h)
 //     store_capacity: 16        # grabs kept
 //     edge_threads: 2
 //     edges: {sigma: 1.0607, low: 50, high: 150, l2_gradient: true}

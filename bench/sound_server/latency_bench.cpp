@@ -154,8 +154,7 @@ Run ServerRun(const std::string& key, const AudioClip& clip, int plays, int peri
   const std::filesystem::path wave = dir / "capture.wav";
   testing::ServerProcess server(
       {"--output", "wave", "--wave-file", wave.string(), "--wave-rate",
-       std::to_string(clip.sample_rate), "--period-frames", std::to_string(period)},
-      dir / "server.log");
+       std::to_string(clip.sample_rate), "--period-frames", std::to_string(period)});
   const uint16_t port = server.WaitListening();
   if (port == 0) {
     std::fprintf(stderr, "the server did not start:\n%s\n", server.Log().c_str());

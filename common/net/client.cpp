@@ -10,9 +10,12 @@
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/write.hpp>
+#include <cerrno>
 #include <condition_variable>
 #include <deque>
 #include <map>
+#include <mutex>
+#include <sys/socket.h>
 
 #include "common/net/clock.h"
 #include "common/net/framing.h"
@@ -56,19 +59,30 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   // Fires at the earliest deadline of the calls in flight; one timer for all of them, so a
   // call costs no timer system calls of its own.
   asio::steady_timer deadline_timer;
-  std::chrono::steady_clock::time_point deadline_armed = std::chrono::steady_clock::time_point::max();
   std::atomic<std::uint64_t> next_id{1};
 
-  // Touched only on the strand.
-  std::map<std::uint64_t, Pending> pending;
-  std::map<std::uint64_t, Subscription> subscriptions;
+  // A call is sent from the caller's thread when the connection is up and nothing else is
+  // being written: a round trip then costs no hand-over to the io thread on the way out.
+  // write_mutex guards the write queue and the right to use the socket's descriptor from
+  // another thread; it is taken before calls_mutex when both are needed.
+  std::mutex write_mutex;
   std::deque<std::string> out;
-  bool writing = false;
+  bool writing = false;       // a write is in flight (async_write, or a queued remainder)
+  bool live = false;          // connected, greeted: callers may write directly
+  std::uint64_t live_generation = 0;
+  std::atomic<bool> sent_since_heartbeat{false};
+
+  // Calls in flight, registered from any thread, answered on the strand.
+  std::mutex calls_mutex;
+  std::map<std::uint64_t, Pending> pending;
+  std::chrono::steady_clock::time_point deadline_armed = std::chrono::steady_clock::time_point::max();
+
+  // Touched only on the strand.
+  std::map<std::uint64_t, Subscription> subscriptions;
   ReadBuffer in;
   std::chrono::milliseconds backoff{100};
   std::uint64_t generation = 0;  // bumps on every (re)connection attempt
   std::string last_server_error;
-  bool sent_since_heartbeat = false;
   std::function<void(ConnectionState, const std::string&)> on_state;
 
   // Read from any thread.
@@ -94,32 +108,68 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     return e;
   }
 
+  // On the strand.
   void Write(const igms::Envelope& e) { WriteFrame(EncodeFrame(e)); }
   void WriteFrame(std::string frame) {
+    std::unique_lock lock(write_mutex);
+    if (!QueueLocked(std::move(frame))) return;
+    lock.unlock();
+    WriteNext(generation);
+  }
+  // Queues a frame; true when the caller must start the writer (WriteNext).
+  bool QueueLocked(std::string frame) {
     out.push_back(std::move(frame));
     sent_since_heartbeat = true;
-    if (!writing) WriteNext(generation);
+    if (writing) return false;
+    writing = true;
+    return true;
   }
 
+  // On the strand, with `writing` set: sends the queue one frame after another.
   void WriteNext(std::uint64_t gen) {
-    if (out.empty() || gen != generation) {
+    std::unique_lock lock(write_mutex);
+    if (gen != generation) return;  // Drop has reset the queue
+    if (out.empty()) {
       writing = false;
       return;
     }
-    writing = true;
     auto bytes = std::make_shared<std::string>(std::move(out.front()));
     out.pop_front();
+    lock.unlock();
     asio::async_write(socket, asio::buffer(*bytes),
                       [self = shared_from_this(), bytes, gen](boost::system::error_code ec,
                                                               std::size_t) {
                         if (gen != self->generation) return;
                         if (ec) {
-                          self->writing = false;
                           self->Drop("write failed: " + ec.message());
                           return;
                         }
                         self->WriteNext(gen);
                       });
+  }
+
+  // On the caller's thread, with write_mutex held, live set and nothing in flight: writes
+  // what the kernel takes now; the rest (if any) goes to the strand's writer.
+  void SendDirectLocked(std::string frame) {
+    sent_since_heartbeat = true;
+    std::size_t done = 0;
+    while (done < frame.size()) {
+      const ssize_t n = ::send(socket.native_handle(), frame.data() + done, frame.size() - done,
+                               MSG_DONTWAIT | MSG_NOSIGNAL);
+      if (n > 0) {
+        done += static_cast<std::size_t>(n);
+      } else if (n < 0 && errno == EINTR) {
+        continue;
+      } else {
+        break;  // full socket buffer, or an error the strand's writer will report
+      }
+    }
+    if (done == frame.size()) return;
+    out.push_back(frame.substr(done));
+    writing = true;
+    asio::post(strand, [self = shared_from_this(), gen = live_generation] {
+      self->WriteNext(gen);
+    });
   }
 
   void Connect() {
@@ -164,18 +214,29 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     backoff = std::chrono::milliseconds(100);
     last_server_error.clear();
     in = ReadBuffer();
-    out.clear();
-    writing = false;
-    igms::Envelope hello = Make(igms::Envelope::HELLO, 0, "");
-    hello.set_token(options.token);
-    Write(hello);
-    for (auto& [id, p] : pending) {
-      if (!p.sent) {
-        WriteFrame(std::move(p.frame));
-        p.sent = true;
+    {
+      // The greeting, the calls that waited and the subscriptions go first, in that order;
+      // only then may callers write directly.
+      std::lock_guard lock(write_mutex);
+      out.clear();
+      writing = false;
+      igms::Envelope hello = Make(igms::Envelope::HELLO, 0, "");
+      hello.set_token(options.token);
+      QueueLocked(EncodeFrame(hello));
+      {
+        std::lock_guard calls(calls_mutex);
+        for (auto& [id, p] : pending) {
+          if (!p.sent) {
+            QueueLocked(std::move(p.frame));
+            p.sent = true;
+          }
+        }
       }
+      for (auto& [id, s] : subscriptions) QueueLocked(s.frame);
+      live = true;
+      live_generation = generation;
     }
-    for (auto& [id, s] : subscriptions) WriteFrame(s.frame);
+    WriteNext(generation);
     SetState(ConnectionState::kConnected, "connected to " + Where());
     Read(generation);
     Heartbeat(generation);
@@ -185,8 +246,10 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     heartbeat_timer.expires_after(options.heartbeat_interval);
     heartbeat_timer.async_wait([self = shared_from_this(), gen](boost::system::error_code ec) {
       if (ec || gen != self->generation || self->IsStopped()) return;
-      if (!self->sent_since_heartbeat) self->Write(self->Make(igms::Envelope::HEARTBEAT, 0, ""));
-      self->sent_since_heartbeat = false;
+      if (!self->sent_since_heartbeat.exchange(false)) {
+        self->Write(self->Make(igms::Envelope::HEARTBEAT, 0, ""));
+        self->sent_since_heartbeat = false;
+      }
       self->Heartbeat(gen);
     });
   }
@@ -238,9 +301,15 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
                                      : e.error().code(),
                                  e.error().message());
         }
-        if (auto it = pending.find(id); it != pending.end()) {
-          auto done = std::move(it->second.done);
-          pending.erase(it);
+        RawDone done;
+        {
+          std::lock_guard calls(calls_mutex);
+          if (auto it = pending.find(id); it != pending.end()) {
+            done = std::move(it->second.done);
+            pending.erase(it);
+          }
+        }
+        if (done) {
           done(status, payload);
         } else if (auto s = subscriptions.find(id); s != subscriptions.end() && !status.ok()) {
           // The server refused the stream: don't ask again on reconnect.
@@ -269,23 +338,28 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   // The connection is gone: fail what was in flight, keep what can be resent, retry.
   void Drop(const std::string& why) {
     ++generation;
-    boost::system::error_code ignored;
-    socket.close(ignored);
-    connect_timer.cancel();
-    heartbeat_timer.cancel();
-    out.clear();
-    writing = false;
-    const std::string reason =
-        why + (last_server_error.empty() ? "" : " (" + last_server_error + ")");
     std::vector<RawDone> failed;
-    for (auto it = pending.begin(); it != pending.end();) {
-      if (it->second.sent) {
-        failed.push_back(std::move(it->second.done));
-        it = pending.erase(it);
-      } else {
-        ++it;
+    {
+      std::lock_guard lock(write_mutex);
+      live = false;
+      boost::system::error_code ignored;
+      socket.close(ignored);
+      out.clear();
+      writing = false;
+      std::lock_guard calls(calls_mutex);
+      for (auto it = pending.begin(); it != pending.end();) {
+        if (it->second.sent) {
+          failed.push_back(std::move(it->second.done));
+          it = pending.erase(it);
+        } else {
+          ++it;
+        }
       }
     }
+    connect_timer.cancel();
+    heartbeat_timer.cancel();
+    const std::string reason =
+        why + (last_server_error.empty() ? "" : " (" + last_server_error + ")");
     const bool was_connected = [&] {
       std::lock_guard lock(state_mutex);
       return state == ConnectionState::kConnected;
@@ -307,20 +381,31 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   }
 
   void FailAll(const std::string& why) {
-    auto all = std::move(pending);
-    pending.clear();
+    std::map<std::uint64_t, Pending> all;
+    {
+      std::lock_guard calls(calls_mutex);
+      all = std::move(pending);
+      pending.clear();
+    }
     for (auto& [id, p] : all) {
       p.done(Status::Error(igms::UNAVAILABLE, why), "");
     }
   }
 
+  // On the strand.
   void ArmDeadline(std::chrono::steady_clock::time_point when) {
-    if (when >= deadline_armed) return;
-    deadline_armed = when;
+    {
+      std::lock_guard calls(calls_mutex);
+      if (when >= deadline_armed) return;
+      deadline_armed = when;
+    }
     deadline_timer.expires_at(when);
     deadline_timer.async_wait([self = shared_from_this()](boost::system::error_code ec) {
       if (ec) return;
-      self->deadline_armed = std::chrono::steady_clock::time_point::max();
+      {
+        std::lock_guard calls(self->calls_mutex);
+        self->deadline_armed = std::chrono::steady_clock::time_point::max();
+      }
       self->ExpireCalls();
     });
   }
@@ -329,6 +414,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     const auto now = std::chrono::steady_clock::now();
     auto next = std::chrono::steady_clock::time_point::max();
     std::vector<std::pair<RawDone, Status>> expired;
+    std::unique_lock calls(calls_mutex);
     for (auto it = pending.begin(); it != pending.end();) {
       if (it->second.deadline <= now) {
         const auto& p = it->second;
@@ -343,6 +429,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
         ++it;
       }
     }
+    calls.unlock();
     if (next != std::chrono::steady_clock::time_point::max()) ArmDeadline(next);
     for (auto& [done, status] : expired) done(status, "");
   }
@@ -370,8 +457,12 @@ void Client::Stop() {
   }
   asio::post(impl_->strand, [impl = impl_] {
     ++impl->generation;
-    boost::system::error_code ignored;
-    impl->socket.close(ignored);
+    {
+      std::lock_guard lock(impl->write_mutex);
+      impl->live = false;
+      boost::system::error_code ignored;
+      impl->socket.close(ignored);
+    }
     impl->resolver.cancel();
     impl->connect_timer.cancel();
     impl->retry_timer.cancel();
@@ -418,30 +509,60 @@ void Client::CallRaw(const std::string& method, std::string payload,
 
 void Client::SendCall(std::uint64_t id, const std::string& method, std::string frame,
                       std::chrono::milliseconds timeout, RawDone done) {
-  asio::post(impl_->strand, [impl = impl_, id, method, frame = std::move(frame), timeout,
+  Impl::Pending p;
+  p.method = method;
+  p.timeout = timeout;
+  p.deadline = std::chrono::steady_clock::now() + timeout;
+  const auto when = p.deadline;
+  bool arm = false;
+  {
+    // The fast path: connected, so register the call and write it from this thread.
+    std::unique_lock lock(impl_->write_mutex);
+    if (impl_->live) {
+      p.done = std::move(done);
+      p.sent = true;
+      {
+        std::lock_guard calls(impl_->calls_mutex);
+        arm = p.deadline < impl_->deadline_armed;
+        impl_->pending.emplace(id, std::move(p));
+      }
+      if (!impl_->writing && impl_->out.empty()) {
+        impl_->SendDirectLocked(std::move(frame));
+      } else {
+        impl_->out.push_back(std::move(frame));  // the writer in flight takes it next
+      }
+      lock.unlock();
+      if (arm) {
+        // Earlier than the deadline timer's: move it (rare; timeouts are mostly alike).
+        asio::post(impl_->strand, [impl = impl_, when] { impl->ArmDeadline(when); });
+      }
+      return;
+    }
+  }
+  // Not connected (or stopped): the strand decides, in order with connection events.
+  asio::post(impl_->strand, [impl = impl_, id, p = std::move(p), frame = std::move(frame),
                              done = std::move(done)]() mutable {
     if (impl->IsStopped()) {
       done(Status::Error(igms::UNAVAILABLE, "client stopped"), "");
       return;
     }
-    Impl::Pending p;
-    p.method = method;
     p.done = std::move(done);
-    p.timeout = timeout;
-    p.deadline = std::chrono::steady_clock::now() + timeout;
-    impl->ArmDeadline(p.deadline);
-    const bool is_connected = [&] {
-      std::lock_guard lock(impl->state_mutex);
-      return impl->state == ConnectionState::kConnected;
-    }();
-    if (is_connected) {
-      p.sent = true;
-      impl->pending.emplace(id, std::move(p));
-      impl->WriteFrame(std::move(frame));
-    } else {
-      p.frame = std::move(frame);
-      impl->pending.emplace(id, std::move(p));
+    const auto deadline = p.deadline;
+    bool start_writer = false;
+    {
+      std::lock_guard lock(impl->write_mutex);
+      std::lock_guard calls(impl->calls_mutex);
+      if (impl->live) {  // connected since the caller looked
+        p.sent = true;
+        impl->pending.emplace(id, std::move(p));
+        start_writer = impl->QueueLocked(std::move(frame));
+      } else {  // sent by OnConnected
+        p.frame = std::move(frame);
+        impl->pending.emplace(id, std::move(p));
+      }
     }
+    if (start_writer) impl->WriteNext(impl->generation);
+    impl->ArmDeadline(deadline);
   });
 }
 

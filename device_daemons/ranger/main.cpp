@@ -12,7 +12,9 @@ int main(int argc, char** argv) {
   igms::devices::AddDaemonFlags(&flags);
   flags.add_options()
       ("poll-hz", po::value<double>(), "also range continuously at this rate, at most 6 Hz (default: on request only)")
-      ("follow-platform", po::value<uint16_t>(), "simulator: turn the beam with the platform daemon on this port");
+      ("scene", po::value<std::string>(), "simulator: the site's scene file (default: the thesis testbed)")
+      ("calibration", po::value<std::string>(), "simulator: the calibration file with the ranger's mount and the platform model (default: lab.calibration)")
+      ("follow-platform", po::value<uint16_t>(), "simulator: turn the beam with the platform daemon on this port (default: the process named by processes.NAME.platform)");
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
       argc, argv, "ranger", "The ultrasonic ranger daemon: ranges on request over TCP.", flags, &exit_code);
@@ -27,11 +29,23 @@ int main(int argc, char** argv) {
     const auto& f = process->flags;
     igms::devices::RangerDaemonOptions ranger;
     ranger.poll_hz = f.count("poll-hz") ? f["poll-hz"].as<double>() : process->Get<double>("poll_hz", 0.0);
+    const auto path = [&](const char* flag, const std::string& key) {
+      if (f.count(flag)) return f[flag].as<std::string>();
+      return process->config.ResolvePath(process->config.Get<std::string>(key, ""));
+    };
+    ranger.scene_file = path("scene", process->Key("scene"));
+    ranger.calibration_file = path("calibration", process->Key("calibration"));
+    if (ranger.calibration_file.empty()) ranger.calibration_file = path("calibration", "lab.calibration");
+    const std::string platform_name = process->Get<std::string>("platform", "");
     if (f.count("follow-platform")) {
       ranger.follow_platform_port = f["follow-platform"].as<uint16_t>();
-    } else if (process->config.Has("processes.platform.port") && options.source == igms::devices::SourceKind::kSimulate) {
-      ranger.platform_host = process->HostOf("platform");
-      ranger.follow_platform_port = process->PortOf("platform");
+    } else if (!platform_name.empty() && options.source == igms::devices::SourceKind::kSimulate) {
+      if (!process->config.Has("processes." + platform_name + ".port")) {
+        spdlog::error("{}: no process named {} in the lab configuration", process->Key("platform"), platform_name);
+        return 2;
+      }
+      ranger.platform_host = process->HostOf(platform_name);
+      ranger.follow_platform_port = process->PortOf(platform_name);
     }
     ranger.token = process->Token();
     boost::asio::io_context io;

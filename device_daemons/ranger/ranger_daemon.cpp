@@ -1,5 +1,7 @@
 #include "device_daemons/ranger/ranger_daemon.h"
 
+#include <spdlog/spdlog.h>
+
 namespace igms::devices {
 
 RangerDaemon::RangerDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
@@ -11,23 +13,31 @@ RangerDaemon::~RangerDaemon() {
   if (platform_) platform_->Stop();
 }
 
-std::unique_ptr<SimulatedDevice> RangerDaemon::MakeSimulator(std::string*) {
-  auto sim = std::make_unique<RangerSim>();
+std::unique_ptr<SimulatedDevice> RangerDaemon::MakeSimulator(std::string* error) {
+  RangerSimOptions sim_options;
+  auto world = LoadRangerWorld(ranger_.scene_file, ranger_.calibration_file, error);
+  if (!world) return nullptr;
+  sim_options.world = std::move(*world);
+  if (!sim_options.world.mount.platform && ranger_.follow_platform_port != 0) {
+    spdlog::warn("ranger simulator: the calibration has no platform model, so the beam stays put");
+  }
+  const RangerBeam beam = sim_options.world.mount.BeamAt({});
+  spdlog::info("ranger simulator: beam from ({:.2f}, {:.2f}, {:.2f}) along ({:.3f}, {:.3f}, {:.3f}) at the zero pose",
+               beam.origin.x(), beam.origin.y(), beam.origin.z(), beam.axis.x(), beam.axis.y(), beam.axis.z());
+  auto sim = std::make_unique<RangerSim>(std::move(sim_options));
   if (ranger_.follow_platform_port != 0) {
     net::ClientOptions o;
     o.host = ranger_.platform_host;
     o.port = ranger_.follow_platform_port;
     o.name = "ranger-sim";
     o.token = ranger_.token;
+    o.reconnect = true;
     platform_ = std::make_unique<net::Client>(io_, o);
     platform_->Start();
     RangerSim* raw = sim.get();
     platform_->Subscribe<PlatformState>("igms.devices.PlatformService.Live", SubscribeRequest(),
                                         [this, raw](const PlatformState& p) {
-                                          RangerPose pose;
-                                          pose.yaw_deg = p.yaw_deg();
-                                          pose.pitch_deg = p.pitch_deg();
-                                          simulator()->WithDevice([&](SimulatedDevice&) { raw->SetPose(pose); });
+                                          simulator()->WithDevice([&](SimulatedDevice&) { raw->SetPlatform(p); });
                                         });
   }
   return sim;
@@ -51,13 +61,21 @@ void RangerDaemon::StopDevice() {
 LinkStatus RangerDaemon::DeviceStatus() const { return driver_ ? driver_->status() : LinkStatus(); }
 
 bool RangerDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) {
+  auto& ranger = static_cast<RangerSim&>(sim);
+  if (request.has_platform()) {
+    ranger.SetPlatform(request.platform());
+    return true;
+  }
   if (!request.has_ranger()) {
-    *error = "the ranger simulator takes a RangerState (or a fault)";
+    *error = "the ranger simulator takes a RangerState, a PlatformState (or a fault)";
     return false;
   }
   const RangerState& r = request.ranger();
-  auto& ranger = static_cast<RangerSim&>(sim);
-  ranger.Override(r.valid() ? std::optional<double>(r.range_in()) : std::nullopt);
+  if (r.valid() && r.range_in() == 0) {
+    ranger.Release();
+  } else {
+    ranger.Override(r.valid() ? std::optional<double>(r.range_in()) : std::nullopt);
+  }
   return true;
 }
 

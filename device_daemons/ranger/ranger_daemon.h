@@ -1,8 +1,13 @@
 // igms-rangerd's body: the ranger driver (or its simulator, or a replay) behind
 // igms.devices.RangerService (Range: one measurement on request; Live; Status) and
 // igms.devices.SimService.Inject (a RangerState as a fixed answer: valid with range_in, or
-// no echo). With follow_platform_port the simulator's beam turns with the camera platform,
-// whose PlatformService.Live it subscribes to. See daemon_base.h.
+// no echo when not valid; valid with range_in 0 ends the override; a PlatformState as the
+// platform's pose, in encoder ticks). The simulator ranges the simulated site
+// (ranger_site.h): scene_file (default: the thesis testbed) from the mount of
+// calibration_file. With follow_platform_port the simulator's beam turns with the camera
+// platform: it subscribes to that daemon's PlatformService.Live (reconnecting when the
+// platform daemon restarts) and feeds the reached orientation to the simulator. See
+// daemon_base.h.
 #pragma once
 
 #include "common/net/client.h"
@@ -14,6 +19,8 @@ namespace igms::devices {
 
 struct RangerDaemonOptions {
   double poll_hz = 0;
+  std::string scene_file;        // empty: the thesis testbed (common/site/testbed.h)
+  std::string calibration_file;  // empty: the sensor between the scene's cameras, no platform
   std::string platform_host = "127.0.0.1";
   uint16_t follow_platform_port = 0;  // 0: the beam stays where it is
   std::string token;                  // the lab token, for the platform daemon

@@ -1,14 +1,21 @@
 #include "device_daemons/ranger/ranger_sim.h"
 
 #include <algorithm>
+#include <string>
 
 namespace igms::devices {
+
+RangerSimOptions::RangerSimOptions() {
+  std::string error;
+  // The built-in testbed needs no file, so this cannot fail.
+  world = *LoadRangerWorld("", "", &error);
+}
 
 RangerSim::RangerSim(RangerSimOptions options) : options_(std::move(options)), rng_(options_.seed) {}
 
 std::optional<double> RangerSim::TrueRange() const {
   if (override_) return *override_;
-  return BeamRange(options_.scene, pose_, udm::kBeamWidthDeg);
+  return SiteRange(options_.world.scene, Beam(), udm::kBeamWidthDeg);
 }
 
 std::vector<std::string> RangerSim::OnInput(std::string_view bytes, int64_t now_ns) {
@@ -26,7 +33,9 @@ std::vector<std::string> RangerSim::Poll(int64_t now_ns, int64_t* next_wake_ns) 
   }
   answer_at_ns_ = -1;
   std::optional<double> range = TrueRange();
-  if (range && !override_) range = *range + std::normal_distribution<double>(0, options_.noise_fraction * *range)(rng_);
+  if (range && !override_ && options_.noise_fraction > 0) {
+    range = *range + std::normal_distribution<double>(0, options_.noise_fraction * *range)(rng_);
+  }
   return {udm::EncodeRange(range)};
 }
 

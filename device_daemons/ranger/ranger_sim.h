@@ -1,23 +1,30 @@
-// A simulated UDM-FL ranger (udm_protocol.h): on each 'R' it measures the scene
-// (ranger_scene.h) from its current pose, which follows the camera platform, and answers
-// after the measurement time (udm::kMeasureNs: at most 6 ranges a second; requests while
-// measuring are ignored), with Gaussian noise of noise_fraction of the range. An injected fixed range
-// overrides the scene.
+// A simulated UDM-FL ranger (udm_protocol.h): on each 'R' it ranges the simulated site
+// (ranger_site.h) from its mount at the current platform pose, and answers after the
+// measurement time (udm::kMeasureNs: at most 6 ranges a second; requests while measuring
+// are ignored). Beam 12 degrees, 2 in to 60 ft (outside: no echo), as the thesis's table
+// 2.3 and section 2.1.5 give them.
+//
+// Noise: the thesis states the beam's spread (table 2.3) but no accuracy, so the
+// simulator adds Gaussian noise of noise_fraction of the range (default 0.2%: 0.1 in at
+// 4 ft, 1.4 in at 60 ft), then the protocol's 0.01 in steps. An injected fixed range
+// overrides the site, without noise.
 #pragma once
 
 #include <optional>
 #include <random>
+#include <vector>
 
-#include "device_daemons/ranger/ranger_scene.h"
+#include "device_daemons/ranger/ranger_site.h"
 #include "device_daemons/ranger/udm_protocol.h"
 #include "device_daemons/serial/pty_host.h"
 
 namespace igms::devices {
 
 struct RangerSimOptions {
-  RangerScene scene = RangerScene::Testbed();
+  RangerWorld world;  // default: the thesis testbed, the sensor between its cameras
   double noise_fraction = 0.002;
   uint32_t seed = 7;
+  RangerSimOptions();
 };
 
 class RangerSim : public SimulatedDevice {
@@ -26,16 +33,20 @@ class RangerSim : public SimulatedDevice {
   std::vector<std::string> OnInput(std::string_view bytes, int64_t now_ns) override;
   std::vector<std::string> Poll(int64_t now_ns, int64_t* next_wake_ns) override;
 
-  void SetPose(const RangerPose& pose) { pose_ = pose; }
+  // The platform's joint angles in radians (RangerMount::BeamAt).
+  void SetJointAngles(std::vector<double> q) { q_ = std::move(q); }
+  // The platform's reached orientation, through the mount's platform model.
+  void SetPlatform(const PlatformState& reading) { q_ = options_.world.mount.AnglesOf(reading); }
   // A fixed answer: a range in inches, or no echo (nullopt inside). Clear with Release().
   void Override(std::optional<double> range_in) { override_ = range_in; }
   void Release() { override_.reset(); }
-  // What the sensor would read now, without noise.
+  // The beam now, and what the sensor would read now without noise.
+  RangerBeam Beam() const { return options_.world.mount.BeamAt(q_); }
   std::optional<double> TrueRange() const;
 
  private:
   RangerSimOptions options_;
-  RangerPose pose_;
+  std::vector<double> q_;
   std::optional<std::optional<double>> override_;
   int64_t answer_at_ns_ = -1;
   std::mt19937 rng_;

@@ -1,152 +1,97 @@
-// igms-voiced: the voice recogniser as a program. Prints the two-digit code of every
-// accepted command on stdout, one per line, as the Dragon Writer's PC sent them (Cooke,
-// section 2.1.6); rejections and details go to the log on stderr.
-//
-//   igms-voiced [options] ITEM...     ITEM is a sound file, or state=NAME to switch the
-//                                     grammar for the files after it (the control
-//                                     client's word on the system's state)
-//   igms-voiced --mic [--device NAME] listen until interrupted
-#include <spdlog/sinks/stdout_color_sinks.h>
+// igms-voiced: the voice daemon (docs/voice.md, docs/devices.md, docs/protocol-devices.md).
+//   --serial PORT --baud 9600 | --simulate | --replay FILE    a Dragon speech PC, its
+//                                                             simulator, or a recording
+//   --microphone [--device NAME] | --wav FILE...              the recogniser instead
 #include <spdlog/spdlog.h>
 
-#include <boost/program_options.hpp>
-#include <chrono>
-#include <csignal>
-#include <iostream>
-#include <thread>
+#include <boost/asio/io_context.hpp>
 
-#include "device_daemons/voice/audio.h"
-#include "device_daemons/voice/endpointer.h"
-#include "device_daemons/voice/microphone.h"
-#include "device_daemons/voice/recognizer.h"
+#include "common/config/process_options.h"
+#include "device_daemons/voice/voice_daemon.h"
 
-namespace po = boost::program_options;
-using namespace igms::voice;
-
-namespace {
-
-volatile std::sig_atomic_t g_stop = 0;
-
-void Report(const Recognition& r, bool verbose) {
-  if (r.accepted) {
-    std::cout << Code(*r.command);
-    if (verbose) std::cout << " " << Phrase(*r.command) << " " << r.confidence;
-    std::cout << std::endl;
-    spdlog::info("accepted \"{}\" (code {}, confidence {:.2f}, {:.1f} ms)", Phrase(*r.command),
-                 Code(*r.command), r.confidence, r.decode_ms);
-  } else {
-    spdlog::warn("rejected in state {}: {} ({:.1f} ms)", StateName(r.state), r.message,
-                 r.decode_ms);
-  }
-}
-
-int RunFiles(Recognizer& recognizer, const std::vector<std::string>& items, bool verbose) {
-  int failures = 0;
-  for (const std::string& item : items) {
-    if (item.starts_with("state=")) {
-      const auto state = StateFromName(item.substr(6));
-      if (!state) {
-        spdlog::error("unknown state '{}' (verification, model_building, awaiting_type)",
-                      item.substr(6));
+int main(int argc, char** argv) {
+  namespace po = boost::program_options;
+  using namespace igms;
+  po::options_description flags("Voice");
+  devices::AddDaemonFlags(&flags);
+  flags.add_options()("microphone", po::bool_switch(),
+                      "recognise speech from a microphone (OpenAL capture)")(
+      "device", po::value<std::string>(),
+      "capture device for --microphone (default: the system's)")(
+      "wav", po::value<std::vector<std::string>>()->multitoken(),
+      "recognise these sound files, one a --wav-interval-ms")(
+      "wav-interval-ms", po::value<int>(), "time between the sound files (default 1000)")(
+      "state", po::value<std::string>(),
+      "initial operator state: verification, model_building, awaiting_type")(
+      "min-confidence", po::value<double>(),
+      "recogniser: reject commands below this confidence (0..1)")(
+      "model-dir", po::value<std::string>(), "recogniser: pocketsphinx en-us model folder");
+  int exit_code = 0;
+  const auto process = config::ParseProcessOptions(
+      argc, argv, "voice", "The voice daemon: spoken commands as two-digit codes over TCP.", flags,
+      &exit_code);
+  if (!process) return exit_code;
+  try {
+    const auto& f = process->flags;
+    voice::VoiceDaemonOptions voice;
+    const std::string state = f.count("state") ? f["state"].as<std::string>()
+                                               : process->Get<std::string>("state", "verification");
+    const auto initial = voice::StateFromName(state);
+    if (!initial) {
+      spdlog::error("unknown state '{}' (verification, model_building, awaiting_type)", state);
+      return 2;
+    }
+    voice.initial_state = *initial;
+    const bool microphone = f["microphone"].as<bool>() || process->Get<bool>("microphone", false);
+    const auto wav =
+        f.count("wav") ? f["wav"].as<std::vector<std::string>>() : std::vector<std::string>();
+    devices::DaemonOptions options;
+    std::string error;
+    if (microphone || !wav.empty()) {
+      if (f.count("serial") || f["simulate"].as<bool>() || f.count("replay") ||
+          (microphone && !wav.empty())) {
+        spdlog::error("name only one of --serial, --simulate, --replay, --microphone and --wav");
         return 2;
       }
-      recognizer.SetState(*state);
-      continue;
+      voice::SpeechListenerOptions listen;
+      listen.microphone = microphone;
+      listen.device = f.count("device") ? f["device"].as<std::string>()
+                                        : process->Get<std::string>("device", "");
+      listen.files = wav;
+      listen.file_interval = std::chrono::milliseconds(
+          f.count("wav-interval-ms") ? f["wav-interval-ms"].as<int>() : 1000);
+      if (f.count("min-confidence"))
+        listen.recognizer.min_confidence = f["min-confidence"].as<double>();
+      if (f.count("model-dir")) listen.recognizer.model_dir = f["model-dir"].as<std::string>();
+      if (!listen.Check(&error)) {
+        spdlog::error("{}", error);
+        return 2;
+      }
+      voice.listen = listen;
+      options.source = devices::SourceKind::kSerial;  // the recogniser stands in for the line
+      options.record_file = f.count("record") ? f["record"].as<std::string>()
+                                              : process->Get<std::string>("record", "");
+    } else if (!devices::ReadDaemonOptions(*process, "voice", &options, &error)) {
+      spdlog::error("{} (or --microphone, --wav FILE...)", error);
+      return 2;
     }
-    std::string error;
-    const auto audio = LoadSoundFile(item, &error);
-    if (!audio) {
-      spdlog::error("{}", error);
-      ++failures;
-      continue;
-    }
-    Report(recognizer.Recognize(audio->samples), verbose);
-  }
-  return failures ? 1 : 0;
-}
-
-int RunMicrophone(Recognizer& recognizer, const std::string& device, bool verbose) {
-  std::string error;
-  auto mic = Microphone::Open(device, &error);
-  if (!mic) {
-    spdlog::error("{}", error);
+    boost::asio::io_context io;
+    net::ServerOptions server;
+    server.name = process->name;
+    server.bind_address = process->BindAddress();
+    server.port = process->Port(7314);
+    server.token = process->Token();
+    voice::VoiceDaemon daemon(io, options, server, voice);
+    return devices::RunDaemonProcess(
+        io,
+        [&](std::string* e) {
+          if (!daemon.Start(e)) return false;
+          spdlog::info("voice daemon on port {}", daemon.port());
+          return true;
+        },
+        [&] { daemon.Stop(); });
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
     return 1;
   }
-  Endpointer endpointer;
-  std::vector<int16_t> samples;
-  spdlog::info("listening in state {}", StateName(recognizer.state()));
-  while (!g_stop) {
-    samples.clear();
-    if (!mic->Read(samples)) {
-      spdlog::error("the capture device stopped");
-      return 1;
-    }
-    for (const auto& utterance : endpointer.Feed(samples)) {
-      Report(recognizer.Recognize(utterance), verbose);
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return 0;
-}
-
-}  // namespace
-
-int main(int argc, char** argv) try {
-  // stdout carries the codes alone; the log goes to stderr.
-  spdlog::set_default_logger(spdlog::stderr_color_mt("igms-voiced"));
-  RecognizerOptions options;
-  std::string state = "verification", device;
-  std::vector<std::string> items;
-  po::options_description desc("igms-voiced: spoken commands to two-digit codes");
-  desc.add_options()("help,h", "this help")(
-      "state", po::value(&state)->default_value(state),
-      "initial state: verification, model_building, awaiting_type")(
-      "model-dir", po::value(&options.model_dir)->default_value(options.model_dir),
-      "pocketsphinx en-us model folder")(
-      "min-confidence", po::value(&options.min_confidence)->default_value(options.min_confidence),
-      "reject commands below this confidence (0..1)")(
-      "no-predict", "keep the state until told (no prediction after own commands)")(
-      "mic", "listen to a microphone (OpenAL capture) instead of files")(
-      "device", po::value(&device), "capture device name (default: the system's)")(
-      "list-devices", "print the capture devices and exit")(
-      "verbose,v", "print phrase and confidence after each code")(
-      "item", po::value(&items), "sound files and state=NAME switches");
-  po::positional_options_description positional;
-  positional.add("item", -1);
-  po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).positional(positional).run(), vm);
-  po::notify(vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  if (vm.count("list-devices")) {
-    for (const auto& name : Microphone::DeviceNames()) std::cout << name << "\n";
-    return 0;
-  }
-  const auto initial = StateFromName(state);
-  if (!initial) {
-    spdlog::error("unknown state '{}'", state);
-    return 2;
-  }
-  options.initial_state = *initial;
-  options.predict_state = !vm.count("no-predict");
-  if (!vm.count("mic") && items.empty()) {
-    spdlog::error("give sound files, or --mic");
-    return 2;
-  }
-  std::string error;
-  auto recognizer = Recognizer::Create(options, &error);
-  if (!recognizer) {
-    spdlog::error("{}", error);
-    return 2;
-  }
-  std::signal(SIGINT, [](int) { g_stop = 1; });
-  std::signal(SIGTERM, [](int) { g_stop = 1; });
-  const bool verbose = vm.count("verbose") > 0;
-  return vm.count("mic") ? RunMicrophone(*recognizer, device, verbose)
-                         : RunFiles(*recognizer, items, verbose);
-} catch (const std::exception& e) {
-  spdlog::error("{}", e.what());
-  return 2;
 }

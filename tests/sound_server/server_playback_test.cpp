@@ -19,8 +19,7 @@ void PlayEachAndCompare(const std::string& name,
   const std::filesystem::path dir = testing::ScratchDir(name);
   const std::filesystem::path wave = dir / "capture.wav";
   // The default bank: ../share/igms/sounds next to the binary, as the build puts it.
-  testing::ServerProcess server({"--output", "wave", "--wave-file", wave.string()},
-                                dir / "server.log");
+  testing::ServerProcess server({"--output", "wave", "--wave-file", wave.string()});
   const uint16_t port = server.WaitListening();
   ASSERT_NE(port, 0) << server.Log();
   testing::SoundClient client(port);

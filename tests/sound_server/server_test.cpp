@@ -27,8 +27,7 @@ class ServerTest : public ::testing::Test {
     wave_ = dir_ / "capture.wav";
     server_ = std::make_unique<testing::ServerProcess>(
         std::vector<std::string>{"--bank", testing::DamagedBank(dir_).string(), "--output", "wave",
-                                 "--wave-file", wave_.string()},
-        dir_ / "server.log");
+                                 "--wave-file", wave_.string()});
     const uint16_t port = server_->WaitListening();
     ASSERT_NE(port, 0) << server_->Log();
     client_ = std::make_unique<testing::SoundClient>(port);
@@ -220,7 +219,7 @@ TEST(ServerStart, FailsClearlyOnABadBankOrNoDevice) {
       {{"--output", "wave", "--wave-file", "/nonexistent/dir/out.wav"}, 3, "cannot write"},
   };
   for (const StartCase& c : cases) {
-    testing::ServerProcess server(c.args, dir / "server.log");
+    testing::ServerProcess server(c.args);
     EXPECT_EQ(server.Wait(), c.exit_status) << server.Log();
     EXPECT_NE(server.Log().find(c.says), std::string::npos) << server.Log();
   }
@@ -229,8 +228,7 @@ TEST(ServerStart, FailsClearlyOnABadBankOrNoDevice) {
 
 TEST(ServerStart, FallsBackToTheNullOutputWhenNoDeviceOpens) {
   const std::filesystem::path dir = testing::ScratchDir("fallback");
-  testing::ServerProcess server({"--device", "no such device", "--fallback", "null"},
-                                dir / "server.log");
+  testing::ServerProcess server({"--device", "no such device", "--fallback", "null"});
   const uint16_t port = server.WaitListening();
   ASSERT_NE(port, 0) << server.Log();
   EXPECT_NE(server.Log().find("no audio device"), std::string::npos);
@@ -261,8 +259,7 @@ TEST(ServerStart, ReadsItsSectionOfTheLabConfiguration) {
                                      "    cue_sources: 2\n"
                                      "    speech_queue: 3\n"
                                      "    volume: 0.5\n";
-  testing::ServerProcess server({"--config", (dir / "lab.yaml").string(), "--name", "sound"},
-                                dir / "server.log");
+  testing::ServerProcess server({"--config", (dir / "lab.yaml").string(), "--name", "sound"});
   const uint16_t port = server.WaitListening();
   ASSERT_NE(port, 0) << server.Log();
   {

@@ -1,6 +1,7 @@
 // Runs igms-video-server as a real process on loopback for the tests, and a client for it.
 #pragma once
 
+#include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -48,7 +49,9 @@ class ScratchDir {
 class ServerProcess {
  public:
   // args: extra command-line arguments (e.g. "--set", "processes.video.backend=files").
-  ServerProcess(const ScratchDir& scratch, std::vector<std::string> args) {
+  // log_file: when set, the process's stderr (its log) goes there.
+  ServerProcess(const ScratchDir& scratch, std::vector<std::string> args,
+                const std::string& log_file = "") {
     port_file_ = scratch.File("port-" + std::to_string(++starts_));
     std::filesystem::remove(port_file_);
     std::vector<std::string> argv = {BinDir() + "/igms-video-server", "--name", "video",
@@ -57,7 +60,14 @@ class ServerProcess {
     std::vector<char*> raw;
     for (auto& a : argv) raw.push_back(a.data());
     raw.push_back(nullptr);
-    if (posix_spawn(&pid_, raw[0], nullptr, nullptr, raw.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    if (!log_file.empty()) {
+      posix_spawn_file_actions_addopen(&actions, 2, log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                       0644);
+    }
+    if (posix_spawn(&pid_, raw[0], &actions, nullptr, raw.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&actions);
   }
   ~ServerProcess() { Stop(); }
 

@@ -59,7 +59,25 @@ TEST(CalibrationFile, ThesisFileLoads) {
   EXPECT_EQ(c->left.image_size.width, 512);
   EXPECT_EQ(c->right.image_size.height, 480);
   EXPECT_FALSE(c->left.K);
-  EXPECT_FALSE(c->platform);
+  // The nominal platform: pan axis vertical through the midpoint of the camera centres, the
+  // thesis's tick scales, and the ranger between the cameras along their mean optical axis.
+  ASSERT_TRUE(c->platform);
+  ASSERT_EQ(c->platform->joints.size(), 3u);
+  EXPECT_NEAR(c->platform->joints[0].radians_per_tick,
+              geometry::ThesisPanDegreesPerTick() * M_PI / 180, 1e-15);
+  EXPECT_NEAR(c->platform->joints[1].radians_per_tick,
+              geometry::ThesisTiltDegreesPerTick() * M_PI / 180, 1e-15);
+  const Eigen::Vector3d middle = (c->left.Camera().Center() + c->right.Camera().Center()) / 2;
+  const Eigen::Vector3d pan_point = c->platform->world_from_base.translation();
+  EXPECT_NEAR((pan_point - middle).head<2>().norm(), 0.0, 0.01);
+  EXPECT_TRUE(c->platform->world_from_base.linear().col(2).isApprox(Eigen::Vector3d::UnitZ()));
+  const std::vector<double> zero(3, 0.0);
+  const Eigen::Isometry3d world_from_end = geometry::WorldFromEnd(*c->platform, zero);
+  ASSERT_TRUE(c->ranger);
+  EXPECT_NEAR((world_from_end * c->ranger->origin - middle).norm(), 0.0, 0.01);
+  const Eigen::Vector3d view =
+      (c->left.Camera().ViewDirection() + c->right.Camera().ViewDirection()).normalized();
+  EXPECT_GT((world_from_end.linear() * c->ranger->axis).dot(view), std::cos(1e-4));
   // The same text inline parses identically.
   auto inline_c = ParseCalibration(kMinimal, &why);
   ASSERT_TRUE(inline_c) << why;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -12,6 +13,7 @@
 #include "device_daemons/serial/recording.h"
 #include "igms/devices.pb.h"
 #include "tests/device_daemons/daemons/daemon_process.h"
+#include "tests/device_daemons/ranger/test_site.h"
 
 namespace igms::devices {
 namespace {
@@ -227,41 +229,87 @@ TEST(PlatformDaemon, SetOrientationResetZeroAndBadRequests) {
   EXPECT_EQ(daemon.Stop(), 0);
 }
 
-TEST(RangerDaemon, RangesTheSceneAndTurnsWithThePlatform) {
-  DaemonProcess platform("igms-platformd", {"--simulate", "--port", "0"});
-  const uint16_t platform_port = platform.WaitForPort();
-  ASSERT_NE(platform_port, 0) << platform.Log();
-  DaemonProcess ranger("igms-rangerd",
-                       {"--simulate", "--port", "0", "--follow-platform", std::to_string(platform_port)});
+// A port nobody listens on now, for a process that must be named before it starts.
+uint16_t FreePort() {
+  boost::asio::io_context io;
+  boost::asio::ip::tcp::acceptor a(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
+  return a.local_endpoint().port();
+}
+
+// The lab's way: the ranger's section names the platform process; the ranger starts
+// first and its subscription reconnects once the platform daemon is up.
+TEST(RangerDaemon, RangesTheSiteAndTurnsWithThePlatform) {
+  const std::string scene = testing::TempPath("scene.yaml"), calib = testing::TempPath("calib.yaml");
+  const std::string lab = testing::TempPath("lab.yaml");
+  testing::WriteFile(scene, testing::TestSceneYaml());
+  std::string error;
+  ASSERT_TRUE(calibration::SaveCalibration(testing::TestCalibration(), calib, &error)) << error;
+  const uint16_t platform_port = FreePort();
+  testing::WriteFile(lab, "lab: {token: \"\", calibration: " + calib + "}\n"
+                          "processes:\n"
+                          "  platform: {program: igms-platformd, host: 127.0.0.1, port: " +
+                              std::to_string(platform_port) + ", serial: simulate}\n"
+                          "  ranger: {program: igms-rangerd, host: 127.0.0.1, port: 0, serial: simulate,\n"
+                          "           platform: platform, scene: " + scene + ", poll_hz: 6}\n");
+  DaemonProcess ranger("igms-rangerd", {"--config", lab, "--name", "ranger"});
   const uint16_t port = ranger.WaitForPort();
   ASSERT_NE(port, 0) << ranger.Log();
   Connected client(port);
-  Connected platform_client(platform_port);
-  const auto range = [&] {
-    return client->CallSync<RangerState>("igms.devices.RangerService.Range", RangeRequest(), 3s);
+  Stream<RangerState> live;
+  client->Subscribe<RangerState>("igms.devices.RangerService.Live", SubscribeRequest(), live.Sink());
+  // The mean of six streamed readings, after the ones before `since`.
+  const auto mean_range = [&](size_t since) {
+    EXPECT_TRUE(WaitFor([&] { return live.size() >= since + 6; }));
+    std::lock_guard lock(live.mutex);
+    double sum = 0;
+    for (size_t i = live.got.size() - 6; i < live.got.size(); ++i) {
+      EXPECT_TRUE(live.got[i].valid());
+      sum += live.got[i].range_in();
+    }
+    return sum / 6;
   };
-  // Level: the wall of the stand-in scene at 10 ft.
-  auto r = range();
-  ASSERT_TRUE(r.ok()) << r.status.ToString();
-  ASSERT_TRUE(r.value.valid());
-  EXPECT_NEAR(r.value.range_in(), 120.0, 2.0);
-  // The platform tilts 20 degrees down: the beam now meets the cylinder (about 48.5 in).
-  SetOrientationRequest tilt;
-  tilt.set_pitch_ticks(static_cast<int32_t>(std::lround(-20.0 / (360.0 / 4000 / 5.14))));
-  ASSERT_TRUE(platform_client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", tilt, 3s).ok());
+  // No platform yet: the zero pose, the box straight ahead.
+  EXPECT_NEAR(mean_range(0), testing::kBoxRangeIn, 0.15);
+  EXPECT_NEAR(live.RateOver(1000ms), 6.0, 1.5);
+  // The platform comes up and pans: the beam leaves the box and meets the sphere.
+  DaemonProcess platform("igms-platformd", {"--config", lab, "--name", "platform"});
+  ASSERT_EQ(platform.WaitForPort(), platform_port) << platform.Log();
+  Connected platform_client(platform_port);
+  SetOrientationRequest pan;
+  pan.set_yaw_ticks(static_cast<int32_t>(std::lround(testing::kPanDeg / geometry::ThesisPanDegreesPerTick())));
   ASSERT_TRUE(WaitFor([&] {
-    const auto x = range();
-    return x.ok() && x.value.valid() && std::abs(x.value.range_in() - 48.5) < 0.6;
-  }, 10s));
-  // An injected answer overrides the scene; no echo is reported as such.
+    return platform_client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", pan, 3s).ok();
+  }));
+  ASSERT_TRUE(WaitFor([&] { return std::abs(live.last().range_in() - testing::kSphereRangeIn) < 0.3; }, 20s))
+      << live.last().DebugString() << ranger.Log();
+  EXPECT_NEAR(mean_range(live.size()), testing::kSphereRangeIn, 0.1);
+  // On request too, through the same serial path.
+  auto r = client->CallSync<RangerState>("igms.devices.RangerService.Range", RangeRequest(), 3s);
+  ASSERT_TRUE(r.ok()) << r.status.ToString();
+  EXPECT_NEAR(r.value.range_in(), testing::kSphereRangeIn, 0.3);
+  // The platform daemon goes away: the ranger keeps its last pose and keeps ranging.
+  EXPECT_EQ(platform.Stop(), 0);
+  EXPECT_NEAR(mean_range(live.size()), testing::kSphereRangeIn, 0.1);
+  // The sim service sets the pose too; a fixed answer overrides the site, and ends.
+  SimInjectRequest home;
+  home.mutable_platform()->set_yaw_ticks(0);
+  ASSERT_TRUE(Inject(*client, home).ok());
+  ASSERT_TRUE(WaitFor([&] { return std::abs(live.last().range_in() - testing::kBoxRangeIn) < 0.5; }));
   SimInjectRequest none;
   none.mutable_ranger()->set_valid(false);
   ASSERT_TRUE(Inject(*client, none).ok());
-  r = range();
-  ASSERT_TRUE(r.ok());
-  EXPECT_FALSE(r.value.valid());
+  ASSERT_TRUE(WaitFor([&] { return !live.last().valid(); }));
+  SimInjectRequest release;
+  release.mutable_ranger()->set_valid(true);
+  ASSERT_TRUE(Inject(*client, release).ok());
+  ASSERT_TRUE(WaitFor([&] { return live.last().valid(); }));
   EXPECT_EQ(ranger.Stop(), 0);
-  EXPECT_EQ(platform.Stop(), 0);
+}
+
+TEST(RangerDaemon, BadSiteFilesFailWithAMessage) {
+  DaemonProcess ranger("igms-rangerd", {"--simulate", "--port", "0", "--scene", "/nonexistent/site.yaml"});
+  EXPECT_NE(ranger.WaitExit(), 0);
+  EXPECT_NE(ranger.Log().find("/nonexistent/site.yaml"), std::string::npos) << ranger.Log();
 }
 
 TEST(Daemons, BadCommandLinesFailWithAMessage) {

@@ -6,10 +6,12 @@
 #include <mutex>
 
 #include "device_daemons/ranger/ranger_driver.h"
-#include "device_daemons/ranger/ranger_scene.h"
+#include "common/site/testbed.h"
+#include "device_daemons/ranger/ranger_site.h"
 #include "device_daemons/ranger/ranger_sim.h"
 #include "device_daemons/ranger/udm_protocol.h"
 #include "device_daemons/serial/pty_host.h"
+#include "tests/device_daemons/ranger/test_site.h"
 #include "tests/device_daemons/test_util.h"
 
 namespace igms::devices {
@@ -39,33 +41,76 @@ TEST(UdmProtocol, RangeAndNoEchoRoundTrip) {
   EXPECT_FALSE(*r);
 }
 
-TEST(RangerScene, BeamFindsTheNearestSurfaceInTheCone) {
-  const RangerScene scene = RangerScene::Testbed();
-  RangerPose pose;
-  // Straight ahead: over the cylinder and the block, to the wall at 10 ft.
-  auto r = BeamRange(scene, pose);
+// The known site of test_site.h, loaded from files as the daemon loads it.
+RangerWorld TestWorld() {
+  const std::string scene = testing::TempPath("scene.yaml"), calib = testing::TempPath("calib.yaml");
+  testing::WriteFile(scene, testing::TestSceneYaml());
+  std::string error;
+  EXPECT_TRUE(calibration::SaveCalibration(testing::TestCalibration(), calib, &error)) << error;
+  auto world = LoadRangerWorld(scene, calib, &error);
+  EXPECT_TRUE(world) << error;
+  return *world;
+}
+
+TEST(RangerSite, MountFollowsThePlatformModel) {
+  const RangerWorld world = TestWorld();
+  // At the zero pose the calibration's end-frame mount is the world beam it was made from.
+  RangerBeam beam = world.mount.BeamAt({});
+  EXPECT_LT((beam.origin - testing::SensorAtZero()).norm(), 1e-9);
+  EXPECT_LT((beam.axis - Eigen::Vector3d(0, -1, 0)).norm(), 1e-9);
+  // Panned: the beam turns with the platform's world motion, about the pan axis.
+  const auto q = testing::PanAngles(testing::kPanDeg);
+  beam = world.mount.BeamAt(q);
+  EXPECT_LT((beam.origin - testing::SensorAtZero()).norm(), 1e-9);
+  EXPECT_NEAR(std::acos(beam.axis.dot(Eigen::Vector3d(0, -1, 0))), testing::kPanDeg * M_PI / 180, 1e-9);
+  EXPECT_NEAR(beam.axis.z(), 0.0, 1e-9);
+  // A platform reading in encoder ticks goes through the model's tick scales.
+  PlatformState reading;
+  reading.set_yaw_ticks(static_cast<int32_t>(std::lround(testing::kPanDeg / geometry::ThesisPanDegreesPerTick())));
+  const auto angles = world.mount.AnglesOf(reading);
+  ASSERT_EQ(angles.size(), 3u);
+  EXPECT_NEAR(angles[0], q[0], geometry::ThesisPanDegreesPerTick() * M_PI / 180);
+}
+
+TEST(RangerSite, BeamRangesTheNearestSurfaceOfTheScene) {
+  const RangerWorld world = TestWorld();
+  // Straight ahead: the box's near face, perpendicular to the beam.
+  auto r = SiteRange(world.scene, world.mount.BeamAt({}), udm::kBeamWidthDeg);
   ASSERT_TRUE(r);
-  EXPECT_NEAR(*r, 120.0, 1e-9);
-  // Looking 20 degrees down: the axis meets the cylinder's top at 52.6 in, but the beam
-  // (+-6 degrees) also holds the top's near edge, at hypot(45, 18) = 48.47 in (21.8
-  // degrees down); the sampled beam finds it within a fraction of an inch, never nearer.
-  pose.pitch_deg = -20;
-  r = BeamRange(scene, pose);
+  EXPECT_NEAR(*r, testing::kBoxRangeIn, 1e-9);
+  // Panned: the sphere's nearest point.
+  r = SiteRange(world.scene, world.mount.BeamAt(testing::PanAngles(testing::kPanDeg)), udm::kBeamWidthDeg);
   ASSERT_TRUE(r);
-  EXPECT_GE(*r, std::hypot(45.0, 18.0) - 1e-9);
-  EXPECT_LT(*r, std::hypot(45.0, 18.0) + 0.2);
-  // A narrow beam sees only the axis.
-  r = BeamRange(scene, pose, 0.0);
+  EXPECT_NEAR(*r, testing::kSphereRangeIn, 1e-6);
+  // Half way between: the box is 4.8 degrees wide either side of straight ahead, so the
+  // 6-degree half beam still meets its corner at 10 degrees of pan, not at 20.
+  r = SiteRange(world.scene, world.mount.BeamAt(testing::PanAngles(10)), udm::kBeamWidthDeg);
   ASSERT_TRUE(r);
-  EXPECT_NEAR(*r, 18.0 / std::sin(20 * M_PI / 180), 1e-6);
-  // Looking up and away: nothing.
-  pose.pitch_deg = 60;
-  pose.yaw_deg = 180;
-  EXPECT_FALSE(BeamRange(scene, pose));
+  EXPECT_GT(*r, testing::kBoxRangeIn);
+  EXPECT_LT(*r, 50.0);
+  EXPECT_FALSE(SiteRange(world.scene, world.mount.BeamAt(testing::PanAngles(20)), udm::kBeamWidthDeg));
+  // The default: the thesis testbed, the sensor between its cameras, looking at the scene.
+  RangerSimOptions defaults;
+  const RangerBeam beam = defaults.world.mount.BeamAt({});
+  const auto cams = site::ThesisCameras();
+  EXPECT_LT((beam.origin - 0.5 * (cams.left.Center() + cams.right.Center())).norm(), 1e-9);
+  EXPECT_GT(beam.axis.dot(cams.left.ViewDirection()), 0.99);
+}
+
+TEST(RangerSite, BadFilesFailWithTheirNames) {
+  std::string error;
+  EXPECT_FALSE(LoadRangerWorld("/nonexistent/scene.yaml", "", &error));
+  EXPECT_NE(error.find("/nonexistent/scene.yaml"), std::string::npos) << error;
+  const std::string bad = testing::TempPath("bad.yaml");
+  testing::WriteFile(bad, "%YAML:1.0\n---\nleft: {P: [1, 2, 3]}\n");
+  EXPECT_FALSE(LoadRangerWorld("", bad, &error));
+  EXPECT_NE(error.find("left.P"), std::string::npos) << error;
 }
 
 TEST(RangerSim, AnswersOncePerMeasurementTime) {
-  RangerSim sim;
+  RangerSimOptions options;
+  options.world = TestWorld();
+  RangerSim sim(options);
   EXPECT_TRUE(sim.OnInput("RRR", 0).empty());  // one measurement under way
   int64_t wake = INT64_MAX;
   EXPECT_TRUE(sim.Poll(100'000'000, &wake).empty());
@@ -74,17 +119,19 @@ TEST(RangerSim, AnswersOncePerMeasurementTime) {
   ASSERT_EQ(out.size(), 1u);
   const auto r = ParseOne(out[0]);
   ASSERT_TRUE(r && *r);
-  EXPECT_NEAR(**r, 120.0, 120.0 * 0.002 * 5);  // five sigma of the noise
+  EXPECT_NEAR(**r, testing::kBoxRangeIn, testing::kBoxRangeIn * 0.002 * 5);  // five sigma
   EXPECT_TRUE(sim.Poll(400'000'000, &wake).empty());
 }
 
 TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
-  auto sim = std::make_unique<RangerSim>();
+  RangerSimOptions sim_options;
+  sim_options.world = TestWorld();
+  auto sim = std::make_unique<RangerSim>(sim_options);
   RangerSim* raw = sim.get();
   PtyHost host(std::move(sim), {testing::TempPath("udm"), 9600});
   std::string error;
   ASSERT_TRUE(host.Start(&error)) << error;
-  host.WithDevice([&](SimulatedDevice&) { raw->SetPose({Eigen::Vector3d::Zero(), 0, -20}); });
+  host.WithDevice([&](SimulatedDevice&) { raw->SetJointAngles(testing::PanAngles(testing::kPanDeg)); });
   testing::IoThread io;
   std::mutex mutex;
   std::vector<RangerState> got;
@@ -109,7 +156,7 @@ TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
   };
   RangerState s = range();
   EXPECT_TRUE(s.valid());
-  EXPECT_NEAR(s.range_in(), 48.5, 0.6);
+  EXPECT_NEAR(s.range_in(), testing::kSphereRangeIn, 0.3);
   host.WithDevice([&](SimulatedDevice&) { raw->Override(std::nullopt); });
   s = range();
   EXPECT_FALSE(s.valid());
@@ -117,6 +164,12 @@ TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
   host.InjectGarbage(20);
   s = range();
   EXPECT_DOUBLE_EQ(s.range_in(), 36.0);
+  host.WithDevice([&](SimulatedDevice&) {
+    raw->Release();
+    raw->SetJointAngles({});
+  });
+  s = range();
+  EXPECT_NEAR(s.range_in(), testing::kBoxRangeIn, 0.5);
   // Ten back-to-back requests take at least 9 measurement times.
   const auto start = std::chrono::steady_clock::now();
   for (int i = 0; i < 10; ++i) range();

@@ -1,4 +1,4 @@
-// igms-voiced as a process: sound files and state switches in, two-digit codes out.
+// igms-voice-decode as a process: sound files and state switches in, two-digit codes out.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -9,7 +9,7 @@
 
 namespace {
 
-std::string Bin() { return std::string(std::getenv("IGMS_BIN_DIR")) + "/igms-voiced"; }
+std::string Bin() { return std::string(std::getenv("IGMS_BIN_DIR")) + "/igms-voice-decode"; }
 
 struct Result {
   std::string out;

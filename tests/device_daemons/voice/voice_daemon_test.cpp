@@ -1,0 +1,210 @@
+// igms-voiced as a real process through a real TCP subscriber: with its Dragon simulator
+// on a real pseudo-terminal, and with the real recogniser hearing espeak-ng speech.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "common/net/client.h"
+#include "device_daemons/serial/recording.h"
+#include "igms/devices.pb.h"
+#include "tests/device_daemons/daemons/daemon_process.h"
+
+namespace igms::devices {
+namespace {
+
+using testing::DaemonProcess;
+using testing::WaitFor;
+using namespace std::chrono_literals;
+
+class Connected {
+ public:
+  explicit Connected(uint16_t port) {
+    net::ClientOptions o;
+    o.port = port;
+    o.name = "voice_daemon_test";
+    client_ = std::make_unique<net::Client>(io_.io(), o);
+    client_->Start();
+  }
+  ~Connected() {
+    client_->Stop();
+    io_.Stop();
+  }
+  net::Client* operator->() { return client_.get(); }
+
+ private:
+  testing::IoThread io_;
+  std::unique_ptr<net::Client> client_;
+};
+
+net::Status Inject(Connected& c, const SimInjectRequest& req) {
+  return c->CallSync<SimInjectResponse>("igms.devices.SimService.Inject", req, 2s).status;
+}
+net::Status Say(Connected& c, const std::string& phrase) {
+  SimInjectRequest req;
+  req.set_spoken(phrase);
+  return Inject(c, req);
+}
+net::Status SetState(Connected& c, OperatorState state) {
+  SetOperatorStateRequest req;
+  req.set_state(state);
+  return c
+      ->CallSync<SetOperatorStateResponse>("igms.devices.VoiceService.SetOperatorState", req, 2s)
+      .status;
+}
+LinkStatus StatusOf(Connected& c) {
+  return c->CallSync<LinkStatus>("igms.devices.VoiceService.Status", GetStatusRequest(), 2s).value;
+}
+
+TEST(VoiceDaemon, SimulatedDragonThroughPtyAndTcp) {
+  const std::string recording = testing::TempPath("voice.rec");
+  {
+    DaemonProcess daemon("igms-voiced", {"--simulate", "--port", "0", "--record", recording});
+    const uint16_t port = daemon.WaitForPort();
+    ASSERT_NE(port, 0) << daemon.Log();
+    Connected client(port);
+    testing::Collected<VoiceState> got;
+    client->Subscribe<VoiceState>("igms.devices.VoiceService.Live", SubscribeRequest(),
+                                  [&](const VoiceState& s) { got.Add(s); });
+    ASSERT_TRUE(WaitFor([&] { return StatusOf(client).state() == CONNECTED; })) << daemon.Log();
+
+    // An injected command arrives with its code.
+    SimInjectRequest freeze;
+    freeze.set_voice(VOICE_FREEZE);
+    ASSERT_TRUE(Inject(client, freeze).ok());
+    ASSERT_TRUE(WaitFor([&] { return got.size() == 1; })) << daemon.Log();
+    EXPECT_EQ(got.last().command(), VOICE_FREEZE);
+    EXPECT_EQ(got.last().state(), VERIFICATION);
+    EXPECT_GT(got.last().stamp().receive_monotonic_ns(), 0);
+
+    // The state follows: after freeze the system is building; "box" is not valid there,
+    // nor a word that is no command at all.
+    ASSERT_TRUE(Say(client, "box").ok());
+    ASSERT_TRUE(Say(client, "hello").ok());
+    ASSERT_TRUE(Say(client, "mark").ok());
+    ASSERT_TRUE(WaitFor([&] { return got.size() == 2; }));
+    EXPECT_EQ(got.last().command(), VOICE_MARK);
+    // The control client says four marks are placed: now "box" is taken.
+    ASSERT_TRUE(SetState(client, AWAITING_OBJECT_TYPE).ok());
+    ASSERT_TRUE(Say(client, "box").ok());
+    ASSERT_TRUE(WaitFor([&] { return got.size() == 3; }));
+    EXPECT_EQ(got.last().command(), VOICE_BOX);
+    EXPECT_EQ(got.last().state(), AWAITING_OBJECT_TYPE);
+    // The thesis's flaw: the system is in verification (a button) and the operator says
+    // unfreeze; the state request makes "unfreeze" invalid, then valid again.
+    ASSERT_TRUE(SetState(client, VERIFICATION).ok());
+    ASSERT_TRUE(Say(client, "unfreeze").ok());
+    ASSERT_TRUE(SetState(client, MODEL_BUILDING).ok());
+    ASSERT_TRUE(Say(client, "unfreeze").ok());
+    ASSERT_TRUE(WaitFor([&] { return got.size() == 4; }));
+    EXPECT_EQ(got.last().command(), VOICE_UNFREEZE);
+
+    // Garbage and a truncated report mid-stream: counted; the next command still arrives.
+    SimInjectRequest fault;
+    fault.mutable_fault()->set_garbage_bytes(300);
+    fault.mutable_fault()->set_truncate_next(true);
+    ASSERT_TRUE(Inject(client, fault).ok());
+    ASSERT_TRUE(WaitFor([&] {
+      const LinkStatus s = StatusOf(client);
+      return s.garbage_bytes() + s.bad_frames() > 0;
+    }));
+    // The truncation falls on the next line out: a probe's answer (five a second).
+    std::this_thread::sleep_for(500ms);
+    SimInjectRequest solid;
+    solid.set_voice(VOICE_SOLID);
+    ASSERT_TRUE(Inject(client, solid).ok());
+    ASSERT_TRUE(WaitFor([&] { return got.size() >= 5 && got.last().command() == VOICE_SOLID; }));
+    // The port vanishes and returns: reopened, commands flow again.
+    SimInjectRequest vanish;
+    vanish.mutable_fault()->set_vanish_ms(400);
+    ASSERT_TRUE(Inject(client, vanish).ok());
+    ASSERT_TRUE(WaitFor([&] { return StatusOf(client).reopens() >= 1; }));
+    ASSERT_TRUE(WaitFor([&] { return StatusOf(client).state() == CONNECTED; }, 15s));
+    SimInjectRequest wire;
+    wire.set_voice(VOICE_WIREFRAME);
+    ASSERT_TRUE(Inject(client, wire).ok());
+    ASSERT_TRUE(WaitFor([&] { return got.last().command() == VOICE_WIREFRAME; }));
+
+    // Bad requests: clear errors.
+    SimInjectRequest wrong;
+    wrong.mutable_joystick()->set_x(1);
+    net::Status st = Inject(client, wrong);
+    EXPECT_EQ(st.code, igms::BAD_REQUEST);
+    EXPECT_NE(st.message.find("spoken"), std::string::npos);
+    SimInjectRequest unknown;
+    unknown.set_voice(static_cast<VoiceCommand>(45));
+    EXPECT_EQ(Inject(client, unknown).code, igms::BAD_REQUEST);
+    EXPECT_EQ(SetState(client, OPERATOR_STATE_UNSPECIFIED).code, igms::BAD_REQUEST);
+    EXPECT_EQ(daemon.Stop(), 0);
+  }
+  // Record then replay reproduces the commands.
+  std::string error;
+  auto rec = LoadRecording(recording, &error);
+  ASSERT_TRUE(rec) << error;
+  EXPECT_EQ(rec->header.device(), "voice");
+  ASSERT_GE(rec->readings.size(), 6u);
+  DaemonProcess replay("igms-voiced",
+                       {"--replay", recording, "--replay-speed", "0", "--port", "0"});
+  const uint16_t port = replay.WaitForPort();
+  ASSERT_NE(port, 0) << replay.Log();
+  Connected client(port);
+  ASSERT_TRUE(WaitFor([&] { return StatusOf(client).message() == "replay finished"; }));
+  const LinkStatus st = StatusOf(client);
+  EXPECT_EQ(st.state(), REPLAYING);
+  EXPECT_EQ(st.readings(), rec->readings.size());
+  EXPECT_EQ(replay.Stop(), 0);
+  std::filesystem::remove(recording);
+}
+
+TEST(VoiceDaemon, RecogniserGrammarFollowsTheStateRequest) {
+  DaemonProcess daemon(
+      "igms-voiced",
+      {"--wav", std::string(std::getenv("IGMS_SOURCE_DIR")) + "/README.md", "--port", "0"});
+  EXPECT_EQ(daemon.WaitExit(), 1);  // not a sound file: a clear error, no crash
+  EXPECT_NE(daemon.Log().find("README.md"), std::string::npos) << daemon.Log();
+
+  DaemonProcess bad("igms-voiced", {"--microphone", "--simulate", "--port", "0"});
+  EXPECT_EQ(bad.WaitExit(), 2);
+
+  // The recogniser with no input of its own: spoken phrases come from the sim service.
+  const std::string wav = testing::TempPath("freeze.wav");
+  ASSERT_EQ(std::system(("espeak-ng -v en-us -w " + wav + " freeze").c_str()), 0);
+  DaemonProcess recogniser("igms-voiced", {"--wav", wav, "--wav-interval-ms", "0", "--port", "0"});
+  const uint16_t port = recogniser.WaitForPort(60s);
+  ASSERT_NE(port, 0) << recogniser.Log();
+  Connected client(port);
+  testing::Collected<VoiceState> got;
+  client->Subscribe<VoiceState>("igms.devices.VoiceService.Live", SubscribeRequest(),
+                                [&](const VoiceState& s) { got.Add(s); });
+  // The file: "freeze", heard in verification.
+  ASSERT_TRUE(WaitFor([&] { return got.size() == 1; }, 30s)) << recogniser.Log();
+  EXPECT_EQ(got.last().command(), VOICE_FREEZE);
+  EXPECT_GT(got.last().confidence(), 0.0);
+  EXPECT_GT(got.last().stamp().device_time_us(), 0u);
+  // The control client says the system is back in verification: "box" is not valid there
+  // and is rejected; once the type is awaited it is taken.
+  ASSERT_TRUE(SetState(client, VERIFICATION).ok());
+  ASSERT_TRUE(Say(client, "box").ok());
+  ASSERT_TRUE(WaitFor(
+      [&] { return StatusOf(client).message().find("1 rejected") != std::string::npos; }, 30s))
+      << StatusOf(client).message();
+  EXPECT_NE(StatusOf(client).message().find("not valid in state verification"), std::string::npos);
+  EXPECT_EQ(got.size(), 1u);
+  ASSERT_TRUE(SetState(client, AWAITING_OBJECT_TYPE).ok());
+  ASSERT_TRUE(Say(client, "box").ok());
+  ASSERT_TRUE(WaitFor([&] { return got.size() == 2; }, 30s)) << StatusOf(client).message();
+  EXPECT_EQ(got.last().command(), VOICE_BOX);
+  EXPECT_EQ(got.last().state(), AWAITING_OBJECT_TYPE);
+  EXPECT_EQ(Inject(client,
+                   [] {
+                     SimInjectRequest r;
+                     r.mutable_fault()->set_garbage_bytes(3);
+                     return r;
+                   }())
+                .code,
+            igms::BAD_REQUEST);
+  EXPECT_EQ(recogniser.Stop(), 0);
+  std::filesystem::remove(wav);
+}
+
+}  // namespace
+}  // namespace igms::devices
