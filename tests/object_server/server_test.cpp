@@ -184,14 +184,17 @@ TEST_F(ObjectServerTest, BadRequestsAndUnknownFrames) {
   got = client->CallSync<LocateResponse>(kLocate, unknown, 10s);
   EXPECT_EQ(got.status.code, igms::NOT_FOUND) << got.status.message;
 
-  // A range with no ranger in the server's calibration: located all the same, and said so.
+  // A range: the calibration's ranger map (nominal) makes it used and checked against the
+  // located object, whether or not the beam meets that object.
   LocateRequest ranged = good;
   ranged.set_range(50);
   got = client->CallSync<LocateResponse>(kLocate, ranged, 60s);
   ASSERT_TRUE(got.ok()) << got.status.message;
-  EXPECT_FALSE(got.value.range().used());
-  EXPECT_NE(got.value.range().detail().find("no ranger map"), std::string::npos)
-      << got.value.range().detail();
+  EXPECT_TRUE(got.value.range().used());
+  EXPECT_EQ(got.value.range().measured(), 50);
+  if (got.value.found()) {
+    EXPECT_TRUE(got.value.range().agrees() || !got.value.range().detail().empty());
+  }
   LocateRequest negative = good;
   negative.set_range(-1);
   got = client->CallSync<LocateResponse>(kLocate, negative, 10s);
