@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
       spdlog::critical("{}", error);
       return 2;
     }
+    error.clear();
     auto platform = igms::video::ConfiguredPlatformFollow(*process, &error);
     if (!error.empty()) {
       spdlog::critical("{}", error);

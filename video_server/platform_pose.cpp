@@ -19,8 +19,8 @@ PoseStamp PoseFromPlatformState(const devices::PlatformState& state,
                            static_cast<double>(state.roll_ticks())};
   if (model) {
     for (size_t i = 0; i < 3; ++i) {
-      pose.joints_rad[i] = i < model->joints.size() ? ticks[i] * model->joints[i].radians_per_tick
-                                                    : 0.0;
+      pose.joints_rad[i] =
+          i < model->joints.size() ? ticks[i] * model->joints[i].radians_per_tick : 0.0;
     }
   } else {
     constexpr double kRad = M_PI / 180.0;
@@ -29,8 +29,8 @@ PoseStamp PoseFromPlatformState(const devices::PlatformState& state,
   return pose;
 }
 
-std::optional<PlatformFollowOptions> ConfiguredPlatformFollow(
-    const config::ProcessOptions& process, std::string* error) {
+std::optional<PlatformFollowOptions> ConfiguredPlatformFollow(const config::ProcessOptions& process,
+                                                              std::string* error) {
   const std::string name = process.Get<std::string>("platform", "");
   if (name.empty()) return std::nullopt;
   PlatformFollowOptions options;
@@ -65,8 +65,9 @@ PlatformPoseFollower::PlatformPoseFollower(boost::asio::io_context& io,
 PlatformPoseFollower::~PlatformPoseFollower() { Stop(); }
 
 void PlatformPoseFollower::Start() {
-  client_.OnStateChange(
-      [this](net::ConnectionState state, const std::string& reason) { OnConnection(state, reason); });
+  client_.OnStateChange([this](net::ConnectionState state, const std::string& reason) {
+    OnConnection(state, reason);
+  });
   client_.Start();
   client_.Subscribe<devices::PlatformState>(
       "igms.devices.PlatformService.Live", devices::SubscribeRequest(),
@@ -103,12 +104,12 @@ void PlatformPoseFollower::OnConnection(net::ConnectionState state, const std::s
   } else if (state == net::ConnectionState::kDisconnected && !reported_loss_) {
     reported_loss_ = true;
     if (pose_.from_platform) {
-      spdlog::warn("lost the {} ({}); grabs go on at the last known pose ({:.4f}, {:.4f}, "
-                   "{:.4f} rad) while it reconnects",
-                   where, reason, pose_.joints_rad[0], pose_.joints_rad[1], pose_.joints_rad[2]);
+      spdlog::warn(
+          "lost the {} ({}); grabs go on at the last known pose ({:.4f}, {:.4f}, "
+          "{:.4f} rad) while it reconnects",
+          where, reason, pose_.joints_rad[0], pose_.joints_rad[1], pose_.joints_rad[2]);
     } else {
-      spdlog::warn("no {} ({}); grabs go on at the zero pose while it reconnects", where,
-                   reason);
+      spdlog::warn("no {} ({}); grabs go on at the zero pose while it reconnects", where, reason);
     }
   }
 }

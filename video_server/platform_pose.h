@@ -46,8 +46,8 @@ struct PlatformFollowOptions {
 // The follow options the lab configuration gives process `process`: nullopt when its section
 // names no platform (the pose stays zero), or when it is misconfigured (`error` set, naming
 // the key).
-std::optional<PlatformFollowOptions> ConfiguredPlatformFollow(
-    const config::ProcessOptions& process, std::string* error);
+std::optional<PlatformFollowOptions> ConfiguredPlatformFollow(const config::ProcessOptions& process,
+                                                              std::string* error);
 
 class PlatformPoseFollower {
  public:

@@ -37,16 +37,16 @@ site::StereoCameras CamerasAtPose(const site::StereoCameras& cameras,
 std::unique_ptr<CaptureBackend> MakeSimCapture(site::Scene scene, std::string origin,
                                                std::optional<geometry::PlatformModel> platform) {
   const auto size = scene.cameras.left.image_size();
-  std::string description = fmt::format(
-      "sim: {} ({} objects, {}x{}, seed {}, {})", origin, scene.objects.size(), size.width,
-      size.height, scene.sensor.seed,
-      platform ? fmt::format("{}-joint platform model", platform->joints.size())
-               : std::string("no platform model"));
+  std::string description =
+      fmt::format("sim: {} ({} objects, {}x{}, seed {}, {})", origin, scene.objects.size(),
+                  size.width, size.height, scene.sensor.seed,
+                  platform ? fmt::format("{}-joint platform model", platform->joints.size())
+                           : std::string("no platform model"));
   // The renderer keeps no state; the scene is captured by value and only its cameras move.
   auto warned = std::make_shared<bool>(false);
   return std::make_unique<RenderCapture>(
-      std::move(description), [scene = std::move(scene), platform = std::move(platform),
-                               warned](const PoseStamp& pose) {
+      std::move(description),
+      [scene = std::move(scene), platform = std::move(platform), warned](const PoseStamp& pose) {
         if (!platform && !pose.IsZero() && !*warned) {
           *warned = true;
           spdlog::warn(

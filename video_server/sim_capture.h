@@ -52,8 +52,8 @@ site::StereoCameras CamerasAtPose(const site::StereoCameras& cameras,
 struct SimSceneChoice {
   std::optional<site::Scene> scene;
   std::optional<geometry::PlatformModel> platform;  // the calibration's, when it has one
-  std::string origin;  // "default testbed" or the scene file's path
-  std::string error;   // set when scene is empty; names the key at fault
+  std::string origin;                               // "default testbed" or the scene file's path
+  std::string error;  // set when scene is empty; names the key at fault
 };
 
 // The scene the lab configuration describes for process `process` (see above): the scene

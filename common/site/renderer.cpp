@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 namespace igms::site {
 namespace {
@@ -33,25 +34,32 @@ class Tracer {
     for (const auto& light : scene.lighting.lights)
       lights_.push_back({light.direction.normalized(), light.intensity});
     for (const auto& object : scene.objects) rects_.push_back(ImageRect(object.shape, camera));
+    table_shade_ = Shade(Eigen::Vector3d::UnitZ());
     const Eigen::Vector3d a = (minv_ * Eigen::Vector3d(size_.width / 2.0, size_.height / 2.0, 1)).normalized();
     const Eigen::Vector3d b = (minv_ * Eigen::Vector3d(size_.width / 2.0 + 1, size_.height / 2.0, 1)).normalized();
     pixel_angle_ = std::acos(std::clamp(a.dot(b), -1.0, 1.0));
   }
 
-  Sample Trace(double u, double v) const {
+  // The surface and radiance seen through image point (u, v), testing only the solids listed
+  // in `objects` (indices into the scene; a caller lists those whose rectangles may matter).
+  // `table_radiance`, when not negative, is used for a sample that lands on the table instead
+  // of filtering the hole texture at that sample (see Supersample).
+  Sample Trace(double u, double v, const int* objects, int object_count,
+               float table_radiance = -1.0f) const {
     Eigen::Vector3d d = sign_ * (minv_ * Eigen::Vector3d(u, v, 1.0));
     d.normalize();
     double best_t = std::numeric_limits<double>::infinity();
     int key = kBackground;
     Eigen::Vector3d normal;
     double albedo = 0;
-    for (size_t i = 0; i < rects_.size(); ++i) {
+    for (int k = 0; k < object_count; ++k) {
+      const int i = objects[k];
       const cv::Rect2d& r = rects_[i];
       if (u < r.x || u > r.x + r.width || v < r.y || v > r.y + r.height) continue;
       auto hit = Intersect(scene_.objects[i].shape, center_, d);
       if (hit && hit->t < best_t) {
         best_t = hit->t;
-        key = static_cast<int>(i) * 8 + hit->face;
+        key = i * 8 + hit->face;
         normal = hit->normal;
         albedo = scene_.objects[i].albedo;
       }
@@ -63,10 +71,8 @@ class Tracer {
         const Eigen::Vector3d p = center_ + t * d;
         if (p.x() >= table.x_min && p.x() <= table.x_max && p.y() >= table.y_min &&
             p.y() <= table.y_max) {
-          key = kTable;
-          normal = Eigen::Vector3d::UnitZ();
-          albedo = TableAlbedo(p, t, d);
-          best_t = t;
+          if (table_radiance >= 0.0f) return {kTable, table_radiance};
+          return {kTable, static_cast<float>(255.0 * TableAlbedo(p, t, d) * table_shade_)};
         }
       }
     }
@@ -74,6 +80,27 @@ class Tracer {
     return {key, static_cast<float>(255.0 * albedo * Shade(normal))};
   }
 
+  // The table's radiance filtered over pixel (x, y)'s footprint, as the pixel-centre ray sees
+  // it, whether or not that ray lands inside the table; -1 when it misses the plane.
+  float TableRadianceAt(int x, int y) const {
+    Eigen::Vector3d d = sign_ * (minv_ * Eigen::Vector3d(x, y, 1.0));
+    d.normalize();
+    if (!scene_.table.enabled || center_.z() <= 0 || d.z() >= 0) return -1.0f;
+    const double t = -center_.z() / d.z();
+    return static_cast<float>(255.0 * TableAlbedo(center_ + t * d, t, d) * table_shade_);
+  }
+
+  // Solids whose padded image rectangle meets the square [x0, x1] x [y0, y1], into `out`.
+  int ObjectsMeeting(double x0, double x1, double y0, double y1, int* out) const {
+    int n = 0;
+    for (size_t i = 0; i < rects_.size(); ++i) {
+      const cv::Rect2d& r = rects_[i];
+      if (x1 < r.x || x0 > r.x + r.width || y1 < r.y || y0 > r.y + r.height) continue;
+      out[n++] = static_cast<int>(i);
+    }
+    return n;
+  }
+  size_t object_count() const { return rects_.size(); }
 
  private:
   struct DirLight {
@@ -90,9 +117,14 @@ class Tracer {
     const double dx = p.x() - table.hole_origin.x(), dy = p.y() - table.hole_origin.y();
     const double rx = dx - table.hole_pitch * std::floor(dx / table.hole_pitch + 0.5);
     const double ry = dy - table.hole_pitch * std::floor(dy / table.hole_pitch + 0.5);
-    const double rho = std::sqrt(rx * rx + ry * ry);
     const double across = t * pixel_angle_;
     const double along = across / std::max(0.02, std::abs(d.z()));
+    // The footprint's extent below never exceeds `along`: beyond hole_radius + along / 2 the
+    // coverage clamps to zero, so most of the table skips the filter.
+    const double reach = table.hole_radius + 0.5 * along;
+    const double rho2 = rx * rx + ry * ry;
+    if (rho2 > reach * reach) return table.albedo;
+    const double rho = std::sqrt(rho2);
     // Footprint extent in the direction from the hole centre (d's horizontal part is along).
     const Eigen::Vector2d h = Eigen::Vector2d(d.x(), d.y()).normalized();
     const double c = rho > 1e-12 ? std::abs(h.x() * rx + h.y() * ry) / rho : 1.0;
@@ -134,18 +166,32 @@ class Tracer {
   Eigen::Vector3d center_;
   double sign_ = 1;
   double pixel_angle_ = 0.001;
+  double table_shade_ = 1.0;
   std::vector<DirLight> lights_;
   std::vector<cv::Rect2d> rects_;
 };
 
+std::vector<int>& ScratchObjects(size_t size) {
+  thread_local std::vector<int> objects;
+  if (objects.size() < size) objects.resize(size);
+  return objects;
+}
+
+// The mean radiance over pixel (x, y) from n x n sheared-grid samples. Only the solids whose
+// rectangles meet the pixel are tested, and samples that land on the table take the table's
+// radiance filtered over the whole pixel's footprint (the texture filter already integrates
+// the footprint; filtering it again around every sample would blur the holes twice).
 float Supersample(const Tracer& tracer, int x, int y, int n) {
+  std::vector<int>& objects = ScratchObjects(tracer.object_count());
+  const int count = tracer.ObjectsMeeting(x - 0.5, x + 0.5, y - 0.5, y + 0.5, objects.data());
+  const float table = tracer.TableRadianceAt(x, y);
   double sum = 0;
   const double inv = 1.0 / (n * n);
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
       const double du = (i * n + j + 0.5) * inv - 0.5;
       const double dv = (j * n + i + 0.5) * inv - 0.5;
-      sum += tracer.Trace(x + du, y + dv).radiance;
+      sum += tracer.Trace(x + du, y + dv, objects.data(), count, table).radiance;
     }
   }
   return static_cast<float>(sum * inv);
@@ -156,6 +202,8 @@ float Supersample(const Tracer& tracer, int x, int y, int n) {
 std::string RenderOptions::Check() const {
   if (edge_samples_object < 1 || edge_samples_object > 32)
     return "edge_samples_object must be in 1..32";
+  if (edge_samples_table < 1 || edge_samples_table > 32)
+    return "edge_samples_table must be in 1..32";
   return "";
 }
 
@@ -165,11 +213,14 @@ cv::Mat RenderRadiance(const Scene& scene, const geometry::ProjectiveCamera& cam
   const Tracer tracer(scene, camera);
   cv::Mat keys(size.height, size.width, CV_32S);
   cv::Mat radiance(size.height, size.width, CV_32F);
+  std::vector<int> objects(tracer.object_count());
   for (int y = 0; y < size.height; ++y) {
     int* k = keys.ptr<int>(y);
     float* r = radiance.ptr<float>(y);
+    // Solids whose rectangles meet this row; each pixel then tests only those.
+    const int count = tracer.ObjectsMeeting(-1e18, 1e18, y, y, objects.data());
     for (int x = 0; x < size.width; ++x) {
-      const Sample s = tracer.Trace(x, y);
+      const Sample s = tracer.Trace(x, y, objects.data(), count);
       k[x] = s.key;
       r[x] = s.radiance;
     }
@@ -183,7 +234,10 @@ cv::Mat RenderRadiance(const Scene& scene, const geometry::ProjectiveCamera& cam
       const int c = k[x];
       const int l = k[std::max(0, x - 1)], rt = k[std::min(size.width - 1, x + 1)];
       if (c == l && c == rt && c == up[x] && c == down[x]) continue;
-      r[x] = Supersample(tracer, x, y, options.edge_samples_object);
+      // Solid keys are >= 0; a change between table and background alone takes fewer samples.
+      const bool solid = c >= 0 || l >= 0 || rt >= 0 || up[x] >= 0 || down[x] >= 0;
+      r[x] = Supersample(tracer, x, y,
+                         solid ? options.edge_samples_object : options.edge_samples_table);
     }
   }
   return radiance;

@@ -7,9 +7,14 @@
 // Anti-aliasing: a pixel whose centre sample sees a different surface than one of its four
 // neighbours is resampled on an N x N "sheared" grid whose N*N samples all have distinct u
 // and distinct v offsets, so a straight edge's coverage is measured to 1/N^2 of a pixel in
-// both directions (N = 8 near solids: 1/64 px). A pixel integrates over its square
+// both directions (N = 8 near solids: 1/64 px; N = 4 where only the table's edge and the
+// background meet, an edge nothing is located from). A pixel integrates over its square
 // footprint (a box filter), so in the noiseless, unblurred image the 50% grey-level
-// crossing of a step edge is where the edge is.
+// crossing of a step edge is where the edge is. Samples that land on the table share the
+// hole texture filtered once over the pixel's footprint.
+//
+// Cost: each solid is tested only inside its projected bounding rectangle (per row for the
+// pixel-centre rays, per pixel for the supersamples).
 //
 // Cameras: any 3x4 P (common/geometry/camera.h); pass a P already moved by the camera
 // platform's pose to render the panned view.
@@ -22,7 +27,8 @@
 namespace igms::site {
 
 struct RenderOptions {
-  int edge_samples_object = 8;  // N for pixels where the surface changes
+  int edge_samples_object = 8;  // N for pixels where the surface changes next to a solid
+  int edge_samples_table = 4;   // N where only the table's edge and the background meet
   bool apply_sensor = true;     // false: the noiseless, unblurred radiance, rounded to 8 bits
   // Returns an empty string when valid, else what is wrong.
   std::string Check() const;

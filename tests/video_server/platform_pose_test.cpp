@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <mutex>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <regex>
 #include <sstream>
@@ -19,6 +20,7 @@
 #include "igms/devices.pb.h"
 #include "igms/video.pb.h"
 #include "tests/video_server/server_process.h"
+#include "tests/video_server/test_data.h"
 #include "video_server/proto_convert.h"
 #include "video_server/sim_capture.h"
 
@@ -61,8 +63,8 @@ bool WaitFor(F done, std::chrono::milliseconds timeout = 15s) {
 class PlatformDaemon {
  public:
   explicit PlatformDaemon(const ScratchDir& scratch) : log_(scratch.File("platformd.log")) {
-    std::vector<std::string> argv = {testing::BinDir() + "/igms-platformd", "--simulate",
-                                     "--port", "0"};
+    std::vector<std::string> argv = {testing::BinDir() + "/igms-platformd", "--simulate", "--port",
+                                     "0"};
     std::vector<char*> raw;
     for (auto& a : argv) raw.push_back(a.data());
     raw.push_back(nullptr);
@@ -103,12 +105,12 @@ class PlatformDaemon {
 class PlatformWatch {
  public:
   explicit PlatformWatch(TestClient& client) {
-    client->Subscribe<devices::PlatformState>(
-        kPlatform + "Live", devices::SubscribeRequest(), [this](const devices::PlatformState& s) {
-          std::lock_guard lock(mutex_);
-          last_ = s;
-          ++count_;
-        });
+    client->Subscribe<devices::PlatformState>(kPlatform + "Live", devices::SubscribeRequest(),
+                                              [this](const devices::PlatformState& s) {
+                                                std::lock_guard lock(mutex_);
+                                                last_ = s;
+                                                ++count_;
+                                              });
   }
   devices::PlatformState last() {
     std::lock_guard lock(mutex_);
@@ -140,14 +142,17 @@ site::Scene OneSphereScene() {
 }
 
 // The lab: the platform daemon at `platform_port`, the video server's section naming it.
-std::string WriteLab(const ScratchDir& scratch, uint16_t platform_port) {
-  const std::string scene = scratch.File("scene.yaml");
-  std::ofstream(scene) << site::SceneToYaml(OneSphereScene());
+// `backend`: the video section's backend lines (the one-sphere site by default).
+std::string WriteLab(const ScratchDir& scratch, uint16_t platform_port, std::string backend = "") {
+  if (backend.empty()) {
+    const std::string scene = scratch.File("scene.yaml");
+    std::ofstream(scene) << site::SceneToYaml(OneSphereScene());
+    backend = "    backend: sim\n    sim: {scene: " + scene + "}\n";
+  }
   const std::string path = scratch.File("lab.yaml");
   std::ofstream(path) << "lab:\n  calibration: " << CalibrationPath()
                       << "\nprocesses:\n  video:\n    program: igms-video-server\n"
-                      << "    backend: sim\n    sim: {scene: " << scene << "}\n"
-                      << "    platform: platform\n"
+                      << backend << "    platform: platform\n"
                       << "  platform:\n    program: igms-platformd\n    host: 127.0.0.1\n"
                       << "    port: " << platform_port << "\n    serial: simulate\n";
   return path;
@@ -221,8 +226,8 @@ TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
   devices::SetOrientationRequest set;
   set.set_yaw_ticks(543);
   set.set_pitch_ticks(57);
-  auto moved = platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation",
-                                                                   set, 5s);
+  auto moved =
+      platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation", set, 5s);
   ASSERT_TRUE(moved.ok()) << moved.status.message;
   ASSERT_TRUE(WaitFor([&] {
     const auto s = watch.last();
@@ -316,10 +321,11 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
     devices::SetOrientationRequest set;
     set.set_yaw_ticks(-800);
     ASSERT_TRUE(WaitFor([&] { return watch.count() > 0; }));
-    ASSERT_TRUE(platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation",
-                                                                    set, 5s)
-                    .ok());
-    ASSERT_TRUE(WaitFor([&] { return !watch.last().moving() && watch.last().yaw_ticks() == -800; }));
+    ASSERT_TRUE(
+        platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation", set, 5s)
+            .ok());
+    ASSERT_TRUE(
+        WaitFor([&] { return !watch.last().moving() && watch.last().yaw_ticks() == -800; }));
   }
   TestClient video(port);
   Grabbed before;
@@ -338,8 +344,8 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
     EXPECT_EQ(cv::norm(after.left, before.left, cv::NORM_INF), 0.0);
     std::this_thread::sleep_for(300ms);  // across a few reconnection attempts
   }
-  ASSERT_TRUE(WaitFor([&] { return ReadFile(log).find("lost the platform daemon") !=
-                                   std::string::npos; }));
+  ASSERT_TRUE(
+      WaitFor([&] { return ReadFile(log).find("lost the platform daemon") != std::string::npos; }));
   const std::string text = ReadFile(log);
   size_t losses = 0;
   for (size_t at = text.find("lost the platform"); at != std::string::npos;
@@ -347,6 +353,51 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
     ++losses;
   }
   EXPECT_EQ(losses, 1u) << text;
+  EXPECT_EQ(server.Stop(), 0);
+}
+
+TEST(PlatformPose, FilesBackendPassesThePoseThrough) {
+  IGMS_REQUIRE_OPENCV_DATA();
+  ScratchDir scratch;
+  PlatformDaemon platformd(scratch);
+  const uint16_t platform_port = platformd.WaitPort();
+  ASSERT_NE(platform_port, 0) << platformd.Log();
+  const std::string backend =
+      "    backend: files\n    files: {left: " + testing::OpenCvData("left01.jpg") +
+      ", right: " + testing::OpenCvData("right01.jpg") + "}\n";
+  const std::string log = scratch.File("video.log");
+  ServerProcess server(scratch, {"--config", WriteLab(scratch, platform_port, backend)}, log);
+  const uint16_t port = server.WaitPort();
+  ASSERT_NE(port, 0) << ReadFile(log);
+  TestClient platform(platform_port);
+  PlatformWatch watch(platform);
+  devices::SetOrientationRequest set;
+  set.set_yaw_ticks(-2714);  // 10 degrees right
+  set.set_roll_ticks(30);
+  ASSERT_TRUE(WaitFor([&] { return watch.count() > 0; }));
+  ASSERT_TRUE(
+      platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation", set, 5s)
+          .ok());
+  ASSERT_TRUE(WaitFor([&] {
+    const auto s = watch.last();
+    return !s.moving() && s.yaw_ticks() == -2714 && s.roll_ticks() == 30;
+  }));
+  const auto calibration = calibration::LoadCalibration(CalibrationPath());
+  ASSERT_TRUE(calibration && calibration->platform);
+  TestClient video(port);
+  Grabbed grabbed;
+  ASSERT_TRUE(WaitFor([&] {
+    grabbed = Grab(video);
+    return grabbed.pose.joints_rad_size() == 3 && grabbed.pose.joints_rad(0) < 0.0 &&
+           grabbed.pose.joints_rad(2) != 0.0;
+  }));
+  EXPECT_TRUE(grabbed.pose.from_platform());
+  EXPECT_EQ(grabbed.pose.joints_rad(0), -2714 * calibration->platform->joints[0].radians_per_tick);
+  EXPECT_EQ(grabbed.pose.joints_rad(1), 0.0);
+  EXPECT_EQ(grabbed.pose.joints_rad(2), 30 * calibration->platform->joints[2].radians_per_tick);
+  // The images are the files, untouched by the pose.
+  const cv::Mat left = cv::imread(testing::OpenCvData("left01.jpg"), cv::IMREAD_GRAYSCALE);
+  EXPECT_EQ(cv::norm(left, grabbed.left, cv::NORM_INF), 0.0);
   EXPECT_EQ(server.Stop(), 0);
 }
 
@@ -371,6 +422,16 @@ TEST(PlatformPose, NoPlatformDaemonListeningGrabsAtTheZeroPose) {
   EXPECT_EQ(Joints(grabbed.pose), std::vector<double>(3, 0.0));
   ASSERT_FALSE(grabbed.left.empty());
   EXPECT_EQ(server.Stop(), 0);
+}
+
+TEST(PlatformPose, NamingAProcessTheLabDoesNotHaveIsAConfigurationError) {
+  ScratchDir scratch;
+  const std::string log = scratch.File("video.log");
+  ServerProcess server(
+      scratch,
+      {"--set", "processes.video.backend=sim", "--set", "processes.video.platform=nowhere"}, log);
+  EXPECT_EQ(server.WaitExit(20s), 2);
+  EXPECT_NE(ReadFile(log).find("processes.video.platform"), std::string::npos) << ReadFile(log);
 }
 
 }  // namespace
