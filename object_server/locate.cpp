@@ -525,6 +525,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     b.texture_rect = cv::Rect(cv::Point(static_cast<int>(std::floor(u0)), static_cast<int>(std::floor(v0))),
                               cv::Point(static_cast<int>(std::ceil(u1)) + 1, static_cast<int>(std::ceil(v1)) + 1)) &
                      image_rect;
+    // The patch for texture mapping (3.8.2), in the left image's own colours, ideal pixels.
+    if (!b.texture_rect.empty()) b.texture = Ideal(in.left, in.left_camera)(b.texture_rect).clone();
   }
   if (in.range) CheckRange(in, opt, x, &res.range);
   res.found = true;

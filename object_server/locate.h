@@ -101,6 +101,7 @@ struct BoxResult {
   Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();
   Eigen::Vector3d min_sigma = Eigen::Vector3d::Zero(), max_sigma = Eigen::Vector3d::Zero();
   cv::Rect texture_rect;  // the box's pixels in the left image (min/max u, v), for texturing
+  cv::Mat texture;        // those pixels of the left image (as given: grey or BGR)
 };
 
 // What the locator saw, for a person (debug images): filled when LocateInput::want_trace.

@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "igms/video.pb.h"
 #include "video_server/proto_convert.h"
@@ -79,6 +81,9 @@ void ResultToProto(const LocateResult& r, igms::object::LocateResponse* out) {
     b->set_texture_v0(r.box.texture_rect.y);
     b->set_texture_u1(r.box.texture_rect.x + r.box.texture_rect.width - 1);
     b->set_texture_v1(r.box.texture_rect.y + r.box.texture_rect.height - 1);
+    std::vector<uint8_t> png;
+    if (!r.box.texture.empty() && cv::imencode(".png", r.box.texture, png, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+      b->set_texture_png(png.data(), png.size());
   }
   out->set_boundary_pixels(r.boundary_pixels);
   out->set_ssd_rms(r.ssd_rms);
