@@ -9,13 +9,15 @@
 namespace igms::object {
 namespace {
 
-const cv::Scalar kYellow(0, 230, 255), kMagenta(255, 0, 255), kBlue(255, 140, 0),
-    kGreen(0, 220, 0), kRed(0, 0, 255), kWhite(255, 255, 255);
+const cv::Scalar kYellow(0, 230, 255), kMagenta(255, 0, 255), kBlue(255, 140, 0), kGreen(0, 220, 0),
+    kRed(0, 0, 255), kWhite(255, 255, 255);
 
 cv::Mat Bgr(const cv::Mat& img) {
   cv::Mat out;
-  if (img.channels() == 1) cv::cvtColor(img, out, cv::COLOR_GRAY2BGR);
-  else out = img.clone();
+  if (img.channels() == 1)
+    cv::cvtColor(img, out, cv::COLOR_GRAY2BGR);
+  else
+    out = img.clone();
   return out;
 }
 
@@ -25,8 +27,8 @@ cv::Point2f Map(const Eigen::Vector2d& p, const cv::Rect& region, double scale) 
           static_cast<float>((p.y() - region.y + 0.5) * scale - 0.5)};
 }
 
-void Polygon(cv::Mat& img, const std::vector<Eigen::Vector2d>& pts, const cv::Rect& region, double scale,
-             const cv::Scalar& colour) {
+void Polygon(cv::Mat& img, const std::vector<Eigen::Vector2d>& pts, const cv::Rect& region,
+             double scale, const cv::Scalar& colour) {
   if (pts.size() < 2) return;
   constexpr int kShift = 4;  // sub-pixel drawing
   std::vector<cv::Point> poly;
@@ -51,14 +53,16 @@ cv::Rect Neighbourhood(const std::vector<Eigen::Vector2d>& a, const std::vector<
   if (u0 > u1) return cv::Rect(0, 0, size.width, size.height);
   const int pad = 8;
   const cv::Rect r(static_cast<int>(std::floor(u0)) - pad, static_cast<int>(std::floor(v0)) - pad,
-                   static_cast<int>(std::ceil(u1 - u0)) + 2 * pad + 1, static_cast<int>(std::ceil(v1 - v0)) + 2 * pad + 1);
+                   static_cast<int>(std::ceil(u1 - u0)) + 2 * pad + 1,
+                   static_cast<int>(std::ceil(v1 - v0)) + 2 * pad + 1);
   const cv::Rect clipped = r & cv::Rect(0, 0, size.width, size.height);
   return clipped.empty() ? cv::Rect(0, 0, size.width, size.height) : clipped;
 }
 
 cv::Mat Zoom(const cv::Mat& bgr, const cv::Rect& region, const cv::Size& box, double* scale) {
-  *scale = std::clamp(std::floor(std::min(double(box.width) / region.width, double(box.height) / region.height)),
-                      1.0, 6.0);
+  *scale = std::clamp(
+      std::floor(std::min(double(box.width) / region.width, double(box.height) / region.height)),
+      1.0, 6.0);
   cv::Mat out;
   cv::resize(bgr(region), out, cv::Size(), *scale, *scale, cv::INTER_NEAREST);
   return out;
@@ -71,12 +75,14 @@ std::string Caption(const LocateResult& r) {
   } else if (r.type == SolidType::kCylinder) {
     const auto& c = r.cylinder;
     std::snprintf(buf, sizeof buf,
-                  "cylinder: centre (%.2f %.2f %.2f) axis (%.2f %.2f %.2f) radius %.3f height %.3f; rms %.2f/%.2f px",
-                  c.center.x(), c.center.y(), c.center.z(), c.axis.x(), c.axis.y(), c.axis.z(), c.radius, c.height,
-                  r.rms_left_px, r.rms_right_px);
+                  "cylinder: centre (%.2f %.2f %.2f) axis (%.2f %.2f %.2f) radius %.3f height "
+                  "%.3f; rms %.2f/%.2f px",
+                  c.center.x(), c.center.y(), c.center.z(), c.axis.x(), c.axis.y(), c.axis.z(),
+                  c.radius, c.height, r.rms_left_px, r.rms_right_px);
   } else {
     const Eigen::Vector3d s = r.box.max - r.box.min, c = 0.5 * (r.box.max + r.box.min);
-    std::snprintf(buf, sizeof buf, "box: centre (%.2f %.2f %.2f) size %.3f x %.3f x %.3f; rms %.2f/%.2f px", c.x(),
+    std::snprintf(buf, sizeof buf,
+                  "box: centre (%.2f %.2f %.2f) size %.3f x %.3f x %.3f; rms %.2f/%.2f px", c.x(),
                   c.y(), c.z(), s.x(), s.y(), s.z(), r.rms_left_px, r.rms_right_px);
   }
   return buf;
@@ -115,16 +121,18 @@ cv::Mat DebugImage(const LocateInput& in, const LocateResult& r) {
     const cv::Rect place(v * w, caption_h + h, std::min(zoom.cols, w), std::min(zoom.rows, zoom_h));
     zoom(cv::Rect(0, 0, place.width, place.height)).copyTo(canvas(place));
     char label[128];
-    std::snprintf(label, sizeof label, "%s x%.0f (u %d..%d, v %d..%d)", v == 0 ? "left" : "right", scale, region.x,
-                  region.x + region.width - 1, region.y, region.y + region.height - 1);
-    cv::putText(canvas, label, cv::Point(v * w + 6, caption_h + h + 16), cv::FONT_HERSHEY_SIMPLEX, 0.45, kWhite, 1,
-                cv::LINE_AA);
+    std::snprintf(label, sizeof label, "%s x%.0f (u %d..%d, v %d..%d)", v == 0 ? "left" : "right",
+                  scale, region.x, region.x + region.width - 1, region.y,
+                  region.y + region.height - 1);
+    cv::putText(canvas, label, cv::Point(v * w + 6, caption_h + h + 16), cv::FONT_HERSHEY_SIMPLEX,
+                0.45, kWhite, 1, cv::LINE_AA);
   }
   const std::string caption = Caption(r);
-  cv::putText(canvas, caption.substr(0, 110), cv::Point(6, 17), cv::FONT_HERSHEY_SIMPLEX, 0.45, kWhite, 1,
-              cv::LINE_AA);
+  cv::putText(canvas, caption.substr(0, 110), cv::Point(6, 17), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+              kWhite, 1, cv::LINE_AA);
   const std::string legend =
-      "yellow: marks  blue: strong edges  green/red: measured edge points used/rejected  magenta: fitted outline";
+      "yellow: marks  blue: strong edges  green/red: measured edge points used/rejected  magenta: "
+      "fitted outline";
   cv::putText(canvas, caption.size() > 110 ? caption.substr(110, 110) : legend, cv::Point(6, 36),
               cv::FONT_HERSHEY_SIMPLEX, 0.45, kWhite, 1, cv::LINE_AA);
   return canvas;

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
 
 #include "common/site/marks.h"
 #include "common/site/renderer.h"
 #include "object_server/debug_image.h"
-#include <opencv2/imgcodecs.hpp>
 
 namespace igms::object {
 
@@ -44,7 +44,8 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
     in.want_trace = !debug_dir.empty();
     e.result = Locate(in, options);
     if (!debug_dir.empty())
-      cv::imwrite(debug_dir + "/" + scene_name + "_" + object.name + ".png", DebugImage(in, e.result));
+      cv::imwrite(debug_dir + "/" + scene_name + "_" + object.name + ".png",
+                  DebugImage(in, e.result));
     const Eigen::Vector3d eye = scene.cameras.left.Center();
     if (cyl) {
       e.lying = std::abs(cyl->axis.z()) < 0.7;

@@ -64,7 +64,8 @@ float Gradients::MagnitudeAt(int x, int y) const {
   return std::hypot(gx_.at<float>(y, x), gy_.at<float>(y, x));
 }
 
-std::vector<cv::Point> StrongEdgePixels(const Gradients& grad, const std::vector<cv::Point2f>& polygon,
+std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
+                                        const std::vector<cv::Point2f>& polygon,
                                         const cv::Mat& edges, double fraction, double min_gradient,
                                         double* strongest) {
   const cv::Rect box = cv::boundingRect(polygon) & grad.region();
@@ -165,8 +166,10 @@ SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect p
   const Eigen::Vector2d& offset_lo = a;
   const Eigen::Vector2d& offset_hi = b;
   const Eigen::Vector2d lo = offset_lo.cwiseMin(offset_hi), hi = offset_lo.cwiseMax(offset_hi);
-  const int ox0 = static_cast<int>(std::floor(lo.x())) - 1, oy0 = static_cast<int>(std::floor(lo.y())) - 1;
-  const int ox1 = static_cast<int>(std::ceil(hi.x())) + 1, oy1 = static_cast<int>(std::ceil(hi.y())) + 1;
+  const int ox0 = static_cast<int>(std::floor(lo.x())) - 1,
+            oy0 = static_cast<int>(std::floor(lo.y())) - 1;
+  const int ox1 = static_cast<int>(std::ceil(hi.x())) + 1,
+            oy1 = static_cast<int>(std::ceil(hi.y())) + 1;
   const cv::Rect search(patch.x + ox0, patch.y + oy0, patch.width + ox1 - ox0,
                         patch.height + oy1 - oy0);
   if ((search & cv::Rect(0, 0, right.cols, right.rows)) != search) return result;

@@ -82,7 +82,8 @@ void ResultToProto(const LocateResult& r, igms::object::LocateResponse* out) {
     b->set_texture_u1(r.box.texture_rect.x + r.box.texture_rect.width - 1);
     b->set_texture_v1(r.box.texture_rect.y + r.box.texture_rect.height - 1);
     std::vector<uint8_t> png;
-    if (!r.box.texture.empty() && cv::imencode(".png", r.box.texture, png, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+    if (!r.box.texture.empty() &&
+        cv::imencode(".png", r.box.texture, png, {cv::IMWRITE_PNG_COMPRESSION, 1}))
       b->set_texture_png(png.data(), png.size());
   }
   out->set_boundary_pixels(r.boundary_pixels);

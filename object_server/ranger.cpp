@@ -77,7 +77,8 @@ std::optional<BeamRanges> RangesInBeam(const std::vector<Eigen::Vector3d>& surfa
     if (dist < 1e-9 || along < cos_half * dist) continue;
     nearest = std::min(nearest, dist);
     // Within a sample spacing of the axis: where the axis meets the solid (the nearest such).
-    if ((d - along * ranger.axis).norm() <= spacing && (on_axis < 0 || along < on_axis)) on_axis = along;
+    if ((d - along * ranger.axis).norm() <= spacing && (on_axis < 0 || along < on_axis))
+      on_axis = along;
   }
   if (!std::isfinite(nearest)) return std::nullopt;
   return BeamRanges{nearest, on_axis < 0 ? nearest : std::max(nearest, on_axis)};

@@ -177,7 +177,8 @@ void SampleOutline(const ViewOutline& o, std::vector<Eigen::Vector2d>& points,
 }
 
 // d(pixel)/d(world point) of a camera at X: 2x3.
-Eigen::Matrix<double, 2, 3> ProjectionJacobian(const geometry::Matrix34& P, const Eigen::Vector3d& X) {
+Eigen::Matrix<double, 2, 3> ProjectionJacobian(const geometry::Matrix34& P,
+                                               const Eigen::Vector3d& X) {
   const Eigen::Vector3d x = P * X.homogeneous();
   const double w = x.z();
   Eigen::Matrix<double, 2, 3> J;
@@ -232,7 +233,8 @@ namespace {
 // (a handful of cheap outline evaluations instead of one full residual pass per parameter).
 class Evaluator {
  public:
-  Evaluator(const OutlineFn& outline, const std::array<FitView, 2>& views, const Eigen::VectorXd& step)
+  Evaluator(const OutlineFn& outline, const std::array<FitView, 2>& views,
+            const Eigen::VectorXd& step)
       : outline_(outline), views_(views), step_(step) {}
 
   bool Outlines(const Eigen::VectorXd& x, std::array<ViewOutline, 2>& o) const {
@@ -276,7 +278,8 @@ class Evaluator {
       ms[i].hint = ia;
       Eigen::Vector2d da, db;
       r[i] = SignedFromClosest(ov, c, ms[i].point, J ? &da : nullptr, J ? &db : nullptr);
-      if (J) J->row(i) = da.transpose() * dpx[ms[i].view][ia] + db.transpose() * dpx[ms[i].view][ib];
+      if (J)
+        J->row(i) = da.transpose() * dpx[ms[i].view][ia] + db.transpose() * dpx[ms[i].view][ib];
     }
     return true;
   }
@@ -332,7 +335,8 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
       out.sampled[v] = static_cast<int>(pts.size());
       for (size_t i = 0; i < pts.size(); ++i) {
         double s;
-        if (EdgeAlongNormal(*views[v].gradients, pts[i], normals[i], range, options.min_gradient, &s))
+        if (EdgeAlongNormal(*views[v].gradients, pts[i], normals[i], range, options.min_gradient,
+                            &s))
           ms.push_back({v, pts[i] + s * normals[i], seg[i]});
       }
     }
@@ -364,7 +368,8 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
         Eigen::MatrixXd A = H;
         // Directions no edge constrains (an end with no measurement yet) must not drift:
         // a small stiffness relative to the mean curvature holds them.
-        A.diagonal() += lambda * H.diagonal() + Eigen::VectorXd::Constant(np, 1e-3 * H.diagonal().mean() + 1e-9);
+        A.diagonal() += lambda * H.diagonal() +
+                        Eigen::VectorXd::Constant(np, 1e-3 * H.diagonal().mean() + 1e-9);
         const Eigen::VectorXd dx = -A.ldlt().solve(g);
         Eigen::VectorXd rn;
         std::vector<Measurement> trial = ms;

@@ -29,14 +29,14 @@ struct FitView {
 };
 
 struct FitOptions {
-  double search_px = 4.0;      // first outer iteration's search range; later ones use half
-  double min_gradient = 6.0;   // edges weaker than this are not measured
+  double search_px = 4.0;     // first outer iteration's search range; later ones use half
+  double min_gradient = 6.0;  // edges weaker than this are not measured
   int outer_iterations = 5;
-  int first_outer = 0;         // continuing an earlier fit: its passes already made
+  int first_outer = 0;  // continuing an earlier fit: its passes already made
   int inner_iterations = 6;
   double huber_px = 0.5;
-  double outlier_px = 2.0;     // measurements farther than this after a pass are dropped
-  Eigen::VectorXd step;        // finite-difference step per parameter (world units)
+  double outlier_px = 2.0;  // measurements farther than this after a pass are dropped
+  Eigen::VectorXd step;     // finite-difference step per parameter (world units)
 };
 
 struct FitOutcome {

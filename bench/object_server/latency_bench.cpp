@@ -59,8 +59,10 @@ class Server {
     for (int i = 0; i < 400 && pid_ > 0 && port_ == 0; ++i) {
       std::ifstream in(port_file);
       int port = 0;
-      if (in >> port && port > 0) port_ = static_cast<uint16_t>(port);
-      else std::this_thread::sleep_for(50ms);
+      if (in >> port && port > 0)
+        port_ = static_cast<uint16_t>(port);
+      else
+        std::this_thread::sleep_for(50ms);
     }
   }
   ~Server() {
@@ -90,7 +92,8 @@ std::unique_ptr<igms::net::Client> Connect(boost::asio::io_context& io, uint16_t
 
 void Row(const char* what, const std::vector<double>& v) {
   std::printf("%-44s %5zu %8.2f %8.2f %8.2f\n", what, v.size(), igms::object::Percentile(v, 0.5),
-              igms::object::Percentile(v, 0.99), v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()));
+              igms::object::Percentile(v, 0.99),
+              v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()));
 }
 
 }  // namespace
@@ -99,15 +102,17 @@ int main(int argc, char** argv) {
   const int rounds = argc > 1 ? std::atoi(argv[1]) : 40;
   const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
   const std::string bin = argc > 2 ? argv[2] : (self.parent_path().parent_path() / "bin").string();
-  const std::string calibration =
-      argc > 3 ? argv[3] : std::string(IGMS_SOURCE_DIR_DEFAULT) + "/common/calibration/data/thesis_calibration.yaml";
+  const std::string calibration = argc > 3 ? argv[3]
+                                           : std::string(IGMS_SOURCE_DIR_DEFAULT) +
+                                                 "/common/calibration/data/thesis_calibration.yaml";
   const auto cal = igms::calibration::LoadCalibration(calibration);
   if (!cal) {
     std::fprintf(stderr, "bench_object_latency: cannot load %s\n", calibration.c_str());
     return 2;
   }
   const std::string scratch =
-      (std::filesystem::temp_directory_path() / ("igms_latency_" + std::to_string(::getpid()))).string();
+      (std::filesystem::temp_directory_path() / ("igms_latency_" + std::to_string(::getpid())))
+          .string();
   std::filesystem::create_directories(scratch);
   const std::vector<std::string> common = {"--set", "lab.calibration=" + calibration};
   std::vector<std::string> video_args = {"--name", "video", "--set", "processes.video.backend=sim"};
@@ -122,7 +127,8 @@ int main(int argc, char** argv) {
   object_args.insert(object_args.end(), common.begin(), common.end());
   Server object(bin + "/igms-object-server", object_args, scratch + "/object.port");
   if (!object.port()) {
-    std::fprintf(stderr, "bench_object_latency: %s/igms-object-server did not start\n", bin.c_str());
+    std::fprintf(stderr, "bench_object_latency: %s/igms-object-server did not start\n",
+                 bin.c_str());
     return 1;
   }
   boost::asio::io_context io;
@@ -135,7 +141,8 @@ int main(int argc, char** argv) {
   const igms::site::Scene scene = igms::site::DefaultTestbedScene();
   const igms::site::StereoImages images = igms::site::RenderStereo(scene);
   cv::setNumThreads(1);
-  std::vector<double> rtt_all, rtt_first, rtt_cached, server_locate, server_fetch, offline, offline_cpu;
+  std::vector<double> rtt_all, rtt_first, rtt_cached, server_locate, server_fetch, offline,
+      offline_cpu;
   int found = 0, requests = 0, failures = 0;
   for (int round = 0; round < rounds; ++round) {
     auto grab = video_client->CallSync<igms::video::GrabResponse>("igms.video.VideoService.Grab",
@@ -152,7 +159,8 @@ int main(int argc, char** argv) {
       const auto marks = igms::site::GenerateMarks(shape, scene.cameras.left, round * 1000 + i);
       if (!marks) continue;
       igms::object::LocateRequest request;
-      request.set_type(cylinder ? igms::object::OBJECT_TYPE_CYLINDER : igms::object::OBJECT_TYPE_BOX);
+      request.set_type(cylinder ? igms::object::OBJECT_TYPE_CYLINDER
+                                : igms::object::OBJECT_TYPE_BOX);
       for (const auto& m : *marks) {
         auto* v = request.add_marks();
         v->set_x(m.x());
@@ -161,8 +169,8 @@ int main(int argc, char** argv) {
       }
       request.set_frame_id(grab.value.frame_id());
       const auto start = Clock::now();
-      auto got = object_client->CallSync<igms::object::LocateResponse>("igms.object.ObjectService.Locate",
-                                                                       request, 60s);
+      auto got = object_client->CallSync<igms::object::LocateResponse>(
+          "igms.object.ObjectService.Locate", request, 60s);
       const double rtt = Ms(Clock::now() - start);
       ++requests;
       if (!got.ok()) {
@@ -202,11 +210,12 @@ int main(int argc, char** argv) {
   io_thread.join();
   std::filesystem::remove_all(scratch);
 
-  std::printf("Marks to model over TCP: igms-object-server and igms-video-server (sim, %dx%d) as\n"
-              "processes on loopback; %d rounds of a grab and a Locate for each of the default\n"
-              "testbed's objects; %d requests, %d found, %d errors.\n\n",
-              scene.cameras.left.image_size().width, scene.cameras.left.image_size().height, rounds,
-              requests, found, failures);
+  std::printf(
+      "Marks to model over TCP: igms-object-server and igms-video-server (sim, %dx%d) as\n"
+      "processes on loopback; %d rounds of a grab and a Locate for each of the default\n"
+      "testbed's objects; %d requests, %d found, %d errors.\n\n",
+      scene.cameras.left.image_size().width, scene.cameras.left.image_size().height, rounds,
+      requests, found, failures);
   std::printf("%-44s %5s %8s %8s %8s\n", "ms", "n", "p50", "p99", "max");
   Row("round trip, every request", rtt_all);
   Row("  first request after a grab (fetches frame)", rtt_first);
@@ -217,7 +226,8 @@ int main(int argc, char** argv) {
   Row("  its CPU time (this thread)", offline_cpu);
   double load[3] = {0, 0, 0};
   if (getloadavg(load, 3) < 1) load[0] = -1;
-  std::printf("\ntargets: round trip p50 < 10 ms, p99 < 30 ms (512x480); load average %.1f on %u cores\n",
-              load[0], std::thread::hardware_concurrency());
+  std::printf(
+      "\ntargets: round trip p50 < 10 ms, p99 < 30 ms (512x480); load average %.1f on %u cores\n",
+      load[0], std::thread::hardware_concurrency());
   return failures ? 1 : 0;
 }

@@ -25,10 +25,12 @@ TEST(Accuracy, TwentySeededScenesMeetTheTargets) {
   const Summary b = Summarize(all, "box");
   const Summary every = Summarize(all, "");
   const Summary lying = Summarize(all, "lying");
-  std::printf("cylinders n=%d found %.1f%%: radius median %.4f, height median %.4f, position median %.3f\n",
-              c.count, 100 * c.found_rate, c.radius_median, c.height_median, c.position_median);
-  std::printf("boxes n=%d found %.1f%%: size median %.3f %.3f %.3f, position median %.3f\n", b.count,
-              100 * b.found_rate, b.size_median.x(), b.size_median.y(), b.size_median.z(), b.position_median);
+  std::printf(
+      "cylinders n=%d found %.1f%%: radius median %.4f, height median %.4f, position median %.3f\n",
+      c.count, 100 * c.found_rate, c.radius_median, c.height_median, c.position_median);
+  std::printf("boxes n=%d found %.1f%%: size median %.3f %.3f %.3f, position median %.3f\n",
+              b.count, 100 * b.found_rate, b.size_median.x(), b.size_median.y(), b.size_median.z(),
+              b.position_median);
   ASSERT_GE(c.count, 50);
   ASSERT_GE(b.count, 15);
   EXPECT_GT(every.found_rate, 0.95);
@@ -38,8 +40,8 @@ TEST(Accuracy, TwentySeededScenesMeetTheTargets) {
   // A pipe lying on the table: its length rests on the depth of its two ends, which stereo
   // alone gives to about a pixel of disparity; the 0.03 in target is not met for this kind
   // alone (about 0.05 in over 100 scenes): this bound records what is reached.
-  std::printf("lying cylinders n=%d found %.1f%%: height median %.4f\n", lying.count, 100 * lying.found_rate,
-              lying.height_median);
+  std::printf("lying cylinders n=%d found %.1f%%: height median %.4f\n", lying.count,
+              100 * lying.found_rate, lying.height_median);
   EXPECT_GT(lying.found_rate, 0.95);
   EXPECT_LT(lying.radius_median, 0.03);
   EXPECT_LT(lying.height_median, 0.1);

@@ -9,11 +9,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "common/calibration/calibration_file.h"
 #include "common/site/marks.h"
 #include "common/site/range.h"
 #include "common/site/renderer.h"
 #include "common/site/testbed.h"
-#include "common/calibration/calibration_file.h"
 
 namespace fs = std::filesystem;
 
@@ -67,8 +67,8 @@ class LocateCli : public ::testing::Test {
     cal.right.image_size = scene_.cameras.right.image_size();
     std::string error;
     ASSERT_TRUE(calibration::SaveCalibration(cal, (dir_ / "cal.yaml").string(), &error)) << error;
-    base_ = "--calibration " + (dir_ / "cal.yaml").string() + " --left " + (dir_ / "left.png").string() +
-            " --right " + (dir_ / "right.png").string();
+    base_ = "--calibration " + (dir_ / "cal.yaml").string() + " --left " +
+            (dir_ / "left.png").string() + " --right " + (dir_ / "right.png").string();
   }
   void TearDown() override { fs::remove_all(dir_); }
   fs::path dir_;
@@ -103,10 +103,11 @@ TEST_F(LocateCli, FindsEachObjectAndPrintsJson) {
 TEST_F(LocateCli, NotFoundExitsOne) {
   const Eigen::Vector3d c = scene_.cameras.left.Center();
   const double y = c.y() - 200;
-  const std::string marks = " --mark " + std::to_string(c.x() - 3) + "," + std::to_string(y) + ",33" +
-                            " --mark " + std::to_string(c.x() + 3) + "," + std::to_string(y) + ",33" +
-                            " --mark " + std::to_string(c.x() + 3) + "," + std::to_string(y) + ",27" +
-                            " --mark " + std::to_string(c.x() - 3) + "," + std::to_string(y) + ",27";
+  const std::string marks = " --mark " + std::to_string(c.x() - 3) + "," + std::to_string(y) +
+                            ",33" + " --mark " + std::to_string(c.x() + 3) + "," +
+                            std::to_string(y) + ",33" + " --mark " + std::to_string(c.x() + 3) +
+                            "," + std::to_string(y) + ",27" + " --mark " +
+                            std::to_string(c.x() - 3) + "," + std::to_string(y) + ",27";
   const ProcessRun r = Exec(base_ + " --type box --json" + marks);
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_EQ(r.out.rfind("{\"found\": false", 0), 0u) << r.out;
@@ -115,16 +116,26 @@ TEST_F(LocateCli, NotFoundExitsOne) {
 
 TEST_F(LocateCli, BadInputExitsTwo) {
   const std::string four = " --mark 1,-50,1 --mark 2,-50,1 --mark 2,-50,2 --mark 1,-50,2";
-  EXPECT_EQ(Exec(base_ + " --type cylinder --mark 1,2,3").status, 2);                 // one mark
-  EXPECT_EQ(Exec(base_ + " --type cone" + four).status, 2);                          // unknown type
-  EXPECT_EQ(Exec(base_ + " --type box --mark 1,2 --mark 1,2,3 --mark 1,2,3 --mark 1,2,3").status, 2);
-  EXPECT_EQ(Exec(base_ + " --type box --mark nan,2,3 --mark 1,2,3 --mark 1,2,3 --mark 1,2,3").status, 2);
-  EXPECT_EQ(Exec("--calibration /nonexistent.yaml --left a.png --right b.png --type box" + four).status, 2);
+  EXPECT_EQ(Exec(base_ + " --type cylinder --mark 1,2,3").status, 2);  // one mark
+  EXPECT_EQ(Exec(base_ + " --type cone" + four).status, 2);            // unknown type
+  EXPECT_EQ(Exec(base_ + " --type box --mark 1,2 --mark 1,2,3 --mark 1,2,3 --mark 1,2,3").status,
+            2);
+  EXPECT_EQ(
+      Exec(base_ + " --type box --mark nan,2,3 --mark 1,2,3 --mark 1,2,3 --mark 1,2,3").status, 2);
+  EXPECT_EQ(
+      Exec("--calibration /nonexistent.yaml --left a.png --right b.png --type box" + four).status,
+      2);
   std::FILE* f = std::fopen((dir_ / "junk.yaml").c_str(), "w");
   std::fputs("this: [is not, a calibration", f);
   std::fclose(f);
-  EXPECT_EQ(Exec("--calibration " + (dir_ / "junk.yaml").string() + " --left a.png --right b.png --type box" + four).status, 2);
-  EXPECT_EQ(Exec("--calibration " + (dir_ / "cal.yaml").string() + " --left /nonexistent.png --right b.png --type box" + four).status, 2);
+  EXPECT_EQ(Exec("--calibration " + (dir_ / "junk.yaml").string() +
+                 " --left a.png --right b.png --type box" + four)
+                .status,
+            2);
+  EXPECT_EQ(Exec("--calibration " + (dir_ / "cal.yaml").string() +
+                 " --left /nonexistent.png --right b.png --type box" + four)
+                .status,
+            2);
   EXPECT_EQ(Exec("--bogus-flag").status, 2);
 }
 
@@ -152,7 +163,8 @@ TEST_F(LocateCli, DebugImageShowsEdgesPointsAndOutline) {
     EXPECT_GT(green, 100) << "the measured edge points";
     EXPECT_GT(blue, 50) << "the strong edges";
     // An unwritable file is reported, and the result still printed.
-    const ProcessRun bad = Exec(base_ + " --type cylinder --debug-image /nonexistent/dir/x.png" + MarkArgs(marks));
+    const ProcessRun bad =
+        Exec(base_ + " --type cylinder --debug-image /nonexistent/dir/x.png" + MarkArgs(marks));
     EXPECT_EQ(bad.status, 0);
     return;
   }
@@ -166,7 +178,8 @@ TEST_F(LocateCli, RangeConstrainsAndIsChecked) {
   const site::Cylinder* cyl = nullptr;
   size_t index = 0;
   for (size_t i = 0; i < scene_.objects.size() && !cyl; ++i)
-    if (const auto* c = std::get_if<site::Cylinder>(&scene_.objects[i].shape); c && c->axis.z() > 0.9) {
+    if (const auto* c = std::get_if<site::Cylinder>(&scene_.objects[i].shape);
+        c && c->axis.z() > 0.9) {
       cyl = c;
       index = i;
     }
@@ -183,8 +196,9 @@ TEST_F(LocateCli, RangeConstrainsAndIsChecked) {
   ASSERT_TRUE(range.has_value());
 
   const std::string args = "--calibration " + (dir_ / "ranger.yaml").string() + " --left " +
-                           (dir_ / "left.png").string() + " --right " + (dir_ / "right.png").string() +
-                           " --type cylinder --json" + MarkArgs(*site::GenerateMarks(*cyl, scene_.cameras.left, 5));
+                           (dir_ / "left.png").string() + " --right " +
+                           (dir_ / "right.png").string() + " --type cylinder --json" +
+                           MarkArgs(*site::GenerateMarks(*cyl, scene_.cameras.left, 5));
   const ProcessRun good = Exec(args + " --range " + std::to_string(*range));
   ASSERT_EQ(good.status, 0) << good.out;
   EXPECT_NE(good.out.find("\"constrained\": true"), std::string::npos) << good.out;
@@ -201,7 +215,10 @@ TEST_F(LocateCli, RangeConstrainsAndIsChecked) {
   EXPECT_NE(near.out.find("something nearer is in the beam"), std::string::npos) << near.out;
 
   // A range without a ranger in the calibration, or a nonsensical one, is bad input.
-  EXPECT_EQ(Exec(base_ + " --type cylinder --range 50" + MarkArgs(*site::GenerateMarks(*cyl, scene_.cameras.left, 5))).status, 2);
+  EXPECT_EQ(Exec(base_ + " --type cylinder --range 50" +
+                 MarkArgs(*site::GenerateMarks(*cyl, scene_.cameras.left, 5)))
+                .status,
+            2);
   EXPECT_EQ(Exec(args + " --range -3").status, 2);
 }
 
