@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
 
 #include "common/site/marks.h"
 #include "common/site/renderer.h"
+#include "object_server/debug_image.h"
 
 namespace igms::object {
 
@@ -18,7 +20,8 @@ double Percentile(std::vector<double> v, double q) {
 }
 
 std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
-                                            uint64_t mark_seed, const LocateOptions& options) {
+                                            uint64_t mark_seed, const LocateOptions& options,
+                                            const std::string& debug_dir) {
   const site::StereoImages images = site::RenderStereo(scene);
   std::vector<ObjectEvaluation> out;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
@@ -38,7 +41,11 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
     in.right = images.right;
     in.left_camera = scene.cameras.left;
     in.right_camera = scene.cameras.right;
+    in.want_trace = !debug_dir.empty();
     e.result = Locate(in, options);
+    if (!debug_dir.empty())
+      cv::imwrite(debug_dir + "/" + scene_name + "_" + object.name + ".png",
+                  DebugImage(in, e.result));
     const Eigen::Vector3d eye = scene.cameras.left.Center();
     if (cyl) {
       e.lying = std::abs(cyl->axis.z()) < 0.7;
@@ -46,8 +53,10 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
       e.distance = (cyl->center - eye).norm();
       if (e.result.found) {
         const auto& c = e.result.cylinder;
-        e.radius_error = std::abs(c.radius - cyl->radius);
-        e.height_error = std::abs(c.height - cyl->height);
+        e.radius_signed = c.radius - cyl->radius;
+        e.height_signed = c.height - cyl->height;
+        e.radius_error = std::abs(e.radius_signed);
+        e.height_error = std::abs(e.height_signed);
         e.position_error = (c.center - cyl->center).norm();
         e.axis_error_deg = std::acos(std::min(1.0, std::abs(c.axis.dot(cyl->axis)))) * 180 / M_PI;
       }
@@ -56,7 +65,8 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
       e.distance = (box->center - eye).norm();
       if (e.result.found) {
         const auto& b = e.result.box;
-        e.size_error = ((b.max - b.min) - (box->AlignedMax() - box->AlignedMin())).cwiseAbs();
+        e.size_signed = (b.max - b.min) - (box->AlignedMax() - box->AlignedMin());
+        e.size_error = e.size_signed.cwiseAbs();
         e.position_error = (0.5 * (b.max + b.min) - box->center).norm();
       }
     }

@@ -22,12 +22,17 @@ struct ObjectEvaluation {
   double radius_error = 0, height_error = 0, position_error = 0;
   double axis_error_deg = 0;
   Eigen::Vector3d size_error = Eigen::Vector3d::Zero();  // box: |found - true| per axis
+  // Signed (found - true), to tell a bias from scatter.
+  double radius_signed = 0, height_signed = 0;
+  Eigen::Vector3d size_signed = Eigen::Vector3d::Zero();
 };
 
 // Renders the scene's stereo pair, generates marks for each cylinder and box from the
-// ground truth (seeded by mark_seed and the object's index), locates and compares.
+// ground truth (seeded by mark_seed and the object's index), locates and compares. With a
+// debug_dir, writes each object's debug image (debug_image.h) there as SCENE_OBJECT.png.
 std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
-                                            uint64_t mark_seed, const LocateOptions& options = {});
+                                            uint64_t mark_seed, const LocateOptions& options = {},
+                                            const std::string& debug_dir = "");
 
 struct Summary {
   int count = 0, found = 0;

@@ -64,7 +64,8 @@ float Gradients::MagnitudeAt(int x, int y) const {
   return std::hypot(gx_.at<float>(y, x), gy_.at<float>(y, x));
 }
 
-std::vector<cv::Point> StrongEdgePixels(const Gradients& grad, const std::vector<cv::Point2f>& polygon,
+std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
+                                        const std::vector<cv::Point2f>& polygon,
                                         const cv::Mat& edges, double fraction, double min_gradient,
                                         double* strongest) {
   const cv::Rect box = cv::boundingRect(polygon) & grad.region();
@@ -138,16 +139,44 @@ SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect p
   SsdMatch result;
   patch &= cv::Rect(0, 0, left.cols, left.rows);
   if (patch.area() < 9) return result;
-  const Eigen::Vector2d lo = offset_a.cwiseMin(offset_b), hi = offset_a.cwiseMax(offset_b);
-  const int ox0 = static_cast<int>(std::floor(lo.x())) - 1, oy0 = static_cast<int>(std::floor(lo.y())) - 1;
-  const int ox1 = static_cast<int>(std::ceil(hi.x())) + 1, oy1 = static_cast<int>(std::ceil(hi.y())) + 1;
+  // Only the part of the segment where the shifted patch lies inside the right image (with a
+  // pixel to spare for the interpolation): an object near the image's edge keeps the rest.
+  Eigen::Vector2d a = offset_a, b = offset_b;
+  {
+    double t0 = 0, t1 = 1;
+    const Eigen::Vector2d d = b - a;
+    const double lo_x = 1 - patch.x, hi_x = right.cols - 2 - (patch.x + patch.width - 1);
+    const double lo_y = 1 - patch.y, hi_y = right.rows - 2 - (patch.y + patch.height - 1);
+    auto clip = [&](double p0, double dp, double lo, double hi) {
+      if (std::abs(dp) < 1e-12) {
+        if (p0 < lo || p0 > hi) t1 = -1;
+        return;
+      }
+      double ta = (lo - p0) / dp, tb = (hi - p0) / dp;
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    };
+    clip(a.x(), d.x(), lo_x, hi_x);
+    clip(a.y(), d.y(), lo_y, hi_y);
+    if (t0 > t1) return result;
+    b = offset_a + t1 * d;
+    a = offset_a + t0 * d;
+  }
+  const Eigen::Vector2d& offset_lo = a;
+  const Eigen::Vector2d& offset_hi = b;
+  const Eigen::Vector2d lo = offset_lo.cwiseMin(offset_hi), hi = offset_lo.cwiseMax(offset_hi);
+  const int ox0 = static_cast<int>(std::floor(lo.x())) - 1,
+            oy0 = static_cast<int>(std::floor(lo.y())) - 1;
+  const int ox1 = static_cast<int>(std::ceil(hi.x())) + 1,
+            oy1 = static_cast<int>(std::ceil(hi.y())) + 1;
   const cv::Rect search(patch.x + ox0, patch.y + oy0, patch.width + ox1 - ox0,
                         patch.height + oy1 - oy0);
   if ((search & cv::Rect(0, 0, right.cols, right.rows)) != search) return result;
   cv::Mat map;
   cv::matchTemplate(right(search), left(patch), map, cv::TM_SQDIFF);
   // map(y, x) is the SSD at offset (ox0 + x, oy0 + y); read it along the segment.
-  const double length = (offset_b - offset_a).norm();
+  const double length = (offset_hi - offset_lo).norm();
   const int steps = std::max(2, static_cast<int>(std::ceil(length / 0.25)));
   auto ssd_at = [&](const Eigen::Vector2d& o) {
     const double x = o.x() - ox0, y = o.y() - oy0;
@@ -159,7 +188,7 @@ SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect p
   };
   double best = std::numeric_limits<double>::infinity();
   for (int i = 0; i <= steps; ++i) {
-    const Eigen::Vector2d o = offset_a + (offset_b - offset_a) * (double(i) / steps);
+    const Eigen::Vector2d o = offset_lo + (offset_hi - offset_lo) * (double(i) / steps);
     const double v = ssd_at(o);
     if (v < best) {
       best = v;

@@ -52,7 +52,9 @@ struct SsdMatch {
 
 // Matches the left patch `patch` (a rectangle of the left image) into the right image at
 // offsets on the segment from `offset_a` to `offset_b` (the epipolar segment of the depth
-// range, as offsets of the patch), by the smallest sum of squared differences (3.30).
+// range, as offsets of the patch), by the smallest sum of squared differences (3.30). Only
+// the part of the segment where the shifted patch lies inside the right image is searched;
+// not ok when none is.
 SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect patch,
                            const Eigen::Vector2d& offset_a, const Eigen::Vector2d& offset_b);
 

@@ -1,18 +1,19 @@
 #include "object_server/locate.h"
 
+#include <spdlog/spdlog.h>
+
 #include <Eigen/Dense>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include <spdlog/spdlog.h>
-
 #include "common/geometry/triangulation.h"
 #include "object_server/image_ops.h"
+#include "object_server/ranger.h"
 #include "object_server/silhouette_fit.h"
 
 namespace igms::object {
@@ -43,11 +44,14 @@ Eigen::Vector3d AtDepth(const geometry::ProjectiveCamera& cam, const Eigen::Vect
 }
 
 // Midpoint triangulation of the match (Cooke, 3.7); only a starting depth, so the simplest.
-std::optional<Eigen::Vector3d> Triangulate(const geometry::ProjectiveCamera& l, const Eigen::Vector2d& pl,
-                                           const geometry::ProjectiveCamera& r, const Eigen::Vector2d& pr) {
+std::optional<Eigen::Vector3d> Triangulate(const geometry::ProjectiveCamera& l,
+                                           const Eigen::Vector2d& pl,
+                                           const geometry::ProjectiveCamera& r,
+                                           const Eigen::Vector2d& pr) {
   geometry::TriangulationOptions options;
   options.pixel_sigma = 0;
-  const auto t = geometry::Triangulate(l.P(), r.P(), pl, pr, geometry::TriangulationMethod::kMidpoint, options);
+  const auto t = geometry::Triangulate(l.P(), r.P(), pl, pr,
+                                       geometry::TriangulationMethod::kMidpoint, options);
   if (!t) return std::nullopt;
   return t->point;
 }
@@ -109,20 +113,85 @@ Eigen::VectorXd Sigmas(const std::function<Eigen::VectorXd(const Eigen::VectorXd
   return (J * cov * J.transpose()).diagonal().cwiseMax(0).cwiseSqrt();
 }
 
+// The pixels of the largest 8-connected set among `pixels`, gaps of one pixel bridged.
+std::vector<cv::Point> LargestConnected(const std::vector<cv::Point>& pixels) {
+  if (pixels.size() < 2) return pixels;
+  const cv::Rect box = cv::boundingRect(pixels);
+  cv::Mat mask = cv::Mat::zeros(box.height + 2, box.width + 2, CV_8U);
+  for (const auto& p : pixels) mask.at<uint8_t>(p.y - box.y + 1, p.x - box.x + 1) = 255;
+  cv::dilate(mask, mask, cv::Mat());
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+  std::vector<int> count(n, 0);
+  for (const auto& p : pixels) ++count[labels.at<int>(p.y - box.y + 1, p.x - box.x + 1)];
+  const int best =
+      static_cast<int>(std::max_element(count.begin() + 1, count.end()) - count.begin());
+  std::vector<cv::Point> out;
+  for (const auto& p : pixels)
+    if (labels.at<int>(p.y - box.y + 1, p.x - box.x + 1) == best) out.push_back(p);
+  return out;
+}
+
+// The range against the located solid (RangeCheck in locate.h).
+void CheckRange(const LocateInput& in, const LocateOptions& opt, const Eigen::VectorXd& x,
+                RangeCheck* check) {
+  const double spacing = 0.05;
+  const std::vector<Eigen::Vector3d> surface =
+      in.type == SolidType::kCylinder
+          ? CylinderSurface(x.segment<3>(0), x.segment<3>(3), std::abs(x[6]), spacing)
+          : BoxSurface(x.head<3>().cwiseMin(x.tail<3>()), x.head<3>().cwiseMax(x.tail<3>()),
+                       spacing);
+  const RangerPose ranger{in.ranger_origin, in.ranger_axis.normalized()};
+  const auto beam = RangesInBeam(surface, ranger, opt.ranger_half_angle_deg * M_PI / 180, spacing);
+  if (!beam) {
+    check->agrees = false;
+    check->detail = "the ranger's " + Fmt(2 * opt.ranger_half_angle_deg, 0) +
+                    "-degree beam does not reach the located object: the range " +
+                    Fmt(check->measured) + " measured something else";
+    return;
+  }
+  check->expected_min = beam->nearest;
+  check->expected_max = beam->on_axis;
+  const double acc = opt.ranger_accuracy;
+  if (check->measured < beam->nearest - acc) {
+    check->agrees = false;
+    check->detail =
+        "the range " + Fmt(check->measured) + " is " + Fmt(beam->nearest - check->measured) +
+        " shorter than the located object's nearest point in the beam (" + Fmt(beam->nearest) +
+        "): something nearer is in the beam, or the model is wrong";
+  } else if (check->measured > beam->on_axis + acc) {
+    check->agrees = false;
+    check->detail = "the range " + Fmt(check->measured) + " is " +
+                    Fmt(check->measured - beam->on_axis) +
+                    " beyond where the beam meets the located object (" + Fmt(beam->on_axis) +
+                    "): the model is nearer than the ranger says";
+  }
+}
+
 }  // namespace
 
 const char* FailureName(Failure f) {
   switch (f) {
-    case Failure::kNone: return "none";
-    case Failure::kBadInput: return "bad_input";
-    case Failure::kMarksDegenerate: return "marks_degenerate";
-    case Failure::kMarksBehindCamera: return "marks_behind_camera";
-    case Failure::kMarksOutsideImage: return "marks_outside_image";
-    case Failure::kNoEdgeNearMarks: return "no_edge_near_marks";
-    case Failure::kEdgeCountMismatch: return "edge_count_mismatch";
-    case Failure::kMatchOverThreshold: return "match_over_threshold";
-    case Failure::kLeftRightInconsistent: return "left_right_inconsistent";
-    case Failure::kFitFailed: return "fit_failed";
+    case Failure::kNone:
+      return "none";
+    case Failure::kBadInput:
+      return "bad_input";
+    case Failure::kMarksDegenerate:
+      return "marks_degenerate";
+    case Failure::kMarksBehindCamera:
+      return "marks_behind_camera";
+    case Failure::kMarksOutsideImage:
+      return "marks_outside_image";
+    case Failure::kNoEdgeNearMarks:
+      return "no_edge_near_marks";
+    case Failure::kEdgeCountMismatch:
+      return "edge_count_mismatch";
+    case Failure::kMatchOverThreshold:
+      return "match_over_threshold";
+    case Failure::kLeftRightInconsistent:
+      return "left_right_inconsistent";
+    case Failure::kFitFailed:
+      return "fit_failed";
   }
   return "unknown";
 }
@@ -145,18 +214,22 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     r.elapsed_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     return r;
   };
-  if (const std::string e = opt.Check(); !e.empty()) return finish(Fail(res, Failure::kBadInput, "options: " + e));
-  const cv::Mat left = Ideal(Gray(in.left), in.left_camera), right = Ideal(Gray(in.right), in.right_camera);
+  if (const std::string e = opt.Check(); !e.empty())
+    return finish(Fail(res, Failure::kBadInput, "options: " + e));
+  const cv::Mat left = Ideal(Gray(in.left), in.left_camera),
+                right = Ideal(Gray(in.right), in.right_camera);
   const auto lsize = in.left_camera.image_size(), rsize = in.right_camera.image_size();
   if (left.empty() || right.empty())
-    return finish(Fail(res, Failure::kBadInput, "both images must be 8-bit grey or BGR and not empty"));
+    return finish(
+        Fail(res, Failure::kBadInput, "both images must be 8-bit grey or BGR and not empty"));
   if (left.cols != lsize.width || left.rows != lsize.height || right.cols != rsize.width ||
       right.rows != rsize.height)
     return finish(Fail(res, Failure::kBadInput,
                        "image sizes do not match the calibration (" + std::to_string(lsize.width) +
                            "x" + std::to_string(lsize.height) + ")"));
   for (const auto& m : in.marks)
-    if (!m.allFinite()) return finish(Fail(res, Failure::kBadInput, "a mark is not a finite point"));
+    if (!m.allFinite())
+      return finish(Fail(res, Failure::kBadInput, "a mark is not a finite point"));
 
   // 1. Marks.
   double depth_sum = 0;
@@ -176,13 +249,16 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const double area = cv::contourArea(hull4);
   if (hull4.size() < 3 || area < 16.0)
     return finish(Fail(res, Failure::kMarksDegenerate,
-                       "the marks bound " + Fmt(area, 1) + " square pixels in the left image; "
-                       "place them around the object's outline"));
+                       "the marks bound " + Fmt(area, 1) +
+                           " square pixels in the left image; "
+                           "place them around the object's outline"));
   const cv::Rect image_rect(0, 0, left.cols, left.rows);
   const cv::Rect quad_rect = cv::boundingRect(hull4);
   std::vector<cv::Point2f> clipped;
-  const std::vector<cv::Point2f> frame = {{-0.5f, -0.5f}, {left.cols - 0.5f, -0.5f},
-                                          {left.cols - 0.5f, left.rows - 0.5f}, {-0.5f, left.rows - 0.5f}};
+  const std::vector<cv::Point2f> frame = {{-0.5f, -0.5f},
+                                          {left.cols - 0.5f, -0.5f},
+                                          {left.cols - 0.5f, left.rows - 0.5f},
+                                          {-0.5f, left.rows - 0.5f}};
   const double inside_area = cv::intersectConvexConvex(hull4, frame, clipped);
   if (inside_area < 0.5 * area)
     return finish(Fail(res, Failure::kMarksOutsideImage,
@@ -190,9 +266,9 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
 
   // 2. Boundary in the left image.
   const int pad = static_cast<int>(std::ceil(opt.search_px + opt.boundary_grow_px)) + 4;
-  const cv::Rect left_region =
-      cv::Rect(quad_rect.x - pad, quad_rect.y - pad, quad_rect.width + 2 * pad, quad_rect.height + 2 * pad) &
-      image_rect;
+  const cv::Rect left_region = cv::Rect(quad_rect.x - pad, quad_rect.y - pad,
+                                        quad_rect.width + 2 * pad, quad_rect.height + 2 * pad) &
+                               image_rect;
   const Gradients grad_left(left, left_region, opt.edge_sigma);
   double strongest = 0;
   // The thesis searches up to 15 px outward from the marks (3.8.1): the region is grown by
@@ -207,19 +283,24 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
       grown.push_back(len > 0 ? p + d * (static_cast<float>(opt.boundary_grow_px) / len) : p);
     }
   }
-  const std::vector<cv::Point> boundary =
-      StrongEdgePixels(grad_left, grown, in.left_edges, opt.edge_fraction, opt.min_edge_gradient, &strongest);
+  std::vector<cv::Point> boundary = StrongEdgePixels(
+      grad_left, grown, in.left_edges, opt.edge_fraction, opt.min_edge_gradient, &strongest);
+  // The object is the largest connected edge (the thesis follows the boundary from the marks,
+  // 3.8.1): a neighbour's edge grazed by the marks' margin must not widen its outline.
+  boundary = LargestConnected(boundary);
   res.boundary_pixels = static_cast<int>(boundary.size());
   if (boundary.empty())
     return finish(Fail(res, Failure::kNoEdgeNearMarks,
                        "no edge stronger than " + Fmt(opt.min_edge_gradient, 1) +
                            " grey levels per pixel inside the marked region of the left image "
-                           "(strongest " + Fmt(strongest, 1) + ")"));
+                           "(strongest " +
+                           Fmt(strongest, 1) + ")"));
   const double perimeter = cv::arcLength(hull4, true);
   if (boundary.size() < opt.min_boundary_share * perimeter)
     return finish(Fail(res, Failure::kEdgeCountMismatch,
-                       std::to_string(boundary.size()) + " boundary pixels inside marks of perimeter " +
-                           Fmt(perimeter, 0) + " px: the marked region does not hold one object's outline"));
+                       std::to_string(boundary.size()) +
+                           " boundary pixels inside marks of perimeter " + Fmt(perimeter, 0) +
+                           " px: the marked region does not hold one object's outline"));
   const cv::Rect object_rect = cv::boundingRect(boundary);
 
   // 3. Depth by SSD along the epipolar segment of the marks' depth range.
@@ -227,27 +308,56 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                                object_rect.y + 0.5 * (object_rect.height - 1));
   const double d_near = std::max(0.5 * mark_depth, mark_depth - opt.depth_tolerance);
   const double d_far = mark_depth + opt.depth_tolerance;
-  const auto qa = in.right_camera.Project(AtDepth(in.left_camera, q_left, d_near));
-  const auto qb = in.right_camera.Project(AtDepth(in.left_camera, q_left, d_far));
-  if (!qa || !qb) return finish(Fail(res, Failure::kMarksBehindCamera, "the marks' depth range reaches a camera's focal plane"));
-  const cv::Rect patch(object_rect.x - 3, object_rect.y - 3, object_rect.width + 6, object_rect.height + 6);
-  const SsdMatch match = MatchAlongSegment(left, right, patch & image_rect, *qa - q_left, *qb - q_left);
+  const cv::Rect patch(object_rect.x - 3, object_rect.y - 3, object_rect.width + 6,
+                       object_rect.height + 6);
+  auto match_between = [&](double near, double far) {
+    const auto qa = in.right_camera.Project(AtDepth(in.left_camera, q_left, near));
+    const auto qb = in.right_camera.Project(AtDepth(in.left_camera, q_left, far));
+    if (!qa || !qb) return SsdMatch{};
+    return MatchAlongSegment(left, right, patch & image_rect, *qa - q_left, *qb - q_left);
+  };
+  SsdMatch match = match_between(d_near, d_far);
   if (!match.ok)
     return finish(Fail(res, Failure::kMatchOverThreshold,
-                       "the object's epipolar search region leaves the right image"));
+                       "the object's epipolar search region for the marks' depth +/- " +
+                           Fmt(opt.depth_tolerance, 1) + " leaves the right image"));
+  if (in.range) {
+    res.range.used = true;
+    res.range.measured = *in.range;
+    // The beam's axis point at the range is the object's front depth when it falls inside the
+    // marked region and agrees with the marks; off the axis the nearest surface may lie deeper
+    // by up to range * (1 - cos(half angle)). The narrower search is kept unless it matches
+    // clearly worse than the marks' (then the beam met something else).
+    const Eigen::Vector3d q = in.ranger_origin + *in.range * in.ranger_axis.normalized();
+    const auto qp = in.left_camera.Project(q);
+    const double qd = in.left_camera.Depth(q);
+    const double beam =
+        opt.ranger_accuracy + *in.range * (1 - std::cos(opt.ranger_half_angle_deg * M_PI / 180));
+    if (qp && qd > 0 && cv::pointPolygonTest(grown, cv::Point2f(qp->x(), qp->y()), false) >= 0 &&
+        std::abs(qd - mark_depth) <= opt.depth_tolerance) {
+      const SsdMatch ranged = match_between(std::max(0.5 * qd, qd - beam), qd + beam);
+      if (ranged.ok && ranged.rms <= 1.25 * match.rms + 1.0) {
+        match = ranged;
+        res.range.constrained = true;
+      }
+    }
+  }
   res.ssd_rms = match.rms;
   if (match.rms > opt.max_ssd_rms)
     return finish(Fail(res, Failure::kMatchOverThreshold,
-                       "best right-image match within the marks' depth +/- " + Fmt(opt.depth_tolerance, 1) +
-                           " differs by " + Fmt(match.rms, 1) + " grey levels RMS (limit " +
-                           Fmt(opt.max_ssd_rms, 1) + "): check the marks' depth"));
+                       "best right-image match within the marks' depth +/- " +
+                           Fmt(opt.depth_tolerance, 1) + " differs by " + Fmt(match.rms, 1) +
+                           " grey levels RMS (limit " + Fmt(opt.max_ssd_rms, 1) +
+                           "): check the marks' depth"));
   const auto x_match = Triangulate(in.left_camera, q_left, in.right_camera, q_left + match.offset);
-  if (!x_match) return finish(Fail(res, Failure::kMatchOverThreshold, "the right-image match does not triangulate"));
+  if (!x_match)
+    return finish(
+        Fail(res, Failure::kMatchOverThreshold, "the right-image match does not triangulate"));
   const double depth0 = in.left_camera.Depth(*x_match);
   const cv::Rect right_region =
       cv::Rect(patch.x + static_cast<int>(std::round(match.offset.x())) - pad,
-               patch.y + static_cast<int>(std::round(match.offset.y())) - pad, patch.width + 2 * pad,
-               patch.height + 2 * pad) &
+               patch.y + static_cast<int>(std::round(match.offset.y())) - pad,
+               patch.width + 2 * pad, patch.height + 2 * pad) &
       image_rect;
   const Gradients grad_right(right, right_region, opt.edge_sigma);
 
@@ -260,6 +370,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const std::array<FitView, 2> views = {FitView{&in.left_camera, &grad_left},
                                         FitView{&in.right_camera, &grad_right}};
   Eigen::VectorXd x0;
+  std::vector<Eigen::VectorXd> extra_starts;
   OutlineFn outline;
   std::vector<cv::Point2f> bpts(boundary.begin(), boundary.end());
   if (in.type == SolidType::kCylinder) {
@@ -279,15 +390,54 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     x0.resize(7);
     // The silhouette's ends lie beyond the cap centres by up to the radius, depending on the
     // view; start halfway and let the fit settle it.
-    x0.segment<3>(0) = AtDepth(in.left_camera, mid - (half_len - 0.5 * half_width) * along, axis_depth);
-    x0.segment<3>(3) = AtDepth(in.left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
+    x0.segment<3>(0) =
+        AtDepth(in.left_camera, mid - (half_len - 0.5 * half_width) * along, axis_depth);
+    x0.segment<3>(3) =
+        AtDepth(in.left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
     x0[6] = radius;
     outline = CylinderOutline;
+    // A pipe lying towards the cameras has its ends at different depths, which one depth for
+    // both cannot start from (the fit then settles on a shorter pipe across the view): match
+    // each end's patch into the right image on its own and start also from those depths.
+    const double lateral = (AtDepth(in.left_camera, mid + half_len * along, depth0) -
+                            AtDepth(in.left_camera, mid - half_len * along, depth0))
+                               .norm();
+    Eigen::VectorXd tilted = x0;
+    bool have_tilted = true;
+    for (int end = 0; end < 2 && have_tilted; ++end) {
+      const Eigen::Vector2d e = mid + (end == 0 ? -1.0 : 1.0) * (half_len - half_width) * along;
+      const int side = static_cast<int>(std::ceil(2 * half_width)) + 8;
+      const cv::Rect end_patch(static_cast<int>(std::lround(e.x())) - side / 2,
+                               static_cast<int>(std::lround(e.y())) - side / 2, side, side);
+      const auto ea = in.right_camera.Project(
+          AtDepth(in.left_camera, e, std::max(0.5 * d_near, d_near - lateral)));
+      const auto eb = in.right_camera.Project(AtDepth(in.left_camera, e, d_far + 2 * lateral));
+      const Eigen::Vector2d pc(end_patch.x + 0.5 * (side - 1), end_patch.y + 0.5 * (side - 1));
+      if (!ea || !eb) {
+        have_tilted = false;
+        break;
+      }
+      const SsdMatch m = MatchAlongSegment(left, right, end_patch & image_rect, *ea - pc, *eb - pc);
+      const auto xe = m.ok && m.rms <= opt.max_ssd_rms
+                          ? Triangulate(in.left_camera, pc, in.right_camera, pc + m.offset)
+                          : std::nullopt;
+      if (!xe) {
+        have_tilted = false;
+        break;
+      }
+      const Eigen::Vector2d tip =
+          mid + (end == 0 ? -1.0 : 1.0) * (half_len - 0.5 * half_width) * along;
+      tilted.segment<3>(3 * end) = AtDepth(in.left_camera, tip, in.left_camera.Depth(*xe) + radius);
+    }
+    if (have_tilted && std::abs(in.left_camera.Depth(tilted.segment<3>(0)) -
+                                in.left_camera.Depth(tilted.segment<3>(3))) > radius)
+      extra_starts.push_back(tilted);
   } else {
     // A world-axis-aligned block (3.8.2): the boundary back-projected onto its front plane
     // gives the two extents across the view; the one along the view starts as their mean.
-    const Eigen::Vector3d view_dir = in.left_camera.P().block<1, 3>(2, 0).transpose().normalized() *
-                                     (in.left_camera.P().leftCols<3>().determinant() < 0 ? -1.0 : 1.0);
+    const Eigen::Vector3d view_dir =
+        in.left_camera.P().block<1, 3>(2, 0).transpose().normalized() *
+        (in.left_camera.P().leftCols<3>().determinant() < 0 ? -1.0 : 1.0);
     int k;
     view_dir.cwiseAbs().maxCoeff(&k);
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e18), hi = -lo, sum = Eigen::Vector3d::Zero();
@@ -307,13 +457,52 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     x0.resize(6);
     x0 << lo, hi;
     outline = BoxOutline;
+    // The depth along the view is the least seen (a side face's strip, a sliver of the top):
+    // also start shallower and deeper, and keep the fit that explains both images best.
+    for (const double share : {0.4, 1.8}) {
+      const double other = front + (view_dir[k] > 0 ? 1 : -1) * share * across_mean;
+      Eigen::VectorXd start = x0;
+      start[k] = std::min(front, other);
+      start[3 + k] = std::max(front, other);
+      extra_starts.push_back(start);
+    }
   }
   fit.step = Eigen::VectorXd::Constant(x0.size(), 1e-4);
-  spdlog::debug("locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
-                mark_depth, depth0, match.rms, boundary.size(), Fmt(x0[0]) + " " + Fmt(x0[1]) + " " + Fmt(x0[2]) + " / " + Fmt(x0[3]) + " " + Fmt(x0[4]) + " " + Fmt(x0[5]) + (x0.size() > 6 ? " r " + Fmt(x0[6]) : ""));
-  const FitOutcome f = FitSilhouette(outline, x0, views, fit);
-  spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}", f.ok ? "ok" : f.error, f.used[0],
-                f.sampled[0], f.rms_px[0], f.used[1], f.sampled[1], f.rms_px[1]);
+  spdlog::debug(
+      "locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
+      mark_depth, depth0, match.rms, boundary.size(),
+      Fmt(x0[0]) + " " + Fmt(x0[1]) + " " + Fmt(x0[2]) + " / " + Fmt(x0[3]) + " " + Fmt(x0[4]) +
+          " " + Fmt(x0[5]) + (x0.size() > 6 ? " r " + Fmt(x0[6]) : ""));
+  // Of several starts, the one that explains both images best after two passes goes on.
+  auto score = [](const FitOutcome& o) {
+    const int sampled = o.sampled[0] + o.sampled[1];
+    const double miss = sampled ? 1.0 - double(o.used[0] + o.used[1]) / sampled : 1.0;
+    return o.ok ? o.rms_px[0] + o.rms_px[1] + 2.0 * miss : 1e18;
+  };
+  FitOptions first = fit;
+  first.outer_iterations =
+      extra_starts.empty() ? fit.outer_iterations : std::min(2, fit.outer_iterations);
+  FitOutcome f = FitSilhouette(outline, x0, views, first);
+  for (const Eigen::VectorXd& start : extra_starts) {
+    FitOutcome g = FitSilhouette(outline, start, views, first);
+    spdlog::debug("locate: another start: score {:.3f} against {:.3f}", score(g), score(f));
+    if (score(g) < score(f)) f = std::move(g);
+  }
+  if (f.ok && first.outer_iterations < fit.outer_iterations) {
+    FitOptions rest = fit;
+    rest.first_outer = first.outer_iterations;
+    f = FitSilhouette(outline, f.params, views, rest);
+  }
+  spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}",
+                f.ok ? "ok" : f.error, f.used[0], f.sampled[0], f.rms_px[0], f.used[1],
+                f.sampled[1], f.rms_px[1]);
+  if (in.want_trace) {
+    for (const auto& p : hull4) res.trace.marks_left.emplace_back(p.x, p.y);
+    res.trace.boundary = boundary;
+    res.trace.outline = f.outline;
+    res.trace.measured = f.measured;
+    res.trace.inlier = f.inlier;
+  }
   res.outline_samples = f.used[0] + f.used[1];
   res.rms_left_px = f.rms_px[0];
   res.rms_right_px = f.rms_px[1];
@@ -325,12 +514,14 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     const double share = f.sampled[v] ? double(f.used[v]) / f.sampled[v] : 0.0;
     if (share < opt.min_inlier_share)
       return finish(Fail(res, Failure::kLeftRightInconsistent,
-                         std::string("only ") + Fmt(100 * share, 0) + "% of the fitted outline has an edge in the " +
-                             name + " image: the object is not the same in both views"));
+                         std::string("only ") + Fmt(100 * share, 0) +
+                             "% of the fitted outline has an edge in the " + name +
+                             " image: the object is not the same in both views"));
     if (f.rms_px[v] > opt.max_rms_px)
       return finish(Fail(res, Failure::kLeftRightInconsistent,
-                         std::string("the fitted outline misses the ") + name + " image's edges by " +
-                             Fmt(f.rms_px[v]) + " px RMS (limit " + Fmt(opt.max_rms_px) + ")"));
+                         std::string("the fitted outline misses the ") + name +
+                             " image's edges by " + Fmt(f.rms_px[v]) + " px RMS (limit " +
+                             Fmt(opt.max_rms_px) + ")"));
   }
   const Eigen::VectorXd& x = f.params;
   if (in.type == SolidType::kCylinder) {
@@ -363,7 +554,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     const Eigen::VectorXd s = f.covariance.diagonal().cwiseMax(0).cwiseSqrt();
     b.min_sigma = s.head<3>();
     b.max_sigma = s.tail<3>();
-    if ((b.max - b.min).minCoeff() < 1e-6) return finish(Fail(res, Failure::kFitFailed, "the fitted box has no size"));
+    if ((b.max - b.min).minCoeff() < 1e-6)
+      return finish(Fail(res, Failure::kFitFailed, "the fitted box has no size"));
     double u0 = 1e18, v0 = 1e18, u1 = -1e18, v1 = -1e18;
     for (const auto& p : BoxOutline(x)) {
       const auto px = in.left_camera.Project(p);
@@ -372,10 +564,15 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
       u1 = std::max(u1, px->x());
       v1 = std::max(v1, px->y());
     }
-    b.texture_rect = cv::Rect(cv::Point(static_cast<int>(std::floor(u0)), static_cast<int>(std::floor(v0))),
-                              cv::Point(static_cast<int>(std::ceil(u1)) + 1, static_cast<int>(std::ceil(v1)) + 1)) &
-                     image_rect;
+    b.texture_rect =
+        cv::Rect(
+            cv::Point(static_cast<int>(std::floor(u0)), static_cast<int>(std::floor(v0))),
+            cv::Point(static_cast<int>(std::ceil(u1)) + 1, static_cast<int>(std::ceil(v1)) + 1)) &
+        image_rect;
+    // The patch for texture mapping (3.8.2), in the left image's own colours, ideal pixels.
+    if (!b.texture_rect.empty()) b.texture = Ideal(in.left, in.left_camera)(b.texture_rect).clone();
   }
+  if (in.range) CheckRange(in, opt, x, &res.range);
   res.found = true;
   return finish(res);
 }

@@ -30,6 +30,7 @@
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/geometry/camera.h"
 
@@ -41,31 +42,34 @@ enum class SolidType { kCylinder, kBox };
 // Mirrors igms.object.FailureReason in proto/igms/object.proto.
 enum class Failure {
   kNone = 0,
-  kBadInput = 1,            // images missing or of the wrong size, NaN marks, unknown type
-  kMarksDegenerate = 2,     // marks coincide or bound no area in the left image
-  kMarksBehindCamera = 3,   // a mark is behind (or on the focal plane of) a camera
-  kMarksOutsideImage = 4,   // the marked region is mostly outside the left image
-  kNoEdgeNearMarks = 5,     // no strong edge inside the marked region
-  kEdgeCountMismatch = 6,   // too few boundary pixels for the marked region's size
-  kMatchOverThreshold = 7,  // the right image has no match for the object within the depth range
+  kBadInput = 1,               // images missing or of the wrong size, NaN marks, unknown type
+  kMarksDegenerate = 2,        // marks coincide or bound no area in the left image
+  kMarksBehindCamera = 3,      // a mark is behind (or on the focal plane of) a camera
+  kMarksOutsideImage = 4,      // the marked region is mostly outside the left image
+  kNoEdgeNearMarks = 5,        // no strong edge inside the marked region
+  kEdgeCountMismatch = 6,      // too few boundary pixels for the marked region's size
+  kMatchOverThreshold = 7,     // the right image has no match for the object within the depth range
   kLeftRightInconsistent = 8,  // the fitted model does not explain one of the two images
-  kFitFailed = 9,           // the model fit diverged or gave an impossible solid
+  kFitFailed = 9,              // the model fit diverged or gave an impossible solid
 };
 const char* FailureName(Failure f);
 
 struct LocateOptions {
-  double depth_tolerance = 3.0;     // marks' depth error allowed, world units (3.6)
-  double edge_sigma = 1.0;          // Gaussian smoothing before gradients, pixels
-  double edge_fraction = 0.35;      // boundary edges: gradient above this share of the max
-  double min_edge_gradient = 6.0;   // ... and above this, grey levels per pixel
-  double min_boundary_share = 0.25; // boundary pixels / marked region perimeter, at least
-  double max_ssd_rms = 30.0;        // grey levels: worse SSD matches are rejected
-  double boundary_grow_px = 4.0;    // the marked region is grown by this for the boundary
-  double search_px = 6.0;           // edge search either side of the predicted outline
-  int outer_iterations = 5;         // re-measure edges this many times
-  int inner_iterations = 6;         // Levenberg-Marquardt steps per measurement
-  double max_rms_px = 0.8;          // consistency: per-image RMS residual, pixels
-  double min_inlier_share = 0.6;    // consistency: share of outline samples with an edge
+  double depth_tolerance = 3.0;      // marks' depth error allowed, world units (3.6)
+  double edge_sigma = 1.0;           // Gaussian smoothing before gradients, pixels
+  double edge_fraction = 0.35;       // boundary edges: gradient above this share of the max
+  double min_edge_gradient = 6.0;    // ... and above this, grey levels per pixel
+  double min_boundary_share = 0.25;  // boundary pixels / marked region perimeter, at least
+  double max_ssd_rms = 45.0;         // grey levels: worse SSD matches are rejected (a slanted
+                                     // object's whole patch differs between views)
+  double boundary_grow_px = 4.0;     // the marked region is grown by this for the boundary
+  double search_px = 6.0;            // edge search either side of the predicted outline
+  int outer_iterations = 5;          // re-measure edges this many times
+  int inner_iterations = 6;          // Levenberg-Marquardt steps per measurement
+  double max_rms_px = 0.8;           // consistency: per-image RMS residual, pixels
+  double min_inlier_share = 0.6;     // consistency: share of outline samples with an edge
+  double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)
+  double ranger_accuracy = 0.5;      // world units: the range's own error
   // Empty when valid, else what is wrong.
   std::string Check() const;
 };
@@ -73,9 +77,15 @@ struct LocateOptions {
 struct LocateInput {
   SolidType type = SolidType::kCylinder;
   std::array<Eigen::Vector3d, 4> marks;
-  cv::Mat left, right;            // 8-bit grey (or BGR, converted), same size as the cameras
-  cv::Mat left_edges;             // optional: 8-bit edge map of the left image (non-zero = edge)
+  cv::Mat left, right;  // 8-bit grey (or BGR, converted), same size as the cameras
+  cv::Mat left_edges;   // optional: 8-bit edge map of the left image (non-zero = edge)
   geometry::ProjectiveCamera left_camera, right_camera;  // P at the grab's platform pose
+  // The ultrasonic range (world units) from the ranger at `ranger_origin` along the unit
+  // `ranger_axis` (world frame, at the grab's platform pose), when the operator took one.
+  std::optional<double> range;
+  Eigen::Vector3d ranger_origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d ranger_axis = Eigen::Vector3d::UnitX();
+  bool want_trace = false;  // fill LocateResult::trace (for debug images)
 };
 
 struct CylinderResult {
@@ -91,6 +101,30 @@ struct BoxResult {
   Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();
   Eigen::Vector3d min_sigma = Eigen::Vector3d::Zero(), max_sigma = Eigen::Vector3d::Zero();
   cv::Rect texture_rect;  // the box's pixels in the left image (min/max u, v), for texturing
+  cv::Mat texture;        // those pixels of the left image (as given: grey or BGR)
+};
+
+// What the locator saw, for a person (debug images): filled when LocateInput::want_trace.
+struct LocateTrace {
+  std::vector<Eigen::Vector2d> marks_left;  // the marks in the left image
+  std::vector<cv::Point> boundary;          // strong edge pixels inside the marked region
+  // Per view (0 left, 1 right): the fitted outline and the edge points of the final pass.
+  std::array<std::vector<Eigen::Vector2d>, 2> outline;
+  std::array<std::vector<Eigen::Vector2d>, 2> measured;
+  std::array<std::vector<bool>, 2> inlier;
+};
+
+// The ultrasonic range against the stereo result (Cooke, section 2.1.5, table 2.3): the
+// ranger reports the nearest surface inside its 12-degree beam, so the located solid allows
+// any range from its nearest point inside the beam's cone to where the beam's axis meets it
+// (the nearest point in the cone when the axis misses), give or take the sensor's accuracy.
+struct RangeCheck {
+  bool used = false;         // a range was given
+  bool constrained = false;  // it narrowed the depth search (it agreed with the marks)
+  double measured = 0;
+  double expected_min = 0, expected_max = 0;  // from the located solid and the beam
+  bool agrees = true;
+  std::string detail;  // why not, for a person
 };
 
 struct LocateResult {
@@ -101,11 +135,13 @@ struct LocateResult {
   CylinderResult cylinder;
   BoxResult box;
   // What was used.
-  int boundary_pixels = 0;    // strong edge pixels inside the marked region
-  double ssd_rms = 0;         // grey levels, the right-image match
-  int outline_samples = 0;    // edge measurements in the final fit (both images)
+  int boundary_pixels = 0;  // strong edge pixels inside the marked region
+  double ssd_rms = 0;       // grey levels, the right-image match
+  int outline_samples = 0;  // edge measurements in the final fit (both images)
   double rms_left_px = 0, rms_right_px = 0;
   double elapsed_ms = 0;
+  RangeCheck range;
+  LocateTrace trace;
 };
 
 LocateResult Locate(const LocateInput& input, const LocateOptions& options = {});

@@ -9,7 +9,9 @@
 #include <sstream>
 
 #include "common/calibration/calibration_file.h"
+#include "object_server/debug_image.h"
 #include "object_server/locate.h"
+#include "object_server/ranger.h"
 #include "object_server/result_json.h"
 
 namespace po = boost::program_options;
@@ -32,14 +34,22 @@ int Run(int argc, char** argv) {
   po::options_description desc(
       "igms locate: find a cylinder or box from a stereo pair and four marks\n"
       "Usage: igms locate --calibration FILE --left IMG --right IMG --type cylinder|box "
-      "--mark X,Y,Z (four times) [--json]\nOptions");
-  std::string calibration, left_path, right_path, type;
+      "--mark X,Y,Z (four times) [--range D] [--debug-image FILE] [--json]\nOptions");
+  std::string calibration, left_path, right_path, type, debug_image;
+  double range = -1;
   std::vector<std::string> marks;
-  desc.add_options()("help,h", "this help")("calibration", po::value(&calibration), "stereo calibration YAML")(
-      "left", po::value(&left_path), "left image file")("right", po::value(&right_path), "right image file")(
+  desc.add_options()("help,h", "this help")("calibration", po::value(&calibration),
+                                            "stereo calibration YAML")(
+      "left", po::value(&left_path), "left image file")("right", po::value(&right_path),
+                                                        "right image file")(
       "type", po::value(&type), "cylinder or box")("mark", po::value(&marks)->composing(),
                                                    "a mark X,Y,Z in world units (give four)")(
-      "json", "print the result as one JSON object")("verbose,v", "log the pipeline's steps to stderr");
+      "range", po::value(&range),
+      "the ultrasonic range D (world units) along the ranger's axis (the calibration's ranger "
+      "map)")("debug-image", po::value(&debug_image),
+              "write an image of the edges, measured points and fitted outline over the images "
+              "(PNG, JPEG)")("json", "print the result as one JSON object")(
+      "verbose,v", "log the pipeline's steps to stderr");
   po::variables_map vm;
   try {
     po::store(po::parse_command_line(argc, argv, desc), vm);
@@ -60,18 +70,34 @@ int Run(int argc, char** argv) {
   if (calibration.empty() || left_path.empty() || right_path.empty() || type.empty())
     return bad("--calibration, --left, --right and --type are required (see --help)");
   igms::object::LocateInput input;
-  if (type == "cylinder") input.type = igms::object::SolidType::kCylinder;
-  else if (type == "box") input.type = igms::object::SolidType::kBox;
-  else return bad("--type must be cylinder or box, not '" + type + "'");
-  if (marks.size() != 4) return bad("give exactly four --mark X,Y,Z (got " + std::to_string(marks.size()) + ")");
+  if (type == "cylinder")
+    input.type = igms::object::SolidType::kCylinder;
+  else if (type == "box")
+    input.type = igms::object::SolidType::kBox;
+  else
+    return bad("--type must be cylinder or box, not '" + type + "'");
+  if (marks.size() != 4)
+    return bad("give exactly four --mark X,Y,Z (got " + std::to_string(marks.size()) + ")");
   for (size_t i = 0; i < 4; ++i) {
     const auto m = ParseMark(marks[i]);
-    if (!m || !m->allFinite()) return bad("--mark '" + marks[i] + "' is not X,Y,Z with three finite numbers");
+    if (!m || !m->allFinite())
+      return bad("--mark '" + marks[i] + "' is not X,Y,Z with three finite numbers");
     input.marks[i] = *m;
   }
   std::string error;
   const auto cal = igms::calibration::LoadCalibration(calibration, &error);
   if (!cal) return bad(error);
+  if (vm.count("range")) {
+    if (!std::isfinite(range) || range <= 0) return bad("--range must be a positive distance");
+    const auto ranger = igms::object::RangerInWorld(*cal);
+    if (!ranger)
+      return bad("--range needs a ranger map (origin, axis) in the calibration file " +
+                 calibration);
+    input.range = range;
+    input.ranger_origin = ranger->origin;
+    input.ranger_axis = ranger->axis;
+  }
+  input.want_trace = !debug_image.empty();
   input.left_camera = cal->left.Camera();
   input.right_camera = cal->right.Camera();
   input.left = cv::imread(left_path, cv::IMREAD_GRAYSCALE);
@@ -80,17 +106,30 @@ int Run(int argc, char** argv) {
   if (input.right.empty()) return bad("cannot read image " + right_path);
 
   const auto result = igms::object::Locate(input);
+  if (!debug_image.empty()) {
+    bool written = false;
+    try {
+      written = cv::imwrite(debug_image, igms::object::DebugImage(input, result));
+    } catch (const cv::Exception& e) {
+      std::cerr << "igms locate: " << e.what() << "\n";
+    }
+    if (!written) std::cerr << "igms locate: cannot write the debug image " << debug_image << "\n";
+  }
   if (vm.count("json")) {
     std::cout << igms::object::ResultToJson(result) << std::endl;
   } else if (result.found && result.type == igms::object::SolidType::kCylinder) {
     const auto& c = result.cylinder;
-    std::cout << "cylinder: center (" << c.center.transpose() << ") axis (" << c.axis.transpose() << ") radius "
-              << c.radius << " height " << c.height << "\n";
+    std::cout << "cylinder: center (" << c.center.transpose() << ") axis (" << c.axis.transpose()
+              << ") radius " << c.radius << " height " << c.height << "\n";
   } else if (result.found) {
-    std::cout << "box: min (" << result.box.min.transpose() << ") max (" << result.box.max.transpose() << ")\n";
+    std::cout << "box: min (" << result.box.min.transpose() << ") max ("
+              << result.box.max.transpose() << ")\n";
   } else {
-    std::cout << "not found (" << igms::object::FailureName(result.reason) << "): " << result.detail << "\n";
+    std::cout << "not found (" << igms::object::FailureName(result.reason) << "): " << result.detail
+              << "\n";
   }
+  if (!vm.count("json") && result.range.used && !result.range.agrees)
+    std::cout << "range disagrees: " << result.range.detail << "\n";
   if (!result.found && result.reason == igms::object::Failure::kBadInput) return kBadInput;
   return result.found ? kFound : kNotFound;
 }

@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "igms/video.pb.h"
 #include "video_server/proto_convert.h"
@@ -79,6 +81,10 @@ void ResultToProto(const LocateResult& r, igms::object::LocateResponse* out) {
     b->set_texture_v0(r.box.texture_rect.y);
     b->set_texture_u1(r.box.texture_rect.x + r.box.texture_rect.width - 1);
     b->set_texture_v1(r.box.texture_rect.y + r.box.texture_rect.height - 1);
+    std::vector<uint8_t> png;
+    if (!r.box.texture.empty() &&
+        cv::imencode(".png", r.box.texture, png, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+      b->set_texture_png(png.data(), png.size());
   }
   out->set_boundary_pixels(r.boundary_pixels);
   out->set_ssd_rms(r.ssd_rms);
@@ -86,6 +92,16 @@ void ResultToProto(const LocateResult& r, igms::object::LocateResponse* out) {
   out->set_rms_left_px(r.rms_left_px);
   out->set_rms_right_px(r.rms_right_px);
   out->set_locate_ms(r.elapsed_ms);
+  if (r.range.used) {
+    auto* range = out->mutable_range();
+    range->set_used(true);
+    range->set_constrained(r.range.constrained);
+    range->set_measured(r.range.measured);
+    range->set_expected_min(r.range.expected_min);
+    range->set_expected_max(r.range.expected_max);
+    range->set_agrees(r.range.agrees);
+    range->set_detail(r.range.detail);
+  }
 }
 
 ObjectService::ObjectService(net::Client& video, geometry::ProjectiveCamera left,
@@ -214,9 +230,19 @@ void ObjectService::Run(const igms::object::LocateRequest& request,
   input.right = frame.right;
   input.left_camera = left_camera_;
   input.right_camera = right_camera_;
+  if (request.range() > 0 && options_.ranger) {
+    input.range = request.range();
+    input.ranger_origin = options_.ranger->origin;
+    input.ranger_axis = options_.ranger->axis;
+  }
   const LocateResult result = Locate(input, options_.locate);
   igms::object::LocateResponse response;
   ResultToProto(result, &response);
+  if (request.range() > 0 && !options_.ranger) {
+    auto* range = response.mutable_range();
+    range->set_measured(request.range());
+    range->set_detail("the range was not used: the object server's calibration has no ranger map");
+  }
   response.set_fetch_ms(fetch_ms);
   spdlog::info("locate {} on frame {}: {} ({:.0f} ms locate, {:.0f} ms fetch)",
                input.type == SolidType::kCylinder ? "cylinder" : "box", request.frame_id(),

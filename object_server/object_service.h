@@ -25,6 +25,7 @@
 #include "common/net/server.h"
 #include "igms/object.pb.h"
 #include "object_server/locate.h"
+#include "object_server/ranger.h"
 
 namespace igms::object {
 
@@ -33,6 +34,9 @@ struct ObjectServiceOptions {
   size_t cache_frames = 4;                        // grabs' images kept
   size_t max_queue = 16;                          // locates waiting; more are UNAVAILABLE
   LocateOptions locate;
+  // The ultrasonic ranger in the world (the calibration's ranger map at the platform's zero
+  // pose, as the cameras); without one a request's range is not used (said in the response).
+  std::optional<RangerPose> ranger;
   // Empty when valid, else what is wrong.
   std::string Check() const;
 };

@@ -22,10 +22,18 @@ std::string JsonEscape(const std::string& text) {
   std::string out;
   for (const char ch : text) {
     switch (ch) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (static_cast<unsigned char>(ch) < 0x20) {
           char buf[8];
@@ -44,22 +52,35 @@ std::string ResultToJson(const LocateResult& r) {
   const char* type = r.type == SolidType::kCylinder ? "cylinder" : "box";
   o << "{\"found\": " << (r.found ? "true" : "false") << ", \"type\": \"" << type << "\"";
   if (!r.found) {
-    o << ", \"reason\": \"" << FailureName(r.reason) << "\", \"detail\": \"" << JsonEscape(r.detail) << "\"";
+    o << ", \"reason\": \"" << FailureName(r.reason) << "\", \"detail\": \"" << JsonEscape(r.detail)
+      << "\"";
   } else if (r.type == SolidType::kCylinder) {
     const auto& c = r.cylinder;
-    o << ", \"center\": " << Vec(c.center) << ", \"axis\": " << Vec(c.axis) << ", \"radius\": " << Num(c.radius)
-      << ", \"height\": " << Num(c.height) << ", \"sigma\": {\"center\": " << Vec(c.center_sigma)
+    o << ", \"center\": " << Vec(c.center) << ", \"axis\": " << Vec(c.axis)
+      << ", \"radius\": " << Num(c.radius) << ", \"height\": " << Num(c.height)
+      << ", \"sigma\": {\"center\": " << Vec(c.center_sigma)
       << ", \"radius\": " << Num(c.radius_sigma) << ", \"height\": " << Num(c.height_sigma) << "}";
   } else {
     const auto& b = r.box;
-    o << ", \"min\": " << Vec(b.min) << ", \"max\": " << Vec(b.max) << ", \"center\": " << Vec(0.5 * (b.min + b.max))
-      << ", \"size\": " << Vec(b.max - b.min) << ", \"texture_rect\": [" << b.texture_rect.x << ", "
-      << b.texture_rect.y << ", " << b.texture_rect.x + b.texture_rect.width - 1 << ", "
-      << b.texture_rect.y + b.texture_rect.height - 1 << "], \"sigma\": {\"min\": " << Vec(b.min_sigma)
-      << ", \"max\": " << Vec(b.max_sigma) << "}";
+    o << ", \"min\": " << Vec(b.min) << ", \"max\": " << Vec(b.max)
+      << ", \"center\": " << Vec(0.5 * (b.min + b.max)) << ", \"size\": " << Vec(b.max - b.min)
+      << ", \"texture_rect\": [" << b.texture_rect.x << ", " << b.texture_rect.y << ", "
+      << b.texture_rect.x + b.texture_rect.width - 1 << ", "
+      << b.texture_rect.y + b.texture_rect.height - 1
+      << "], \"sigma\": {\"min\": " << Vec(b.min_sigma) << ", \"max\": " << Vec(b.max_sigma) << "}";
   }
-  o << ", \"rms_px\": [" << Num(r.rms_left_px) << ", " << Num(r.rms_right_px) << "], \"outline_samples\": "
-    << r.outline_samples << ", \"boundary_pixels\": " << r.boundary_pixels << ", \"ssd_rms\": " << Num(r.ssd_rms)
+  if (r.range.used) {
+    o << ", \"range\": {\"measured\": " << Num(r.range.measured)
+      << ", \"constrained\": " << (r.range.constrained ? "true" : "false");
+    if (r.found)
+      o << ", \"expected\": [" << Num(r.range.expected_min) << ", " << Num(r.range.expected_max)
+        << "], \"agrees\": " << (r.range.agrees ? "true" : "false") << ", \"detail\": \""
+        << JsonEscape(r.range.detail) << "\"";
+    o << "}";
+  }
+  o << ", \"rms_px\": [" << Num(r.rms_left_px) << ", " << Num(r.rms_right_px)
+    << "], \"outline_samples\": " << r.outline_samples
+    << ", \"boundary_pixels\": " << r.boundary_pixels << ", \"ssd_rms\": " << Num(r.ssd_rms)
     << ", \"elapsed_ms\": " << Num(r.elapsed_ms) << "}";
   return o.str();
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <string>
 
 namespace igms::object {
@@ -15,40 +16,150 @@ double Cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Ve
   return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
 }
 
+// An edge measurement and the outline point that starts the hull segment it was sampled on:
+// the closest segment is searched from there, as the model moves little between steps.
 struct Measurement {
   int view;
   Eigen::Vector2d point;
+  int hint;
 };
 
-// The outline of the model in one view, or empty when a point is behind the camera.
-std::vector<Eigen::Vector2d> ProjectHull(const std::vector<Eigen::Vector3d>& pts,
-                                         const geometry::ProjectiveCamera& cam) {
+// The model's outline points projected into one view and the indices of their convex hull.
+struct ViewOutline {
   std::vector<Eigen::Vector2d> px;
-  px.reserve(pts.size());
-  for (const auto& p : pts) {
-    const Eigen::Vector3d x = cam.P() * p.homogeneous();
-    if (cam.Depth(p) <= 0 || std::abs(x.z()) < 1e-12) return {};
-    px.push_back(x.hnormalized());
+  std::vector<int> hull;      // outline indices, counter-clockwise
+  std::vector<int> position;  // outline index -> position in hull, or -1
+};
+
+bool Project(const std::vector<Eigen::Vector3d>& pts, const geometry::ProjectiveCamera& cam,
+             ViewOutline& out) {
+  out.px.resize(pts.size());
+  const geometry::Matrix34& P = cam.P();
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector3d x = P * pts[i].homogeneous();
+    if (cam.Depth(pts[i]) <= 0 || std::abs(x.z()) < 1e-12) return false;
+    out.px[i] = x.hnormalized();
   }
-  return ConvexHull(std::move(px));
+  // Monotone chain on indices.
+  std::vector<int> order(pts.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  const auto& p = out.px;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return p[a].x() < p[b].x() || (p[a].x() == p[b].x() && p[a].y() < p[b].y());
+  });
+  std::vector<int> h(2 * order.size() + 1);
+  size_t k = 0;
+  for (size_t i = 0; i < order.size(); ++i) {
+    while (k >= 2 && Cross(p[h[k - 2]], p[h[k - 1]], p[order[i]]) <= 0) --k;
+    h[k++] = order[i];
+  }
+  for (size_t i = order.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && Cross(p[h[k - 2]], p[h[k - 1]], p[order[i - 1]]) <= 0) --k;
+    h[k++] = order[i - 1];
+  }
+  h.resize(k > 0 ? k - 1 : 0);
+  out.hull = std::move(h);
+  out.position.assign(pts.size(), -1);
+  for (size_t i = 0; i < out.hull.size(); ++i) out.position[out.hull[i]] = static_cast<int>(i);
+  return out.hull.size() >= 3;
 }
 
-// Samples every pixel along the outline, away from corners sharper than 30 degrees.
-void SampleOutline(const std::vector<Eigen::Vector2d>& hull, std::vector<Eigen::Vector2d>& points,
-                   std::vector<Eigen::Vector2d>& normals) {
-  const size_t n = hull.size();
+// Where a point is closest to the hull: on segment `seg` (hull position), at its start or end
+// vertex or in between.
+struct Closest {
+  double distance = std::numeric_limits<double>::infinity();  // unsigned
+  int seg = 0;
+  double t = 0;  // 0 start vertex, 1 end vertex
+};
+
+Closest ToSegment(const ViewOutline& o, int seg, const Eigen::Vector2d& p) {
+  const int n = static_cast<int>(o.hull.size());
+  const Eigen::Vector2d& a = o.px[o.hull[seg]];
+  const Eigen::Vector2d& b = o.px[o.hull[(seg + 1) % n]];
+  const Eigen::Vector2d d = b - a;
+  const double len2 = d.squaredNorm();
+  Closest c;
+  c.seg = seg;
+  c.t = len2 < 1e-18 ? 0.0 : std::clamp((p - a).dot(d) / len2, 0.0, 1.0);
+  c.distance = (a + c.t * d - p).norm();
+  return c;
+}
+
+// The closest hull segment, walking from the hint's segment while the distance falls (the
+// distance to a convex outline has one minimum along it for points near the outline); a
+// full search when the hint's point has left the hull.
+Closest FindClosest(const ViewOutline& o, int hint, const Eigen::Vector2d& p) {
+  const int n = static_cast<int>(o.hull.size());
+  const int start = hint >= 0 && hint < static_cast<int>(o.position.size()) ? o.position[hint] : -1;
+  if (start < 0) {
+    Closest best;
+    for (int s = 0; s < n; ++s) {
+      const Closest c = ToSegment(o, s, p);
+      if (c.distance < best.distance) best = c;
+    }
+    return best;
+  }
+  Closest best = ToSegment(o, start, p);
+  for (const int dir : {1, -1}) {
+    int s = start;
+    for (int steps = 0; steps < n; ++steps) {
+      s = (s + dir + n) % n;
+      const Closest c = ToSegment(o, s, p);
+      if (c.distance > best.distance + 1e-12) break;
+      best = c;
+    }
+  }
+  return best;
+}
+
+// Signed distance (positive outside) from the closest segment, and its gradient with respect
+// to the segment's two end points.
+double SignedFromClosest(const ViewOutline& o, const Closest& c, const Eigen::Vector2d& p,
+                         Eigen::Vector2d* d_a, Eigen::Vector2d* d_b) {
+  const int n = static_cast<int>(o.hull.size());
+  const Eigen::Vector2d& a = o.px[o.hull[c.seg]];
+  const Eigen::Vector2d& b = o.px[o.hull[(c.seg + 1) % n]];
+  const Eigen::Vector2d e = b - a;
+  const double len = e.norm();
+  if (c.t > 0 && c.t < 1 && len > 1e-9) {
+    const Eigen::Vector2d q = p - a;
+    const Eigen::Vector2d normal(e.y() / len, -e.x() / len);  // outward, counter-clockwise hull
+    const double d = normal.dot(q);
+    if (d_a) {
+      const Eigen::Vector2d d_e = (Eigen::Vector2d(-q.y(), q.x()) - d * e / len) / len;
+      *d_b = d_e;
+      *d_a = -normal - d_e;
+    }
+    return d;
+  }
+  // Nearest to a vertex: outside a convex outline.
+  const Eigen::Vector2d& v = c.t <= 0 ? a : b;
+  const double d = (p - v).norm();
+  if (d_a) {
+    const Eigen::Vector2d g = d > 1e-12 ? Eigen::Vector2d((v - p) / d) : Eigen::Vector2d::Zero();
+    *d_a = c.t <= 0 ? g : Eigen::Vector2d::Zero();
+    *d_b = c.t <= 0 ? Eigen::Vector2d::Zero() : g;
+  }
+  return d;
+}
+
+// Samples every pixel along the outline, away from corners sharper than 30 degrees; `seg`
+// gets the outline index starting each sample's hull segment.
+void SampleOutline(const ViewOutline& o, std::vector<Eigen::Vector2d>& points,
+                   std::vector<Eigen::Vector2d>& normals, std::vector<int>& seg) {
+  const size_t n = o.hull.size();
   if (n < 3) return;
-  // Corners: vertices where the outline turns by more than 30 degrees.
+  auto at = [&](size_t i) -> const Eigen::Vector2d& { return o.px[o.hull[i % n]]; };
   std::vector<bool> corner(n);
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d a = (hull[i] - hull[(i + n - 1) % n]).normalized();
-    const Eigen::Vector2d b = (hull[(i + 1) % n] - hull[i]).normalized();
+    const Eigen::Vector2d a = (at(i) - at(i + n - 1)).normalized();
+    const Eigen::Vector2d b = (at(i + 1) - at(i)).normalized();
     corner[i] = a.dot(b) < std::cos(30.0 * M_PI / 180.0);
   }
   const double keep_off = 1.5, spacing = 1.0;
   double carry = 0;  // arc length into the next edge where the next sample falls
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d a = hull[i], b = hull[(i + 1) % n];
+    const Eigen::Vector2d a = at(i), b = at(i + 1);
     const double len = (b - a).norm();
     if (len < 1e-9) continue;
     const Eigen::Vector2d dir = (b - a) / len;
@@ -59,9 +170,21 @@ void SampleOutline(const std::vector<Eigen::Vector2d>& hull, std::vector<Eigen::
       if (corner[(i + 1) % n] && len - s < keep_off) continue;
       points.push_back(a + s * dir);
       normals.push_back(normal);
+      seg.push_back(o.hull[i]);
     }
     carry = s - len;
   }
+}
+
+// d(pixel)/d(world point) of a camera at X: 2x3.
+Eigen::Matrix<double, 2, 3> ProjectionJacobian(const geometry::Matrix34& P,
+                                               const Eigen::Vector3d& X) {
+  const Eigen::Vector3d x = P * X.homogeneous();
+  const double w = x.z();
+  Eigen::Matrix<double, 2, 3> J;
+  J.row(0) = (P.block<1, 3>(0, 0) - (x.x() / w) * P.block<1, 3>(2, 0)) / w;
+  J.row(1) = (P.block<1, 3>(1, 0) - (x.y() / w) * P.block<1, 3>(2, 0)) / w;
+  return J;
 }
 
 }  // namespace
@@ -102,6 +225,74 @@ double SignedDistance(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vec
   return max_line <= 0 ? max_line : min_seg;
 }
 
+namespace {
+
+// Residuals of the measurements against the model's outlines, and optionally their Jacobian:
+// analytic from each measurement's closest hull segment, through the projection, down to the
+// outline points, whose derivatives with respect to the parameters are taken numerically
+// (a handful of cheap outline evaluations instead of one full residual pass per parameter).
+class Evaluator {
+ public:
+  Evaluator(const OutlineFn& outline, const std::array<FitView, 2>& views,
+            const Eigen::VectorXd& step)
+      : outline_(outline), views_(views), step_(step) {}
+
+  bool Outlines(const Eigen::VectorXd& x, std::array<ViewOutline, 2>& o) const {
+    pts_ = outline_(x);
+    for (int v = 0; v < 2; ++v)
+      if (!Project(pts_, *views_[v].camera, o[v])) return false;
+    return true;
+  }
+
+  // Hints of `ms` are updated to the closest segments found.
+  bool Residuals(const Eigen::VectorXd& x, std::vector<Measurement>& ms, Eigen::VectorXd& r,
+                 Eigen::MatrixXd* J) const {
+    std::array<ViewOutline, 2> o;
+    if (!Outlines(x, o)) return false;
+    const int np = static_cast<int>(x.size());
+    // d(pixel)/d(params) of every outline point in each view.
+    std::array<std::vector<Eigen::Matrix<double, 2, Eigen::Dynamic>>, 2> dpx;
+    if (J) {
+      const std::vector<Eigen::Vector3d> base = pts_;
+      std::vector<std::vector<Eigen::Vector3d>> moved(np);
+      for (int k = 0; k < np; ++k) {
+        Eigen::VectorXd xp = x;
+        xp[k] += step_[k];
+        moved[k] = outline_(xp);
+      }
+      for (int v = 0; v < 2; ++v) {
+        dpx[v].assign(base.size(), Eigen::Matrix<double, 2, Eigen::Dynamic>(2, np));
+        for (size_t i = 0; i < base.size(); ++i) {
+          const Eigen::Matrix<double, 2, 3> jp = ProjectionJacobian(views_[v].camera->P(), base[i]);
+          for (int k = 0; k < np; ++k) dpx[v][i].col(k) = jp * ((moved[k][i] - base[i]) / step_[k]);
+        }
+      }
+      J->resize(ms.size(), np);
+    }
+    r.resize(ms.size());
+    for (size_t i = 0; i < ms.size(); ++i) {
+      const ViewOutline& ov = o[ms[i].view];
+      const Closest c = FindClosest(ov, ms[i].hint, ms[i].point);
+      const int n = static_cast<int>(ov.hull.size());
+      const int ia = ov.hull[c.seg], ib = ov.hull[(c.seg + 1) % n];
+      ms[i].hint = ia;
+      Eigen::Vector2d da, db;
+      r[i] = SignedFromClosest(ov, c, ms[i].point, J ? &da : nullptr, J ? &db : nullptr);
+      if (J)
+        J->row(i) = da.transpose() * dpx[ms[i].view][ia] + db.transpose() * dpx[ms[i].view][ib];
+    }
+    return true;
+  }
+
+ private:
+  const OutlineFn& outline_;
+  const std::array<FitView, 2>& views_;
+  Eigen::VectorXd step_;
+  mutable std::vector<Eigen::Vector3d> pts_;
+};
+
+}  // namespace
+
 FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initial,
                          const std::array<FitView, 2>& views, const FitOptions& options) {
   FitOutcome out;
@@ -109,23 +300,7 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
   const int np = static_cast<int>(x.size());
   const Eigen::VectorXd step =
       options.step.size() == np ? options.step : Eigen::VectorXd::Constant(np, 1e-4);
-
-  auto hulls_of = [&](const Eigen::VectorXd& params, std::array<std::vector<Eigen::Vector2d>, 2>& hulls) {
-    const auto pts = outline(params);
-    for (int v = 0; v < 2; ++v) {
-      hulls[v] = ProjectHull(pts, *views[v].camera);
-      if (hulls[v].size() < 3) return false;
-    }
-    return true;
-  };
-  auto residuals = [&](const Eigen::VectorXd& params, const std::vector<Measurement>& ms,
-                       Eigen::VectorXd& r) {
-    std::array<std::vector<Eigen::Vector2d>, 2> hulls;
-    if (!hulls_of(params, hulls)) return false;
-    r.resize(ms.size());
-    for (size_t i = 0; i < ms.size(); ++i) r[i] = SignedDistance(hulls[ms[i].view], ms[i].point);
-    return true;
-  };
+  const Evaluator eval(outline, views, step);
 
   // Robust cost: Huber up to outlier_px, then flat, so moving away from edges never pays.
   double outlier = options.outlier_px;  // grows with the search range in early passes
@@ -138,27 +313,31 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
     for (int i = 0; i < res.size(); ++i) c += rho(res[i]);
     return c;
   };
+  const char* behind = "the model went behind a camera";
   std::vector<Measurement> ms;
   Eigen::VectorXd r, w;
-  for (int outer = 0; outer < options.outer_iterations; ++outer) {
+  Eigen::MatrixXd J;
+  for (int outer = options.first_outer; outer < options.outer_iterations; ++outer) {
     const double range = outer == 0   ? options.search_px
                          : outer == 1 ? std::max(2.0, 0.6 * options.search_px)
                                       : std::max(1.5, 0.4 * options.search_px);
     outlier = std::max(options.outlier_px, range + 0.5);
-    std::array<std::vector<Eigen::Vector2d>, 2> hulls;
-    if (!hulls_of(x, hulls)) {
-      out.error = "the model went behind a camera";
+    std::array<ViewOutline, 2> o;
+    if (!eval.Outlines(x, o)) {
+      out.error = behind;
       return out;
     }
     ms.clear();
     for (int v = 0; v < 2; ++v) {
       std::vector<Eigen::Vector2d> pts, normals;
-      SampleOutline(hulls[v], pts, normals);
+      std::vector<int> seg;
+      SampleOutline(o[v], pts, normals, seg);
       out.sampled[v] = static_cast<int>(pts.size());
       for (size_t i = 0; i < pts.size(); ++i) {
         double s;
-        if (EdgeAlongNormal(*views[v].gradients, pts[i], normals[i], range, options.min_gradient, &s))
-          ms.push_back({v, pts[i] + s * normals[i]});
+        if (EdgeAlongNormal(*views[v].gradients, pts[i], normals[i], range, options.min_gradient,
+                            &s))
+          ms.push_back({v, pts[i] + s * normals[i], seg[i]});
       }
     }
     if (spdlog::should_log(spdlog::level::debug)) {
@@ -173,62 +352,54 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
     }
     double lambda = 1e-3;
     for (int inner = 0; inner < options.inner_iterations; ++inner) {
-      if (!residuals(x, ms, r)) break;
+      if (!eval.Residuals(x, ms, r, &J)) break;
       w.resize(r.size());
       for (int i = 0; i < r.size(); ++i) {
         const double a = std::abs(r[i]);
         w[i] = a > outlier ? 0.0 : (a <= options.huber_px ? 1.0 : options.huber_px / a);
-      }
-      Eigen::MatrixXd J(r.size(), np);
-      for (int k = 0; k < np; ++k) {
-        Eigen::VectorXd xp = x, rp;
-        xp[k] += step[k];
-        if (!residuals(xp, ms, rp)) {
-          out.error = "the model went behind a camera";
-          return out;
-        }
-        J.col(k) = (rp - r) / step[k];
       }
       const Eigen::MatrixXd JtW = J.transpose() * w.asDiagonal();
       const Eigen::MatrixXd H = JtW * J;
       const Eigen::VectorXd g = JtW * r;
       const double cost = cost_of(r);
       bool improved = false;
+      double gain = 0;
       for (int tries = 0; tries < 8 && !improved; ++tries) {
         Eigen::MatrixXd A = H;
         // Directions no edge constrains (an end with no measurement yet) must not drift:
         // a small stiffness relative to the mean curvature holds them.
-        A.diagonal() += lambda * H.diagonal() + Eigen::VectorXd::Constant(np, 1e-3 * H.diagonal().mean() + 1e-9);
+        A.diagonal() += lambda * H.diagonal() +
+                        Eigen::VectorXd::Constant(np, 1e-3 * H.diagonal().mean() + 1e-9);
         const Eigen::VectorXd dx = -A.ldlt().solve(g);
         Eigen::VectorXd rn;
-        if (dx.allFinite() && residuals(x + dx, ms, rn) && cost_of(rn) < cost) {
+        std::vector<Measurement> trial = ms;
+        if (dx.allFinite() && eval.Residuals(x + dx, trial, rn, nullptr) && cost_of(rn) < cost) {
+          gain = cost - cost_of(rn);
           x += dx;
+          ms = std::move(trial);
           lambda = std::max(1e-7, lambda * 0.3);
           improved = true;
         } else {
           lambda *= 10;
         }
       }
-      if (!improved) break;
+      // Converged: a step that gains almost nothing ends this measurement's iterations.
+      if (!improved || gain < 1e-6 * (1 + cost)) break;
     }
   }
   // Final statistics and covariance on the last measurements.
-  if (!residuals(x, ms, r)) {
-    out.error = "the model went behind a camera";
+  if (!eval.Residuals(x, ms, r, &J)) {
+    out.error = behind;
     return out;
-  }
-  Eigen::MatrixXd J(r.size(), np);
-  for (int k = 0; k < np; ++k) {
-    Eigen::VectorXd xp = x, rp;
-    xp[k] += step[k];
-    residuals(xp, ms, rp);
-    J.col(k) = (rp - r) / step[k];
   }
   std::array<double, 2> sum{0, 0};
   std::array<int, 2> count{0, 0};
   Eigen::VectorXd wk = Eigen::VectorXd::Zero(r.size());
   for (int i = 0; i < r.size(); ++i) {
-    if (std::abs(r[i]) > options.outlier_px) continue;
+    const bool in = std::abs(r[i]) <= options.outlier_px;
+    out.measured[ms[i].view].push_back(ms[i].point);
+    out.inlier[ms[i].view].push_back(in);
+    if (!in) continue;
     wk[i] = 1;
     sum[ms[i].view] += r[i] * r[i];
     ++count[ms[i].view];
@@ -241,6 +412,12 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
   const double sigma2 = (sum[0] + sum[1]) / dof;
   const Eigen::MatrixXd H = J.transpose() * wk.asDiagonal() * J;
   out.covariance = sigma2 * H.completeOrthogonalDecomposition().pseudoInverse();
+  {
+    std::array<ViewOutline, 2> o;
+    if (eval.Outlines(x, o))
+      for (int v = 0; v < 2; ++v)
+        for (const int i : o[v].hull) out.outline[v].push_back(o[v].px[i]);
+  }
   out.params = x;
   out.ok = x.allFinite();
   if (!out.ok) out.error = "the fit diverged";

@@ -29,13 +29,14 @@ struct FitView {
 };
 
 struct FitOptions {
-  double search_px = 4.0;      // first outer iteration's search range; later ones use half
-  double min_gradient = 6.0;   // edges weaker than this are not measured
+  double search_px = 4.0;     // first outer iteration's search range; later ones use half
+  double min_gradient = 6.0;  // edges weaker than this are not measured
   int outer_iterations = 5;
+  int first_outer = 0;  // continuing an earlier fit: its passes already made
   int inner_iterations = 6;
   double huber_px = 0.5;
-  double outlier_px = 2.0;     // measurements farther than this after a pass are dropped
-  Eigen::VectorXd step;        // finite-difference step per parameter (world units)
+  double outlier_px = 2.0;  // measurements farther than this after a pass are dropped
+  Eigen::VectorXd step;     // finite-difference step per parameter (world units)
 };
 
 struct FitOutcome {
@@ -46,6 +47,11 @@ struct FitOutcome {
   std::array<double, 2> rms_px{0, 0};
   std::array<int, 2> used{0, 0};     // measurements kept in the final pass, per view
   std::array<int, 2> sampled{0, 0};  // outline samples, per view
+  // For a person to look at (debug images): per view the fitted outline and the edge points
+  // measured in the final pass, each with whether it counted (within outlier_px).
+  std::array<std::vector<Eigen::Vector2d>, 2> outline;
+  std::array<std::vector<Eigen::Vector2d>, 2> measured;
+  std::array<std::vector<bool>, 2> inlier;
 };
 
 FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initial,

@@ -24,20 +24,33 @@ TEST(Accuracy, TwentySeededScenesMeetTheTargets) {
   const Summary c = Summarize(cylinders, "");
   const Summary b = Summarize(all, "box");
   const Summary every = Summarize(all, "");
-  std::printf("cylinders n=%d found %.1f%%: radius median %.4f, height median %.4f, position median %.3f\n",
-              c.count, 100 * c.found_rate, c.radius_median, c.height_median, c.position_median);
-  std::printf("boxes n=%d found %.1f%%: size median %.3f %.3f %.3f, position median %.3f\n", b.count,
-              100 * b.found_rate, b.size_median.x(), b.size_median.y(), b.size_median.z(), b.position_median);
+  const Summary lying = Summarize(all, "lying");
+  std::printf(
+      "cylinders n=%d found %.1f%%: radius median %.4f, height median %.4f, position median %.3f\n",
+      c.count, 100 * c.found_rate, c.radius_median, c.height_median, c.position_median);
+  std::printf("boxes n=%d found %.1f%%: size median %.3f %.3f %.3f, position median %.3f\n",
+              b.count, 100 * b.found_rate, b.size_median.x(), b.size_median.y(), b.size_median.z(),
+              b.position_median);
   ASSERT_GE(c.count, 50);
   ASSERT_GE(b.count, 15);
   EXPECT_GT(every.found_rate, 0.95);
   EXPECT_LT(c.radius_median, 0.03);
   EXPECT_LT(c.height_median, 0.03);
   EXPECT_LT(c.position_median, 0.3);
+  // A pipe lying on the table: its length rests on the depth of its two ends, which stereo
+  // alone gives to about a pixel of disparity; the 0.03 in target is not met for this kind
+  // alone (about 0.05 in over 100 scenes): this bound records what is reached.
+  std::printf("lying cylinders n=%d found %.1f%%: height median %.4f\n", lying.count,
+              100 * lying.found_rate, lying.height_median);
+  EXPECT_GT(lying.found_rate, 0.95);
+  EXPECT_LT(lying.radius_median, 0.03);
+  EXPECT_LT(lying.height_median, 0.1);
+  EXPECT_GT(b.found_rate, 0.95);
   EXPECT_LT(b.position_median, 0.3);
   // Across the view (x) and vertically (z) a block's size meets the 0.1 in target. Along the
   // view (y) its back is seen only as a sliver of the top or a side face 3.7 in above the
-  // table, and the target is not met: this bound records what is reached (docs/site.md).
+  // table, and the target is not met: this bound records what is reached (docs/site.md,
+  // docs/protocol-object.md).
   EXPECT_LT(b.size_median.x(), 0.1);
   EXPECT_LT(b.size_median.z(), 0.1);
   EXPECT_LT(b.size_median.y(), 0.5);

@@ -9,10 +9,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "common/calibration/calibration_file.h"
 #include "common/site/marks.h"
+#include "common/site/range.h"
 #include "common/site/renderer.h"
 #include "common/site/testbed.h"
-#include "common/calibration/calibration_file.h"
 
 namespace fs = std::filesystem;
 
@@ -66,8 +67,8 @@ class LocateCli : public ::testing::Test {
     cal.right.image_size = scene_.cameras.right.image_size();
     std::string error;
     ASSERT_TRUE(calibration::SaveCalibration(cal, (dir_ / "cal.yaml").string(), &error)) << error;
-    base_ = "--calibration " + (dir_ / "cal.yaml").string() + " --left " + (dir_ / "left.png").string() +
-            " --right " + (dir_ / "right.png").string();
+    base_ = "--calibration " + (dir_ / "cal.yaml").string() + " --left " +
+            (dir_ / "left.png").string() + " --right " + (dir_ / "right.png").string();
   }
   void TearDown() override { fs::remove_all(dir_); }
   fs::path dir_;
@@ -102,10 +103,11 @@ TEST_F(LocateCli, FindsEachObjectAndPrintsJson) {
 TEST_F(LocateCli, NotFoundExitsOne) {
   const Eigen::Vector3d c = scene_.cameras.left.Center();
   const double y = c.y() - 200;
-  const std::string marks = " --mark " + std::to_string(c.x() - 3) + "," + std::to_string(y) + ",33" +
-                            " --mark " + std::to_string(c.x() + 3) + "," + std::to_string(y) + ",33" +
-                            " --mark " + std::to_string(c.x() + 3) + "," + std::to_string(y) + ",27" +
-                            " --mark " + std::to_string(c.x() - 3) + "," + std::to_string(y) + ",27";
+  const std::string marks = " --mark " + std::to_string(c.x() - 3) + "," + std::to_string(y) +
+                            ",33" + " --mark " + std::to_string(c.x() + 3) + "," +
+                            std::to_string(y) + ",33" + " --mark " + std::to_string(c.x() + 3) +
+                            "," + std::to_string(y) + ",27" + " --mark " +
+                            std::to_string(c.x() - 3) + "," + std::to_string(y) + ",27";
   const ProcessRun r = Exec(base_ + " --type box --json" + marks);
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_EQ(r.out.rfind("{\"found\": false", 0), 0u) << r.out;
@@ -114,17 +116,110 @@ TEST_F(LocateCli, NotFoundExitsOne) {
 
 TEST_F(LocateCli, BadInputExitsTwo) {
   const std::string four = " --mark 1,-50,1 --mark 2,-50,1 --mark 2,-50,2 --mark 1,-50,2";
-  EXPECT_EQ(Exec(base_ + " --type cylinder --mark 1,2,3").status, 2);                 // one mark
-  EXPECT_EQ(Exec(base_ + " --type cone" + four).status, 2);                          // unknown type
-  EXPECT_EQ(Exec(base_ + " --type box --mark 1,2 --mark 1,2,3 --mark 1,2,3 --mark 1,2,3").status, 2);
-  EXPECT_EQ(Exec(base_ + " --type box --mark nan,2,3 --mark 1,2,3 --mark 1,2,3 --mark 1,2,3").status, 2);
-  EXPECT_EQ(Exec("--calibration /nonexistent.yaml --left a.png --right b.png --type box" + four).status, 2);
+  EXPECT_EQ(Exec(base_ + " --type cylinder --mark 1,2,3").status, 2);  // one mark
+  EXPECT_EQ(Exec(base_ + " --type cone" + four).status, 2);            // unknown type
+  EXPECT_EQ(Exec(base_ + " --type box --mark 1,2 --mark 1,2,3 --mark 1,2,3 --mark 1,2,3").status,
+            2);
+  EXPECT_EQ(
+      Exec(base_ + " --type box --mark nan,2,3 --mark 1,2,3 --mark 1,2,3 --mark 1,2,3").status, 2);
+  EXPECT_EQ(
+      Exec("--calibration /nonexistent.yaml --left a.png --right b.png --type box" + four).status,
+      2);
   std::FILE* f = std::fopen((dir_ / "junk.yaml").c_str(), "w");
   std::fputs("this: [is not, a calibration", f);
   std::fclose(f);
-  EXPECT_EQ(Exec("--calibration " + (dir_ / "junk.yaml").string() + " --left a.png --right b.png --type box" + four).status, 2);
-  EXPECT_EQ(Exec("--calibration " + (dir_ / "cal.yaml").string() + " --left /nonexistent.png --right b.png --type box" + four).status, 2);
+  EXPECT_EQ(Exec("--calibration " + (dir_ / "junk.yaml").string() +
+                 " --left a.png --right b.png --type box" + four)
+                .status,
+            2);
+  EXPECT_EQ(Exec("--calibration " + (dir_ / "cal.yaml").string() +
+                 " --left /nonexistent.png --right b.png --type box" + four)
+                .status,
+            2);
   EXPECT_EQ(Exec("--bogus-flag").status, 2);
+}
+
+TEST_F(LocateCli, DebugImageShowsEdgesPointsAndOutline) {
+  for (size_t i = 0; i < scene_.objects.size(); ++i) {
+    const auto& shape = scene_.objects[i].shape;
+    if (!std::holds_alternative<site::Cylinder>(shape)) continue;
+    const auto marks = *site::GenerateMarks(shape, scene_.cameras.left, 31 + i);
+    const std::string file = (dir_ / "debug.png").string();
+    const ProcessRun r = Exec(base_ + " --type cylinder --debug-image " + file + MarkArgs(marks));
+    ASSERT_EQ(r.status, 0) << r.out;
+    const cv::Mat img = cv::imread(file, cv::IMREAD_COLOR);
+    ASSERT_FALSE(img.empty());
+    EXPECT_EQ(img.cols, 2 * 512);
+    EXPECT_GE(img.rows, 2 * 480);
+    int magenta = 0, green = 0, blue = 0;
+    for (int y = 0; y < img.rows; ++y)
+      for (int x = 0; x < img.cols; ++x) {
+        const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
+        magenta += p[0] > 200 && p[1] < 80 && p[2] > 200;
+        green += p[0] < 60 && p[1] > 180 && p[2] < 60;
+        blue += p[0] > 200 && p[1] > 100 && p[1] < 180 && p[2] < 60;
+      }
+    EXPECT_GT(magenta, 200) << "the fitted outline";
+    EXPECT_GT(green, 100) << "the measured edge points";
+    EXPECT_GT(blue, 50) << "the strong edges";
+    // An unwritable file is reported, and the result still printed.
+    const ProcessRun bad =
+        Exec(base_ + " --type cylinder --debug-image /nonexistent/dir/x.png" + MarkArgs(marks));
+    EXPECT_EQ(bad.status, 0);
+    return;
+  }
+  FAIL() << "the scene has no cylinder";
+}
+
+// The ranger in a calibration of our own (a nominal one for the lab is not relied on): 6 in
+// above the left camera, aimed at an upright cylinder. The range the simulated ranger would
+// measure off that cylinder alone agrees; one 8 in longer is reported as a disagreement.
+TEST_F(LocateCli, RangeConstrainsAndIsChecked) {
+  const site::Cylinder* cyl = nullptr;
+  size_t index = 0;
+  for (size_t i = 0; i < scene_.objects.size() && !cyl; ++i)
+    if (const auto* c = std::get_if<site::Cylinder>(&scene_.objects[i].shape);
+        c && c->axis.z() > 0.9) {
+      cyl = c;
+      index = i;
+    }
+  ASSERT_NE(cyl, nullptr);
+  calibration::StereoCalibration cal = *calibration::LoadCalibration((dir_ / "cal.yaml").string());
+  const Eigen::Vector3d origin = scene_.cameras.left.Center() + Eigen::Vector3d(0, 0, 6);
+  const Eigen::Vector3d axis = (cyl->center - origin).normalized();
+  cal.ranger = calibration::RangerCalibration{origin, axis};
+  ASSERT_TRUE(calibration::SaveCalibration(cal, (dir_ / "ranger.yaml").string()));
+  site::Scene alone = scene_;
+  alone.objects = {scene_.objects[index]};
+  alone.table.enabled = false;
+  const auto range = site::RangeInCone(alone, origin, axis, 6.0 * M_PI / 180);
+  ASSERT_TRUE(range.has_value());
+
+  const std::string args = "--calibration " + (dir_ / "ranger.yaml").string() + " --left " +
+                           (dir_ / "left.png").string() + " --right " +
+                           (dir_ / "right.png").string() + " --type cylinder --json" +
+                           MarkArgs(*site::GenerateMarks(*cyl, scene_.cameras.left, 5));
+  const ProcessRun good = Exec(args + " --range " + std::to_string(*range));
+  ASSERT_EQ(good.status, 0) << good.out;
+  EXPECT_NE(good.out.find("\"constrained\": true"), std::string::npos) << good.out;
+  EXPECT_NE(good.out.find("\"agrees\": true"), std::string::npos) << good.out;
+  EXPECT_NEAR(JsonNumber(good.out, "height"), cyl->height, 0.3) << good.out;
+
+  const ProcessRun far = Exec(args + " --range " + std::to_string(*range + 8));
+  ASSERT_EQ(far.status, 0) << far.out;  // the marks' depth still finds it
+  EXPECT_NE(far.out.find("\"constrained\": false"), std::string::npos) << far.out;
+  EXPECT_NE(far.out.find("\"agrees\": false"), std::string::npos) << far.out;
+  EXPECT_NE(far.out.find("beyond where the beam meets"), std::string::npos) << far.out;
+
+  const ProcessRun near = Exec(args + " --range " + std::to_string(*range - 2));
+  EXPECT_NE(near.out.find("something nearer is in the beam"), std::string::npos) << near.out;
+
+  // A range without a ranger in the calibration, or a nonsensical one, is bad input.
+  EXPECT_EQ(Exec(base_ + " --type cylinder --range 50" +
+                 MarkArgs(*site::GenerateMarks(*cyl, scene_.cameras.left, 5)))
+                .status,
+            2);
+  EXPECT_EQ(Exec(args + " --range -3").status, 2);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
 
 #include "common/calibration/calibration_file.h"
 #include "common/site/marks.h"
@@ -149,6 +150,14 @@ TEST_F(ObjectServerTest, LocatesTheTestbedsFirstCylinderAndBox) {
       const Eigen::Vector3d mid = 0.5 * (Eigen::Vector3d(b.min().x(), b.min().y(), b.min().z()) +
                                          Eigen::Vector3d(b.max().x(), b.max().y(), b.max().z()));
       EXPECT_LT((mid - box->center).norm(), 0.6);
+      // The texture patch: the left image's pixels of the texture rectangle.
+      const std::string& png = b.texture_png();
+      const cv::Mat texture =
+          cv::imdecode(std::vector<uint8_t>(png.begin(), png.end()), cv::IMREAD_UNCHANGED);
+      ASSERT_FALSE(texture.empty());
+      EXPECT_EQ(texture.cols, b.texture_u1() - b.texture_u0() + 1);
+      EXPECT_EQ(texture.rows, b.texture_v1() - b.texture_v0() + 1);
+      EXPECT_GT(cv::mean(texture)[0], 60.0);  // mostly the white block, not the dark table
     }
   }
   EXPECT_EQ(cylinders > 0 && boxes > 0, true);
@@ -183,6 +192,22 @@ TEST_F(ObjectServerTest, BadRequestsAndUnknownFrames) {
   unknown.set_frame_id(frame + 1000);
   got = client->CallSync<LocateResponse>(kLocate, unknown, 10s);
   EXPECT_EQ(got.status.code, igms::NOT_FOUND) << got.status.message;
+
+  // A range: the calibration's ranger map (nominal) makes it used and checked against the
+  // located object, whether or not the beam meets that object.
+  LocateRequest ranged = good;
+  ranged.set_range(50);
+  got = client->CallSync<LocateResponse>(kLocate, ranged, 60s);
+  ASSERT_TRUE(got.ok()) << got.status.message;
+  EXPECT_TRUE(got.value.range().used());
+  EXPECT_EQ(got.value.range().measured(), 50);
+  if (got.value.found()) {
+    EXPECT_TRUE(got.value.range().agrees() || !got.value.range().detail().empty());
+  }
+  LocateRequest negative = good;
+  negative.set_range(-1);
+  got = client->CallSync<LocateResponse>(kLocate, negative, 10s);
+  EXPECT_EQ(got.status.code, igms::BAD_REQUEST);
 
   // After all that the server still answers.
   got = client->CallSync<LocateResponse>(kLocate, good, 60s);
