@@ -51,7 +51,7 @@ class Tracer {
     double best_t = std::numeric_limits<double>::infinity();
     int key = kBackground;
     Eigen::Vector3d normal;
-    double albedo = 0;
+    int hit_object = -1;
     for (int k = 0; k < object_count; ++k) {
       const int i = objects[k];
       const cv::Rect2d& r = rects_[i];
@@ -61,7 +61,7 @@ class Tracer {
         best_t = hit->t;
         key = i * 8 + hit->face;
         normal = hit->normal;
-        albedo = scene_.objects[i].albedo;
+        hit_object = i;
       }
     }
     const Table& table = scene_.table;
@@ -77,7 +77,10 @@ class Tracer {
       }
     }
     if (key == kBackground) return {key, static_cast<float>(255.0 * table.background)};
-    return {key, static_cast<float>(255.0 * albedo * Shade(normal))};
+    const SceneObject& object = scene_.objects[static_cast<size_t>(hit_object)];
+    const double rho = object.texture.enabled() ? AlbedoAt(object, center_ + best_t * d)
+                                                : object.albedo;
+    return {key, static_cast<float>(255.0 * rho * Shade(normal))};
   }
 
   // The table's radiance filtered over pixel (x, y)'s footprint, as the pixel-centre ray sees

@@ -5,6 +5,18 @@
 #include <limits>
 
 namespace igms::site {
+
+double AlbedoAt(const SceneObject& object, const Eigen::Vector3d& p) {
+  if (!object.texture.enabled()) return object.albedo;
+  // Three directions no axis-aligned face is parallel to, so every face shows a pattern.
+  static const Eigen::Vector3d kDirections[3] = {Eigen::Vector3d(0.80, 0.36, 0.48).normalized(),
+                                                 Eigen::Vector3d(-0.28, 0.88, 0.38).normalized(),
+                                                 Eigen::Vector3d(0.42, -0.31, 0.85).normalized()};
+  const double k = 2.0 * M_PI / object.texture.period;
+  double n = 0.0;
+  for (const auto& a : kDirections) n += std::sin(k * a.dot(p));
+  return object.albedo * (1.0 + object.texture.contrast * n / 3.0);
+}
 namespace {
 
 constexpr double kEps = 1e-9;

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <optional>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -71,11 +72,31 @@ struct Sphere {
 
 using Shape = std::variant<Cylinder, Box, Sphere>;
 
+// A textured material: the albedo varies over the solid's surface as a smooth solid texture
+//   albedo(p) = albedo * (1 + contrast * n(p)),  n(p) = mean of sin(2 pi a_k . p / period)
+// over three fixed, skewed unit directions a_k, so n is in [-1, 1]. A pattern of sines is
+// band-limited: it gives stereo matching features inside the silhouette without aliasing,
+// as long as one period spans at least 4 pixels in the image (1 in at 7 ft is about 4 px with
+// the thesis's cameras).
+struct Texture {
+  double contrast = 0.0;  // 0: plain (white matte, as the thesis's test objects); at most 1
+  double period = 1.0;    // inches
+  bool enabled() const { return contrast > 0.0; }
+};
+
 struct SceneObject {
+  SceneObject() = default;
+  SceneObject(std::string name, Shape shape, double albedo = 0.85, Texture texture = {})
+      : name(std::move(name)), shape(std::move(shape)), albedo(albedo), texture(texture) {}
+
   std::string name;
   Shape shape;
   double albedo = 0.85;  // white matte, as the thesis's test objects
+  Texture texture;
 };
+
+// The object's albedo at surface point p (world frame): `albedo` when it has no texture.
+double AlbedoAt(const SceneObject& object, const Eigen::Vector3d& p);
 
 // Sensor model applied after rendering: Gaussian blur, then additive Gaussian noise, then
 // rounding to 8 bits. Zero sigma turns a stage off. `seed` makes the noise repeatable;

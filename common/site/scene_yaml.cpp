@@ -154,6 +154,15 @@ Scene Parse(const YAML::Node& root) {
       SceneObject o{"object_" + std::to_string(i), ParseShape(objects[i], where), 0.85};
       if (objects[i]["name"]) o.name = objects[i]["name"].as<std::string>();
       o.albedo = Get(objects[i], "albedo", o.albedo, where);
+      if (const auto tex = objects[i]["texture"]) {
+        const std::string w = where + ".texture";
+        if (!tex.IsMap()) throw ParseError(w + ": expected a map {contrast, period}");
+        o.texture.contrast = Get(tex, "contrast", 0.3, w);
+        o.texture.period = Positive(tex, "period", o.texture.period, w);
+        if (o.texture.contrast < 0.0 || o.texture.contrast > 1.0) {
+          throw ParseError(w + ".contrast: must be in [0, 1]");
+        }
+      }
       s.objects.push_back(std::move(o));
     }
   }
@@ -255,7 +264,13 @@ std::string SceneToYaml(const Scene& s) {
       EmitVec(out, sp.center);
       out << YAML::Key << "radius" << YAML::Value << sp.radius;
     }
-    out << YAML::Key << "albedo" << YAML::Value << o.albedo << YAML::EndMap;
+    out << YAML::Key << "albedo" << YAML::Value << o.albedo;
+    if (o.texture.enabled()) {
+      out << YAML::Key << "texture" << YAML::Value << YAML::Flow << YAML::BeginMap
+          << YAML::Key << "contrast" << YAML::Value << o.texture.contrast << YAML::Key << "period"
+          << YAML::Value << o.texture.period << YAML::EndMap;
+    }
+    out << YAML::EndMap;
   }
   out << YAML::EndSeq << YAML::EndMap;
   return std::string(out.c_str()) + "\n";

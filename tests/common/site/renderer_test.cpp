@@ -80,6 +80,42 @@ TEST(Renderer, CylinderSilhouetteMatchesCameraModel) {
   }
 }
 
+// A textured box shows its pattern inside the silhouette (grey levels vary with the
+// texture's contrast), with the plain box's mean, and the same silhouette.
+TEST(Renderer, TexturedMaterialVariesInsideTheSilhouette) {
+  Box b;
+  b.center = {19.0, -50.0, 2.0};
+  b.size = {4.0, 4.0, 4.0};
+  Scene scene = FlatScene(Cylinder{});
+  scene.objects = {{"plain", b, 0.6}};
+  RenderOptions options;
+  options.apply_sensor = false;
+  const cv::Mat plain = Render(scene, scene.cameras.left, 0, options);
+  scene.objects[0].texture.contrast = 0.5;
+  scene.objects[0].texture.period = 1.0;
+  const cv::Mat textured = Render(scene, scene.cameras.left, 0, options);
+  // The box's inner image: well inside the projection of its front face's centre.
+  const Eigen::Vector2d c = *scene.cameras.left.Project(b.center);
+  const cv::Rect inner(static_cast<int>(c.x()) - 10, static_cast<int>(c.y()) - 10, 20, 20);
+  cv::Scalar plain_mean, plain_sd, tex_mean, tex_sd;
+  cv::meanStdDev(plain(inner), plain_mean, plain_sd);
+  cv::meanStdDev(textured(inner), tex_mean, tex_sd);
+  EXPECT_LT(plain_sd[0], 0.6);             // one grey level, flat lit
+  EXPECT_GT(tex_sd[0], 10.0);              // 0.5 contrast of 153 grey levels
+  EXPECT_NEAR(tex_mean[0], plain_mean[0], 20.0);
+  // Outside the box nothing changed.
+  cv::Mat differ = plain != textured, outside = cv::Mat::ones(plain.size(), CV_8U);
+  const std::vector<Eigen::Vector3d> corners = OutlinePoints(b);
+  double u0 = 1e9, u1 = -1e9, v0 = 1e9, v1 = -1e9;
+  for (const auto& p : corners) {
+    const Eigen::Vector2d q = *scene.cameras.left.Project(p);
+    u0 = std::min(u0, q.x()), u1 = std::max(u1, q.x()), v0 = std::min(v0, q.y()), v1 = std::max(v1, q.y());
+  }
+  outside(cv::Rect(cv::Point(static_cast<int>(u0) - 1, static_cast<int>(v0) - 1),
+                   cv::Point(static_cast<int>(u1) + 3, static_cast<int>(v1) + 3))) = 0;
+  EXPECT_EQ(cv::countNonZero(differ & outside), 0);
+}
+
 TEST(Renderer, SensorModelIsSeededAndBounded) {
   Scene scene = DefaultTestbedScene();
   const auto a = RenderStereo(scene), b = RenderStereo(scene);

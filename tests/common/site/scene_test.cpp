@@ -37,17 +37,26 @@ sensor: {noise_sigma: 0, blur_sigma: 0, seed: 7}
 objects:
   - {name: pipe, type: cylinder, center: [20, -60, 0.5], axis: [1, 0, 0], radius: 0.5, height: 6}
   - {type: box, center: [10, -50, 1], size: [2, 2, 2], rpy_deg: [0, 0, 30]}
-  - {type: sphere, center: [25, -40, 1], radius: 1}
+  - {type: sphere, center: [25, -40, 1], radius: 1, texture: {contrast: 0.4, period: 0.75}}
 )");
   ASSERT_TRUE(ok.scene) << ok.error;
   EXPECT_EQ(ok.scene->objects.size(), 3u);
+  EXPECT_FALSE(ok.scene->objects[1].texture.enabled());
+  EXPECT_DOUBLE_EQ(ok.scene->objects[2].texture.contrast, 0.4);
+  EXPECT_DOUBLE_EQ(ok.scene->objects[2].texture.period, 0.75);
+  const SceneLoad again = ParseSceneYaml(SceneToYaml(*ok.scene));
+  ASSERT_TRUE(again.scene) << again.error;
+  EXPECT_DOUBLE_EQ(again.scene->objects[2].texture.period, 0.75);
   EXPECT_EQ(ok.scene->sensor.seed, 7u);
   EXPECT_EQ(ok.scene->objects[0].name, "pipe");
   const auto& box = std::get<Box>(ok.scene->objects[1].shape);
   EXPECT_NEAR(box.rotation(1, 0), 0.5, 1e-12);
   for (const char* bad : {"objects: [{type: cone}]", "objects: [{type: cylinder, radius: -1}]",
                           "objects: [{type: box, size: [1, 2]}]", "cameras: {left: [1, 2, 3]}",
-                          "objects: {a: 1}", "[unclosed", "sensor: {noise_sigma: -1}"}) {
+                          "objects: {a: 1}", "[unclosed", "sensor: {noise_sigma: -1}",
+                          "objects: [{type: sphere, texture: {contrast: 2}}]",
+                          "objects: [{type: sphere, texture: {period: 0}}]",
+                          "objects: [{type: sphere, texture: 3}]"}) {
     const SceneLoad load = ParseSceneYaml(bad);
     EXPECT_FALSE(load.scene) << bad;
     EXPECT_FALSE(load.error.empty()) << bad;
