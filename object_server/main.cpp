@@ -46,6 +46,8 @@ int main(int argc, char** argv) {
     options.fetch_timeout = std::chrono::milliseconds(process->Get<int>("fetch_timeout_ms", 5000));
     options.cache_frames = static_cast<size_t>(std::max(0, process->Get<int>("cache_frames", 4)));
     options.ranger = igms::object::RangerInWorld(*calibration);
+    options.platform = calibration->platform;
+    options.ranger_mount = calibration->ranger;
     if (std::string problem = options.Check(); !problem.empty()) {
       spdlog::critical("{}: {}", process->Key(""), problem);
       return 2;

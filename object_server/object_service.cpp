@@ -104,6 +104,14 @@ void ResultToProto(const LocateResult& r, igms::object::LocateResponse* out) {
   }
 }
 
+geometry::ProjectiveCamera CameraAtPose(const geometry::ProjectiveCamera& camera,
+                                        const geometry::PlatformModel& platform,
+                                        std::span<const double> joints_rad) {
+  const geometry::Matrix34 P = geometry::CameraAtPose(camera.P(), platform, joints_rad);
+  return camera.lens() ? geometry::ProjectiveCamera(P, camera.image_size(), *camera.lens())
+                       : geometry::ProjectiveCamera(P, camera.image_size());
+}
+
 ObjectService::ObjectService(net::Client& video, geometry::ProjectiveCamera left,
                              geometry::ProjectiveCamera right, ObjectServiceOptions options)
     : video_(video),
@@ -199,6 +207,8 @@ net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_
   fetched.id = frame_id;
   fetched.left = video::DecodeProtoImage(got.value.left());
   fetched.right = video::DecodeProtoImage(got.value.right());
+  fetched.joints_rad.assign(got.value.pose().joints_rad().begin(),
+                            got.value.pose().joints_rad().end());
   if (fetched.left.empty() || fetched.right.empty()) {
     return net::Status::Error(igms::UNAVAILABLE, "the video server sent frame " +
                                                      std::to_string(frame_id) +
@@ -230,10 +240,27 @@ void ObjectService::Run(const igms::object::LocateRequest& request,
   input.right = frame.right;
   input.left_camera = left_camera_;
   input.right_camera = right_camera_;
-  if (request.range() > 0 && options_.ranger) {
+  std::optional<RangerPose> ranger = options_.ranger;
+  const bool posed = std::any_of(frame.joints_rad.begin(), frame.joints_rad.end(),
+                                 [](double q) { return q != 0.0; });
+  if (posed && options_.platform && frame.joints_rad.size() == options_.platform->joints.size()) {
+    input.left_camera = CameraAtPose(left_camera_, *options_.platform, frame.joints_rad);
+    input.right_camera = CameraAtPose(right_camera_, *options_.platform, frame.joints_rad);
+    if (options_.ranger_mount) {
+      calibration::StereoCalibration mount;
+      mount.platform = options_.platform;
+      mount.ranger = options_.ranger_mount;
+      ranger = RangerInWorld(mount, frame.joints_rad);
+    }
+  } else if (posed) {
+    spdlog::warn("frame {} was grabbed at a platform pose the calibration has no model for; "
+                 "locating it at the zero pose",
+                 request.frame_id());
+  }
+  if (request.range() > 0 && ranger) {
     input.range = request.range();
-    input.ranger_origin = options_.ranger->origin;
-    input.ranger_axis = options_.ranger->axis;
+    input.ranger_origin = ranger->origin;
+    input.ranger_axis = ranger->axis;
   }
   const LocateResult result = Locate(input, options_.locate);
   igms::object::LocateResponse response;

@@ -18,9 +18,12 @@
 #include <list>
 #include <mutex>
 #include <thread>
+#include <span>
 #include <utility>
 
+#include "common/calibration/calibration_file.h"
 #include "common/geometry/camera.h"
+#include "common/geometry/platform.h"
 #include "common/net/client.h"
 #include "common/net/server.h"
 #include "igms/object.pb.h"
@@ -37,12 +40,23 @@ struct ObjectServiceOptions {
   // The ultrasonic ranger in the world (the calibration's ranger map at the platform's zero
   // pose, as the cameras); without one a request's range is not used (said in the response).
   std::optional<RangerPose> ranger;
+  // The camera platform (the calibration's `platform` and `ranger` maps). A frame the video
+  // server grabbed at a non-zero platform pose is located with both cameras at
+  // CameraAtPose(P0, platform, q) and the ranger moved by the same pose, since the marks are
+  // world points. Without a model such a frame is located at the zero pose, with a warning.
+  std::optional<geometry::PlatformModel> platform;
+  std::optional<calibration::RangerCalibration> ranger_mount;
   // Empty when valid, else what is wrong.
   std::string Check() const;
 };
 
 // BAD_REQUEST with a message naming what is wrong, or Ok.
 net::Status ValidateLocateRequest(const igms::object::LocateRequest& request);
+
+// `camera` (calibrated at the platform's zero pose) moved with the platform to `joints_rad`.
+geometry::ProjectiveCamera CameraAtPose(const geometry::ProjectiveCamera& camera,
+                                        const geometry::PlatformModel& platform,
+                                        std::span<const double> joints_rad);
 
 // The response form of a locator result.
 void ResultToProto(const LocateResult& result, igms::object::LocateResponse* response);
@@ -62,6 +76,7 @@ class ObjectService {
   struct Frame {
     uint64_t id = 0;
     cv::Mat left, right;
+    std::vector<double> joints_rad;  // the platform pose at the grab (empty or zeros: none)
   };
   using Job = std::function<void(bool run)>;  // run false: shutting down
   void Work();
