@@ -523,10 +523,10 @@ void Client::SendCall(std::uint64_t id, const std::string& method, std::string f
       p.sent = true;
       {
         std::lock_guard calls(impl_->calls_mutex);
-        arm = p.deadline < impl_->deadline_armed;
+        arm = when < impl_->deadline_armed;
         impl_->pending.emplace(id, std::move(p));
       }
-      if (!impl_->writing && impl_->out.empty()) {
+      if (!impl_->writing) {  // (a queued frame always has a writer)
         impl_->SendDirectLocked(std::move(frame));
       } else {
         impl_->out.push_back(std::move(frame));  // the writer in flight takes it next

@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -77,49 +78,71 @@ Stats RawRoundTrips(std::size_t request, std::size_t reply, int n,
   return Summarise(us, request);
 }
 
+// The library's server and client on loopback, each on its own io thread. The server's
+// bench.Reply answers every request with `reply_bytes` of payload.
+class LibraryPair {
+ public:
+  explicit LibraryPair(std::size_t reply_bytes)
+      : answer_(reply_bytes, 'r'),
+        server_work_(asio::make_work_guard(server_io_)),
+        client_work_(asio::make_work_guard(client_io_)),
+        server_(server_io_, [] {
+          igms::net::ServerOptions so;
+          so.max_frame_bytes = 16u << 20;
+          return so;
+        }()) {
+    server_.Handle<igms::Envelope, igms::Envelope>(
+        "bench.Reply", [this](const igms::Envelope&, igms::Envelope& resp) {
+          resp.set_payload(answer_);
+          return igms::net::Status::Ok();
+        });
+    server_.Start();
+    server_thread_ = std::thread([this] { server_io_.run(); });
+    client_thread_ = std::thread([this] { client_io_.run(); });
+    igms::net::ClientOptions co;
+    co.port = server_.port();
+    co.max_frame_bytes = 16u << 20;
+    client_ = std::make_unique<igms::net::Client>(client_io_, co);
+    client_->Start();
+    client_->WaitConnected(2s);
+  }
+  ~LibraryPair() {
+    client_->Stop();
+    server_.Stop();
+    server_work_.reset();
+    client_work_.reset();
+    server_io_.stop();
+    client_io_.stop();
+    server_thread_.join();
+    client_thread_.join();
+  }
+  igms::net::Client& client() { return *client_; }
+
+ private:
+  const std::string answer_;
+  asio::io_context server_io_, client_io_;
+  asio::executor_work_guard<asio::io_context::executor_type> server_work_, client_work_;
+  igms::net::Server server_;
+  std::unique_ptr<igms::net::Client> client_;
+  std::thread server_thread_, client_thread_;
+};
+
 Stats LibraryRoundTrips(std::size_t request, std::size_t reply, int n,
                         std::vector<double>* samples = nullptr) {
-  asio::io_context server_io, client_io;
-  auto sw = asio::make_work_guard(server_io);
-  auto cw = asio::make_work_guard(client_io);
-  igms::net::ServerOptions so;
-  so.max_frame_bytes = 16u << 20;
-  igms::net::Server server(server_io, so);
-  const std::string answer(reply, 'r');
-  server.Handle<igms::Envelope, igms::Envelope>(
-      "bench.Echo", [&](const igms::Envelope&, igms::Envelope& resp) {
-        resp.set_payload(answer);
-        return igms::net::Status::Ok();
-      });
-  server.Start();
-  std::thread st([&] { server_io.run(); });
-  std::thread ct([&] { client_io.run(); });
-  igms::net::ClientOptions co;
-  co.port = server.port();
-  co.max_frame_bytes = 16u << 20;
-  igms::net::Client client(client_io, co);
-  client.Start();
-  client.WaitConnected(2s);
+  LibraryPair pair(reply);
+  igms::net::Client& client = pair.client();
   igms::Envelope req;
   req.set_payload(std::string(request, 'q'));
   std::vector<double> us;
   for (int i = 0; i < n + 10; ++i) {
     const auto t0 = Clock::now();
-    auto r = client.CallSync<igms::Envelope>("bench.Echo", req, 5s);
+    auto r = client.CallSync<igms::Envelope>("bench.Reply", req, 5s);
     if (!r.ok()) {
       std::cerr << "bench: " << r.status.ToString() << "\n";
       std::exit(1);
     }
     if (i >= 10) us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
   }
-  client.Stop();
-  server.Stop();
-  sw.reset();
-  cw.reset();
-  server_io.stop();
-  client_io.stop();
-  st.join();
-  ct.join();
   if (samples) samples->insert(samples->end(), us.begin(), us.end());
   return Summarise(us, request);
 }
@@ -158,22 +181,8 @@ double RawPipelinedMBps(std::size_t size, int n) {
 }
 
 double LibraryPipelinedMBps(std::size_t size, int n, int window) {
-  asio::io_context server_io, client_io;
-  auto sw = asio::make_work_guard(server_io);
-  auto cw = asio::make_work_guard(client_io);
-  igms::net::ServerOptions so;
-  so.max_frame_bytes = 16u << 20;
-  igms::net::Server server(server_io, so);
-  server.Handle<igms::Envelope, igms::Envelope>(
-      "bench.Sink", [](const igms::Envelope&, igms::Envelope&) { return igms::net::Status::Ok(); });
-  server.Start();
-  std::thread st([&] { server_io.run(); });
-  std::thread ct([&] { client_io.run(); });
-  igms::net::ClientOptions co;
-  co.port = server.port();
-  igms::net::Client client(client_io, co);
-  client.Start();
-  client.WaitConnected(2s);
+  LibraryPair pair(0);
+  igms::net::Client& client = pair.client();
   igms::Envelope req;
   req.set_payload(std::string(size, 'q'));
   std::mutex m;
@@ -186,7 +195,7 @@ double LibraryPipelinedMBps(std::size_t size, int n, int window) {
       cv.wait(lock, [&] { return in_flight < window; });
       ++in_flight;
     }
-    client.Call<igms::Envelope>("bench.Sink", req, 10s, [&](igms::net::Result<igms::Envelope> r) {
+    client.Call<igms::Envelope>("bench.Reply", req, 10s, [&](igms::net::Result<igms::Envelope> r) {
       std::lock_guard lock(m);
       --in_flight;
       ++done;
@@ -200,14 +209,6 @@ double LibraryPipelinedMBps(std::size_t size, int n, int window) {
   }
   const double s = std::chrono::duration<double>(Clock::now() - t0).count();
   if (failed) std::fprintf(stderr, "bench: %d calls failed\n", failed);
-  client.Stop();
-  server.Stop();
-  sw.reset();
-  cw.reset();
-  server_io.stop();
-  client_io.stop();
-  st.join();
-  ct.join();
   return size * double(n) / s / 1e6;
 }
 
