@@ -24,16 +24,6 @@ using igms::testing::ChildProcess;
 using igms::testing::ScratchDir;
 using igms::testing::TestClient;
 
-template <class F>
-bool WaitFor(F done, std::chrono::seconds limit = 20s) {
-  const auto end = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < end) {
-    if (done()) return true;
-    std::this_thread::sleep_for(50ms);
-  }
-  return done();
-}
-
 TEST(ObjectServerPlatformPose, LocatesAFrameGrabbedWithThePlatformTurned) {
   ScratchDir scratch;
   ChildProcess platformd("igms-platformd", {"--simulate", "--port", "0"});
@@ -68,7 +58,7 @@ TEST(ObjectServerPlatformPose, LocatesAFrameGrabbedWithThePlatformTurned) {
   TestClient videoc(video_port);
   video::GrabResponse grab;
   double last_yaw = 0.0;
-  ASSERT_TRUE(WaitFor([&] {
+  ASSERT_TRUE(igms::testing::WaitUntil([&] {
     auto g = videoc->CallSync<video::GrabResponse>("igms.video.VideoService.Grab",
                                                    video::GrabRequest{}, 20s);
     if (!g.ok()) return false;

@@ -28,6 +28,17 @@ std::string SourceDir();
 // The thesis's calibration file in the repository.
 std::string ThesisCalibration();
 
+// Polls `done` every 50 ms until it is true or `limit` passes; its last answer.
+template <class Done>
+bool WaitUntil(Done done, std::chrono::milliseconds limit = std::chrono::seconds(20)) {
+  const auto end = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < end) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return done();
+}
+
 // A folder of its own under the system's temporary folder, removed with everything in it
 // when destroyed.
 class ScratchDir {
