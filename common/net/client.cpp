@@ -83,6 +83,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   std::chrono::milliseconds backoff{100};
   std::uint64_t generation = 0;  // bumps on every (re)connection attempt
   std::string last_server_error;
+  std::string gave_up;  // why, once a client that does not reconnect has lost its connection
   std::function<void(ConnectionState, const std::string&)> on_state;
 
   // Read from any thread.
@@ -376,7 +377,10 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
         if (!ec) self->Connect();
       });
     } else {
-      FailAll("not connected to " + Where() + ": " + reason);
+      // No reconnection: later calls fail at once with this reason instead of waiting out
+      // their timeouts for a connection that will not come.
+      gave_up = "not connected to " + Where() + ": " + reason;
+      FailAll(gave_up);
     }
   }
 
@@ -544,6 +548,10 @@ void Client::SendCall(std::uint64_t id, const std::string& method, std::string f
                              done = std::move(done)]() mutable {
     if (impl->IsStopped()) {
       done(Status::Error(igms::UNAVAILABLE, "client stopped"), "");
+      return;
+    }
+    if (!impl->gave_up.empty()) {
+      done(Status::Error(igms::UNAVAILABLE, impl->gave_up), "");
       return;
     }
     p.done = std::move(done);

@@ -8,6 +8,8 @@
 #include <boost/asio/strand.hpp>
 #include <boost/asio/write.hpp>
 #include <algorithm>
+#include <atomic>
+#include <future>
 #include <stdexcept>
 
 #include "common/net/clock.h"
@@ -21,10 +23,11 @@ using asio::ip::tcp;
 
 struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
   Impl(asio::io_context& io, const ServerOptions& o)
-      : io(io), options(o), acceptor(asio::make_strand(io)) {}
+      : io(io), options(o), strand(asio::make_strand(io)), acceptor(strand) {}
 
   asio::io_context& io;
   ServerOptions options;
+  asio::strand<asio::io_context::executor_type> strand;  // the acceptor's
   tcp::acceptor acceptor;
   std::map<std::string, MethodFn> methods;
   std::map<std::string, StreamFn> streams;
@@ -33,6 +36,7 @@ struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
   std::mutex mutex;  // guards sessions and stopped
   std::set<std::shared_ptr<Session>> sessions;
   bool stopped = false;
+  std::atomic<bool> acceptor_closed{false};
 
   void Accept() {
     acceptor.async_accept(asio::make_strand(io), [self = shared_from_this()](
@@ -115,10 +119,27 @@ void Server::Stop() {
     impl_->stopped = true;
     sessions.swap(impl_->sessions);
   }
-  asio::post(impl_->acceptor.get_executor(), [impl = impl_] {
+  // The port must be free when Stop returns to a caller outside the io_context (a test
+  // restarting a server binds it again at once), so the close runs on the acceptor's
+  // strand and Stop waits for it. Inside the strand, or with the io_context stopped, it
+  // closes here; from another handler (a signal) it only posts, never blocking the loop.
+  auto closed = std::make_shared<std::promise<void>>();
+  auto done = closed->get_future();
+  auto close_once = [impl = impl_, closed] {
+    if (impl->acceptor_closed.exchange(true)) return;
     boost::system::error_code ignored;
     impl->acceptor.close(ignored);
-  });
+    closed->set_value();
+  };
+  const auto& strand = impl_->strand;
+  if (strand.running_in_this_thread() || impl_->io.stopped()) {
+    close_once();
+  } else if (impl_->io.get_executor().running_in_this_thread()) {
+    asio::post(strand, close_once);
+  } else {
+    asio::post(strand, close_once);
+    if (done.wait_for(std::chrono::seconds(1)) != std::future_status::ready) close_once();
+  }
   for (auto& s : sessions) s->Close("server shutting down");
 }
 
