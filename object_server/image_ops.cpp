@@ -89,8 +89,12 @@ std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
   return out;
 }
 
-bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
-                     double range, double min_gradient, double* s) {
+namespace {
+
+enum class Peak { kOutermost, kNearest };
+
+bool EdgePeak(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
+              double range, double min_gradient, Peak which, double* s) {
   // Coarse scan every half pixel, then a parabola through the best sample and its neighbours.
   const double step = 0.5;
   const int count = static_cast<int>(std::floor(range / step));
@@ -110,12 +114,26 @@ bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eige
   // boundary) can be stronger, so take the outermost local maximum that is at least
   // outer_fraction of the strongest, not the strongest itself.
   const double floor_value = std::max(min_gradient, kOuterFraction * best);
-  for (int i = count - 1; i > -count; --i) {
+  auto is_peak = [&](int i) {
     const double v = g[i + count];
-    if (v >= floor_value && v >= g[i + count - 1] && v >= g[i + count + 1]) {
-      best_i = i;
-      break;
-    }
+    return v >= floor_value && v >= g[i + count - 1] && v >= g[i + count + 1];
+  };
+  if (which == Peak::kOutermost) {
+    for (int i = count - 1; i > -count; --i)
+      if (is_peak(i)) {
+        best_i = i;
+        break;
+      }
+  } else {
+    // An edge inside the silhouette: the peak nearest the prediction, either side.
+    for (int d = 0; d < count; ++d)
+      if (is_peak(d)) {
+        best_i = d;
+        break;
+      } else if (d > 0 && is_peak(-d)) {
+        best_i = -d;
+        break;
+      }
   }
   if (best_i == -count || best_i == count) return false;
   const double a = g[best_i + count - 1], b = g[best_i + count], c = g[best_i + count + 1];
@@ -132,6 +150,18 @@ bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eige
   if (d2 < 0) s0 += std::clamp(0.5 * (fa - fc) / d2, -1.0, 1.0) * h;
   *s = s0;
   return true;
+}
+
+}  // namespace
+
+bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
+                     double range, double min_gradient, double* s) {
+  return EdgePeak(grad, p, n, range, min_gradient, Peak::kOutermost, s);
+}
+
+bool EdgeNearPoint(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
+                   double range, double min_gradient, double* s) {
+  return EdgePeak(grad, p, n, range, min_gradient, Peak::kNearest, s);
 }
 
 SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect patch,

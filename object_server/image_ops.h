@@ -44,6 +44,11 @@ std::vector<cv::Point> StrongEdgePixels(const Gradients& grad, const std::vector
 bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& normal,
                      double range, double min_gradient, double* s);
 
+// The same along a line across an edge inside the silhouette (a box's face boundary): the
+// local maximum nearest p that reaches 40% of the strongest on the line.
+bool EdgeNearPoint(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& normal,
+                   double range, double min_gradient, double* s);
+
 struct SsdMatch {
   bool ok = false;
   Eigen::Vector2d offset = Eigen::Vector2d::Zero();  // right position - left position

@@ -99,6 +99,28 @@ std::vector<Eigen::Vector3d> BoxOutline(const Eigen::VectorXd& x) {
   return pts;
 }
 
+// The box's edges between two faces a camera at `centre` sees (corner i of BoxOutline has
+// bit k set when its coordinate k is x[3 + k]). A face is seen when the centre lies on its
+// outer side.
+std::vector<InnerEdge> BoxInnerEdges(const Eigen::VectorXd& x, const Eigen::Vector3d& centre) {
+  auto seen = [&](int k, int bit) {
+    const double out = (x[3 + k] >= x[k] ? 1.0 : -1.0) * (bit ? 1.0 : -1.0);
+    return out * (centre[k] - x[bit ? 3 + k : k]) > 0;
+  };
+  std::vector<InnerEdge> edges;
+  for (int k1 = 0; k1 < 3; ++k1)
+    for (int k2 = k1 + 1; k2 < 3; ++k2)
+      for (int b1 = 0; b1 < 2; ++b1)
+        for (int b2 = 0; b2 < 2; ++b2) {
+          if (!seen(k1, b1) || !seen(k2, b2)) continue;
+          const int m = 3 - k1 - k2;
+          const int base = (b1 << k1) | (b2 << k2);
+          edges.push_back({base, base | (1 << m), (b1 << k1) | ((1 - b2) << k2),
+                           ((1 - b1) << k1) | (b2 << k2)});
+        }
+  return edges;
+}
+
 // Propagates the parameter covariance through f by a numeric Jacobian; returns the
 // standard deviations of f's outputs.
 Eigen::VectorXd Sigmas(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
@@ -372,6 +394,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   Eigen::VectorXd x0;
   std::vector<Eigen::VectorXd> extra_starts;
   OutlineFn outline;
+  InnerEdgesFn inner;
   std::vector<cv::Point2f> bpts(boundary.begin(), boundary.end());
   if (in.type == SolidType::kCylinder) {
     const cv::RotatedRect rr = cv::minAreaRect(bpts);
@@ -457,6 +480,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     x0.resize(6);
     x0 << lo, hi;
     outline = BoxOutline;
+    if (opt.box_inner_edges) inner = BoxInnerEdges;
     // The depth along the view is the least seen (a side face's strip, a sliver of the top):
     // also start shallower and deeper, and keep the fit that explains both images best.
     for (const double share : {0.4, 1.8}) {
@@ -482,20 +506,20 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   FitOptions first = fit;
   first.outer_iterations =
       extra_starts.empty() ? fit.outer_iterations : std::min(2, fit.outer_iterations);
-  FitOutcome f = FitSilhouette(outline, x0, views, first);
+  FitOutcome f = FitSilhouette(outline, x0, views, first, inner);
   for (const Eigen::VectorXd& start : extra_starts) {
-    FitOutcome g = FitSilhouette(outline, start, views, first);
+    FitOutcome g = FitSilhouette(outline, start, views, first, inner);
     spdlog::debug("locate: another start: score {:.3f} against {:.3f}", score(g), score(f));
     if (score(g) < score(f)) f = std::move(g);
   }
   if (f.ok && first.outer_iterations < fit.outer_iterations) {
     FitOptions rest = fit;
     rest.first_outer = first.outer_iterations;
-    f = FitSilhouette(outline, f.params, views, rest);
+    f = FitSilhouette(outline, f.params, views, rest, inner);
   }
-  spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}",
+  spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}, inner {} {}",
                 f.ok ? "ok" : f.error, f.used[0], f.sampled[0], f.rms_px[0], f.used[1],
-                f.sampled[1], f.rms_px[1]);
+                f.sampled[1], f.rms_px[1], f.inner_used[0], f.inner_used[1]);
   if (in.want_trace) {
     for (const auto& p : hull4) res.trace.marks_left.emplace_back(p.x, p.y);
     res.trace.boundary = boundary;

@@ -68,6 +68,8 @@ struct LocateOptions {
   int inner_iterations = 6;          // Levenberg-Marquardt steps per measurement
   double max_rms_px = 0.8;           // consistency: per-image RMS residual, pixels
   double min_inlier_share = 0.6;     // consistency: share of outline samples with an edge
+  bool box_inner_edges = true;       // fit a box's edges between seen faces too, not only
+                                     // its silhouette
   double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)
   double ranger_accuracy = 0.5;      // world units: the range's own error
   // Empty when valid, else what is wrong.

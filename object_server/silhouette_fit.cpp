@@ -22,7 +22,23 @@ struct Measurement {
   int view;
   Eigen::Vector2d point;
   int hint;
+  int a = -1, b = -1;  // an inner edge's outline points; -1 for the silhouette
 };
+
+// Signed distance from p to the line through a and b, and its gradient with respect to them.
+double LineDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p,
+                    Eigen::Vector2d* d_a, Eigen::Vector2d* d_b) {
+  const Eigen::Vector2d e = b - a, q = p - a;
+  const double len = std::max(e.norm(), 1e-9);
+  const double c = q.x() * e.y() - q.y() * e.x();
+  if (d_a) {
+    const Eigen::Vector2d dc_a(-e.y() + q.y(), e.x() - q.x()), dc_b(-q.y(), q.x());
+    const Eigen::Vector2d dlen_b = e / len;
+    *d_a = dc_a / len + c / (len * len) * dlen_b;
+    *d_b = dc_b / len - c / (len * len) * dlen_b;
+  }
+  return c / len;
+}
 
 // The model's outline points projected into one view and the indices of their convex hull.
 struct ViewOutline {
@@ -187,6 +203,30 @@ Eigen::Matrix<double, 2, 3> ProjectionJacobian(const geometry::Matrix34& P,
   return J;
 }
 
+// Samples each inner edge every pixel, away from its ends (where it meets the silhouette and
+// the corners blur), and measures the nearest edge across it. An edge whose faces are under
+// 4 px wide in this view is skipped: its neighbour lies within the search and could be taken.
+void MeasureInnerEdges(const std::vector<InnerEdge>& edges, const ViewOutline& o, int view,
+                       const FitView& fv, double range, double min_gradient,
+                       std::vector<Measurement>& ms) {
+  for (const InnerEdge& e : edges) {
+    const Eigen::Vector2d a = o.px[e.a], b = o.px[e.b];
+    const double len = (b - a).norm();
+    if (len < 10) continue;
+    const Eigen::Vector2d dir = (b - a) / len, normal(dir.y(), -dir.x());
+    const double width = std::min(std::abs(normal.dot(o.px[e.c1] - a)),
+                                  std::abs(normal.dot(o.px[e.c2] - a)));
+    if (width < 4) continue;
+    const double reach = std::min(range, 0.4 * width);
+    for (double t = 3; t <= len - 3; t += 1.0) {
+      const Eigen::Vector2d p = a + t * dir;
+      double s;
+      if (EdgeNearPoint(*fv.gradients, p, normal, reach, min_gradient, &s))
+        ms.push_back({view, p + s * normal, 0, e.a, e.b});
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> p) {
@@ -272,6 +312,15 @@ class Evaluator {
     r.resize(ms.size());
     for (size_t i = 0; i < ms.size(); ++i) {
       const ViewOutline& ov = o[ms[i].view];
+      if (ms[i].a >= 0) {
+        Eigen::Vector2d da, db;
+        r[i] = LineDistance(ov.px[ms[i].a], ov.px[ms[i].b], ms[i].point, J ? &da : nullptr,
+                            J ? &db : nullptr);
+        if (J)
+          J->row(i) = da.transpose() * dpx[ms[i].view][ms[i].a] +
+                      db.transpose() * dpx[ms[i].view][ms[i].b];
+        continue;
+      }
       const Closest c = FindClosest(ov, ms[i].hint, ms[i].point);
       const int n = static_cast<int>(ov.hull.size());
       const int ia = ov.hull[c.seg], ib = ov.hull[(c.seg + 1) % n];
@@ -294,7 +343,8 @@ class Evaluator {
 }  // namespace
 
 FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initial,
-                         const std::array<FitView, 2>& views, const FitOptions& options) {
+                         const std::array<FitView, 2>& views, const FitOptions& options,
+                         const InnerEdgesFn& inner) {
   FitOutcome out;
   Eigen::VectorXd x = initial;
   const int np = static_cast<int>(x.size());
@@ -339,6 +389,8 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
                             &s))
           ms.push_back({v, pts[i] + s * normals[i], seg[i]});
       }
+      if (inner) MeasureInnerEdges(inner(x, views[v].camera->Center()), o[v], v, views[v],
+                                   range, options.min_gradient, ms);
     }
     if (spdlog::should_log(spdlog::level::debug)) {
       std::string params;
@@ -395,12 +447,18 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
   std::array<double, 2> sum{0, 0};
   std::array<int, 2> count{0, 0};
   Eigen::VectorXd wk = Eigen::VectorXd::Zero(r.size());
+  double inner_sum = 0;
   for (int i = 0; i < r.size(); ++i) {
     const bool in = std::abs(r[i]) <= options.outlier_px;
     out.measured[ms[i].view].push_back(ms[i].point);
     out.inlier[ms[i].view].push_back(in);
     if (!in) continue;
     wk[i] = 1;
+    if (ms[i].a >= 0) {
+      inner_sum += r[i] * r[i];
+      ++out.inner_used[ms[i].view];
+      continue;
+    }
     sum[ms[i].view] += r[i] * r[i];
     ++count[ms[i].view];
   }
@@ -408,8 +466,9 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
     out.used[v] = count[v];
     out.rms_px[v] = count[v] ? std::sqrt(sum[v] / count[v]) : 0;
   }
-  const double dof = std::max(1, count[0] + count[1] - np);
-  const double sigma2 = (sum[0] + sum[1]) / dof;
+  const int kept = count[0] + count[1] + out.inner_used[0] + out.inner_used[1];
+  const double dof = std::max(1, kept - np);
+  const double sigma2 = (sum[0] + sum[1] + inner_sum) / dof;
   const Eigen::MatrixXd H = J.transpose() * wk.asDiagonal() * J;
   out.covariance = sigma2 * H.completeOrthogonalDecomposition().pseudoInverse();
   {

@@ -7,7 +7,9 @@
 // outline's normal (image_ops.h: EdgeAlongNormal). The inner iterations move the parameters
 // by Levenberg-Marquardt to bring the outlines onto the measured edge points (residual: the
 // signed distance, in pixels, from each measured point to the projected outline), with
-// Huber weights so stray edges (table holes, a neighbour) pull little.
+// Huber weights so stray edges (table holes, a neighbour) pull little. Edges inside the
+// silhouette (a box's face boundaries) can join the fit: they fix the depth a silhouette
+// alone leaves to a thin side strip.
 #pragma once
 
 #include <Eigen/Core>
@@ -22,6 +24,16 @@
 namespace igms::object {
 
 using OutlineFn = std::function<std::vector<Eigen::Vector3d>(const Eigen::VectorXd&)>;
+
+// An edge inside the silhouette between two faces a camera sees (a box's front and top):
+// outline points a and b are its ends; c1 and c2 are a corner of each face away from it, so
+// the faces' widths in the image say whether the edge stands clear of its neighbours.
+struct InnerEdge {
+  int a, b, c1, c2;
+};
+// The inner edges seen from a camera centre, for parameters x.
+using InnerEdgesFn =
+    std::function<std::vector<InnerEdge>(const Eigen::VectorXd& x, const Eigen::Vector3d& centre)>;
 
 struct FitView {
   const geometry::ProjectiveCamera* camera = nullptr;
@@ -47,6 +59,7 @@ struct FitOutcome {
   std::array<double, 2> rms_px{0, 0};
   std::array<int, 2> used{0, 0};     // measurements kept in the final pass, per view
   std::array<int, 2> sampled{0, 0};  // outline samples, per view
+  std::array<int, 2> inner_used{0, 0};  // inner-edge measurements kept, per view
   // For a person to look at (debug images): per view the fitted outline and the edge points
   // measured in the final pass, each with whether it counted (within outlier_px).
   std::array<std::vector<Eigen::Vector2d>, 2> outline;
@@ -54,8 +67,12 @@ struct FitOutcome {
   std::array<std::vector<bool>, 2> inlier;
 };
 
+// With `inner`, the edges it names are measured too (the nearest edge across each, not the
+// outermost) and fitted as lines; the outline statistics (used, sampled, rms) stay the
+// silhouette's alone.
 FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initial,
-                         const std::array<FitView, 2>& views, const FitOptions& options);
+                         const std::array<FitView, 2>& views, const FitOptions& options,
+                         const InnerEdgesFn& inner = {});
 
 // Convex hull (counter-clockwise in the u-v plane) of 2D points; exposed for tests.
 std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> points);
