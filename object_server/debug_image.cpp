@@ -80,10 +80,12 @@ std::string Caption(const LocateResult& r) {
                   c.center.x(), c.center.y(), c.center.z(), c.axis.x(), c.axis.y(), c.axis.z(),
                   c.radius, c.height, r.rms_left_px, r.rms_right_px);
   } else {
-    const Eigen::Vector3d s = r.box.max - r.box.min, c = 0.5 * (r.box.max + r.box.min);
+    const Eigen::Vector3d s = r.box.size, c = r.box.center;
     std::snprintf(buf, sizeof buf,
-                  "box: centre (%.2f %.2f %.2f) size %.3f x %.3f x %.3f; rms %.2f/%.2f px", c.x(),
-                  c.y(), c.z(), s.x(), s.y(), s.z(), r.rms_left_px, r.rms_right_px);
+                  "box: centre (%.2f %.2f %.2f) size %.3f x %.3f x %.3f yaw %.1f deg; rms "
+                  "%.2f/%.2f px",
+                  c.x(), c.y(), c.z(), s.x(), s.y(), s.z(), r.box.yaw_deg, r.rms_left_px,
+                  r.rms_right_px);
   }
   return buf;
 }

@@ -65,9 +65,22 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
       e.distance = (box->center - eye).norm();
       if (e.result.found) {
         const auto& b = e.result.box;
-        e.size_signed = (b.max - b.min) - (box->AlignedMax() - box->AlignedMin());
+        // The true box's yaw (it stands on the table), paired with the found one: a quarter
+        // turn swaps the x and y sizes, so take the pairing whose yaws agree best.
+        const double true_yaw = std::atan2(box->rotation(1, 0), box->rotation(0, 0));
+        double best = 1e9;
+        for (int quarter = 0; quarter < 2; ++quarter) {
+          const double d = std::remainder(b.yaw_deg * M_PI / 180 - true_yaw - quarter * M_PI / 2,
+                                          M_PI);
+          if (std::abs(d) >= best) continue;
+          best = std::abs(d);
+          Eigen::Vector3d true_size = box->size;
+          if (quarter) std::swap(true_size.x(), true_size.y());
+          e.size_signed = b.size - true_size;
+        }
+        e.axis_error_deg = best * 180 / M_PI;
         e.size_error = e.size_signed.cwiseAbs();
-        e.position_error = (0.5 * (b.max + b.min) - box->center).norm();
+        e.position_error = (b.center - box->center).norm();
       }
     }
     out.push_back(e);
@@ -77,7 +90,7 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
 
 Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& which) {
   Summary s;
-  std::vector<double> radius, height, position, time, sx, sy, sz;
+  std::vector<double> radius, height, position, time, sx, sy, sz, axis;
   for (const auto& e : all) {
     if (!which.empty() && e.kind != which) continue;
     ++s.count;
@@ -85,6 +98,7 @@ Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& w
     if (!e.result.found) continue;
     ++s.found;
     position.push_back(e.position_error);
+    axis.push_back(e.axis_error_deg);
     if (e.kind == "box") {
       sx.push_back(e.size_error.x());
       sy.push_back(e.size_error.y());
@@ -103,6 +117,8 @@ Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& w
   s.position_p90 = Percentile(position, 0.9);
   s.size_median = {Percentile(sx, 0.5), Percentile(sy, 0.5), Percentile(sz, 0.5)};
   s.size_p90 = {Percentile(sx, 0.9), Percentile(sy, 0.9), Percentile(sz, 0.9)};
+  s.axis_median_deg = Percentile(axis, 0.5);
+  s.axis_p90_deg = Percentile(axis, 0.9);
   s.time_median_ms = Percentile(time, 0.5);
   return s;
 }

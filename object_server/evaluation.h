@@ -20,8 +20,9 @@ struct ObjectEvaluation {
   LocateResult result;
   // Errors, world units (valid when result.found).
   double radius_error = 0, height_error = 0, position_error = 0;
-  double axis_error_deg = 0;
-  Eigen::Vector3d size_error = Eigen::Vector3d::Zero();  // box: |found - true| per axis
+  double axis_error_deg = 0;  // cylinder: axis direction; box: yaw
+  // box: |found - true| per axis of the box's own frame (x, y after matching the yaws).
+  Eigen::Vector3d size_error = Eigen::Vector3d::Zero();
   // Signed (found - true), to tell a bias from scatter.
   double radius_signed = 0, height_signed = 0;
   Eigen::Vector3d size_signed = Eigen::Vector3d::Zero();
@@ -40,6 +41,7 @@ struct Summary {
   double radius_median = 0, radius_p90 = 0, height_median = 0, height_p90 = 0;
   double position_median = 0, position_p90 = 0;
   Eigen::Vector3d size_median = Eigen::Vector3d::Zero(), size_p90 = Eigen::Vector3d::Zero();
+  double axis_median_deg = 0, axis_p90_deg = 0;  // cylinder axis or box yaw
   double time_median_ms = 0;
 };
 // Statistics over the evaluations whose kind matches ("" = all; "upright", "lying", "box").

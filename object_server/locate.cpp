@@ -92,20 +92,31 @@ std::vector<Eigen::Vector3d> CylinderOutline(const Eigen::VectorXd& x) {
   return pts;
 }
 
+// A box's parameters: centre (3), size along its own axes (3) and its yaw about the world's
+// vertical (a block stands on the table; the thesis's block is the yaw-0 case, 3.8.2).
+Eigen::Matrix3d BoxRotation(double yaw) {
+  return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
+// Corner i has bit k set when its coordinate k along the box's own axes is +size/2.
 std::vector<Eigen::Vector3d> BoxOutline(const Eigen::VectorXd& x) {
+  const Eigen::Matrix3d R = BoxRotation(x[6]);
+  const Eigen::Vector3d c = x.head<3>(), h = 0.5 * x.segment<3>(3);
   std::vector<Eigen::Vector3d> pts;
   for (int i = 0; i < 8; ++i)
-    pts.emplace_back((i & 1) ? x[3] : x[0], (i & 2) ? x[4] : x[1], (i & 4) ? x[5] : x[2]);
+    pts.push_back(c + R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(),
+                                          (i & 4) ? h.z() : -h.z()));
   return pts;
 }
 
-// The box's edges between two faces a camera at `centre` sees (corner i of BoxOutline has
-// bit k set when its coordinate k is x[3 + k]). A face is seen when the centre lies on its
-// outer side.
+// The box's edges between two faces a camera at `centre` sees. A face is seen when the
+// centre lies on its outer side.
 std::vector<InnerEdge> BoxInnerEdges(const Eigen::VectorXd& x, const Eigen::Vector3d& centre) {
+  const Eigen::Vector3d local = BoxRotation(x[6]).transpose() * (centre - x.head<3>());
+  const Eigen::Vector3d h = 0.5 * x.segment<3>(3);
   auto seen = [&](int k, int bit) {
-    const double out = (x[3 + k] >= x[k] ? 1.0 : -1.0) * (bit ? 1.0 : -1.0);
-    return out * (centre[k] - x[bit ? 3 + k : k]) > 0;
+    const double face = bit ? h[k] : -h[k];  // where the face lies; outward is away from 0
+    return (face >= 0 ? 1.0 : -1.0) * (local[k] - face) > 0;
   };
   std::vector<InnerEdge> edges;
   for (int k1 = 0; k1 < 3; ++k1)
@@ -119,6 +130,22 @@ std::vector<InnerEdge> BoxInnerEdges(const Eigen::VectorXd& x, const Eigen::Vect
                            ((1 - b1) << k1) | (b2 << k2)});
         }
   return edges;
+}
+
+// The same box with its yaw in (-45, 45] degrees and positive sizes: a quarter turn swaps
+// the box's x and y sizes and leaves the solid as it was.
+Eigen::VectorXd CanonicalBox(Eigen::VectorXd x) {
+  x.segment<3>(3) = x.segment<3>(3).cwiseAbs();
+  x[6] = std::remainder(x[6], M_PI);  // (-90, 90]
+  while (x[6] > M_PI / 4) {
+    x[6] -= M_PI / 2;
+    std::swap(x[3], x[4]);
+  }
+  while (x[6] <= -M_PI / 4) {
+    x[6] += M_PI / 2;
+    std::swap(x[3], x[4]);
+  }
+  return x;
 }
 
 // Propagates the parameter covariance through f by a numeric Jacobian; returns the
@@ -158,11 +185,15 @@ std::vector<cv::Point> LargestConnected(const std::vector<cv::Point>& pixels) {
 void CheckRange(const LocateInput& in, const LocateOptions& opt, const Eigen::VectorXd& x,
                 RangeCheck* check) {
   const double spacing = 0.05;
-  const std::vector<Eigen::Vector3d> surface =
+  std::vector<Eigen::Vector3d> surface =
       in.type == SolidType::kCylinder
           ? CylinderSurface(x.segment<3>(0), x.segment<3>(3), std::abs(x[6]), spacing)
-          : BoxSurface(x.head<3>().cwiseMin(x.tail<3>()), x.head<3>().cwiseMax(x.tail<3>()),
+          : BoxSurface(-0.5 * x.segment<3>(3).cwiseAbs(), 0.5 * x.segment<3>(3).cwiseAbs(),
                        spacing);
+  if (in.type == SolidType::kBox) {  // from the box's own frame to the world
+    const Eigen::Matrix3d R = BoxRotation(x[6]);
+    for (auto& p : surface) p = x.head<3>() + R * p;
+  }
   const RangerPose ranger{in.ranger_origin, in.ranger_axis.normalized()};
   const auto beam = RangesInBeam(surface, ranger, opt.ranger_half_angle_deg * M_PI / 180, spacing);
   if (!beam) {
@@ -456,8 +487,9 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                                 in.left_camera.Depth(tilted.segment<3>(3))) > radius)
       extra_starts.push_back(tilted);
   } else {
-    // A world-axis-aligned block (3.8.2): the boundary back-projected onto its front plane
-    // gives the two extents across the view; the one along the view starts as their mean.
+    // A block (3.8.2), started world-axis-aligned: the boundary back-projected onto its front
+    // plane gives the two extents across the view; the one along the view starts as their
+    // mean. Its yaw is fitted from there (the faces' widths and the edges between them).
     const Eigen::Vector3d view_dir =
         in.left_camera.P().block<1, 3>(2, 0).transpose().normalized() *
         (in.left_camera.P().leftCols<3>().determinant() < 0 ? -1.0 : 1.0);
@@ -477,45 +509,104 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     const double back = front + (view_dir[k] > 0 ? 1 : -1) * across_mean;
     lo[k] = std::min(front, back);
     hi[k] = std::max(front, back);
-    x0.resize(6);
-    x0 << lo, hi;
+    auto box_start = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, double yaw) {
+      Eigen::VectorXd v(7);
+      v << 0.5 * (a + b), (b - a).cwiseAbs(), yaw;
+      return v;
+    };
+    x0 = box_start(lo, hi, 0);
     outline = BoxOutline;
     if (opt.box_inner_edges) inner = BoxInnerEdges;
     // The depth along the view is the least seen (a side face's strip, a sliver of the top):
     // also start shallower and deeper, and keep the fit that explains both images best.
     for (const double share : {0.4, 1.8}) {
       const double other = front + (view_dir[k] > 0 ? 1 : -1) * share * across_mean;
-      Eigen::VectorXd start = x0;
-      start[k] = std::min(front, other);
-      start[3 + k] = std::max(front, other);
-      extra_starts.push_back(start);
+      Eigen::Vector3d a = lo, b = hi;
+      a[k] = std::min(front, other);
+      b[k] = std::max(front, other);
+      extra_starts.push_back(box_start(a, b, 0));
     }
   }
-  fit.step = Eigen::VectorXd::Constant(x0.size(), 1e-4);
   spdlog::debug(
       "locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
       mark_depth, depth0, match.rms, boundary.size(),
       Fmt(x0[0]) + " " + Fmt(x0[1]) + " " + Fmt(x0[2]) + " / " + Fmt(x0[3]) + " " + Fmt(x0[4]) +
-          " " + Fmt(x0[5]) + (x0.size() > 6 ? " r " + Fmt(x0[6]) : ""));
+          " " + Fmt(x0[5]) + " / " + Fmt(x0[6]));
   // Of several starts, the one that explains both images best after two passes goes on.
   auto score = [](const FitOutcome& o) {
     const int sampled = o.sampled[0] + o.sampled[1];
     const double miss = sampled ? 1.0 - double(o.used[0] + o.used[1]) / sampled : 1.0;
     return o.ok ? o.rms_px[0] + o.rms_px[1] + 2.0 * miss : 1e18;
   };
-  FitOptions first = fit;
-  first.outer_iterations =
-      extra_starts.empty() ? fit.outer_iterations : std::min(2, fit.outer_iterations);
-  FitOutcome f = FitSilhouette(outline, x0, views, first, inner);
-  for (const Eigen::VectorXd& start : extra_starts) {
-    FitOutcome g = FitSilhouette(outline, start, views, first, inner);
-    spdlog::debug("locate: another start: score {:.3f} against {:.3f}", score(g), score(f));
-    if (score(g) < score(f)) f = std::move(g);
-  }
-  if (f.ok && first.outer_iterations < fit.outer_iterations) {
-    FitOptions rest = fit;
-    rest.first_outer = first.outer_iterations;
-    f = FitSilhouette(outline, f.params, views, rest, inner);
+  auto fit_from = [&](const OutlineFn& outline_fn, const InnerEdgesFn& inner_fn,
+                      const std::vector<Eigen::VectorXd>& starts) {
+    FitOptions first = fit;
+    first.step = Eigen::VectorXd::Constant(starts[0].size(), 1e-4);
+    first.outer_iterations =
+        starts.size() == 1 ? fit.outer_iterations : std::min(2, fit.outer_iterations);
+    FitOutcome best = FitSilhouette(outline_fn, starts[0], views, first, inner_fn);
+    for (size_t i = 1; i < starts.size(); ++i) {
+      FitOutcome g = FitSilhouette(outline_fn, starts[i], views, first, inner_fn);
+      spdlog::debug("locate: another start: score {:.3f} against {:.3f}", score(g), score(best));
+      if (score(g) < score(best)) best = std::move(g);
+    }
+    if (best.ok && first.outer_iterations < fit.outer_iterations) {
+      FitOptions rest = first;
+      rest.outer_iterations = fit.outer_iterations;
+      rest.first_outer = first.outer_iterations;
+      best = FitSilhouette(outline_fn, best.params, views, rest, inner_fn);
+    }
+    return best;
+  };
+  std::vector<Eigen::VectorXd> starts = {x0};
+  starts.insert(starts.end(), extra_starts.begin(), extra_starts.end());
+  FitOutcome f;
+  if (in.type == SolidType::kCylinder) {
+    f = fit_from(outline, inner, starts);
+  } else {
+    // The thesis's block first: world-aligned (yaw held at 0), which the faces' edges pin
+    // down well. Only when its outline misses the edges is the box turned: from several yaws,
+    // kept when it explains the images clearly better (a turned box seen nearly face-on can
+    // trade yaw against depth and fit about as well, wrongly).
+    auto aligned = [&](const Eigen::VectorXd& p) {
+      Eigen::VectorXd q(7);
+      q << p, 0.0;
+      return q;
+    };
+    std::vector<Eigen::VectorXd> starts6;
+    for (const auto& st : starts) starts6.push_back(st.head<6>());
+    InnerEdgesFn inner6;
+    if (inner) inner6 = [&](const Eigen::VectorXd& p, const Eigen::Vector3d& c) {
+      return inner(aligned(p), c);
+    };
+    FitOutcome fa = fit_from([&](const Eigen::VectorXd& p) { return outline(aligned(p)); }, inner6,
+                             starts6);
+    if (fa.ok) {
+      fa.params = aligned(fa.params);
+      Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(7, 7);
+      cov.topLeftCorner<6, 6>() = fa.covariance;
+      fa.covariance = cov;
+    }
+    f = std::move(fa);
+    // A fit that flattened the box (no depth left) explained nothing: the turned box's
+    // faces drawn as one.
+    auto solid = [](const FitOutcome& o) {
+      const Eigen::Vector3d size = o.params.segment<3>(3).cwiseAbs();
+      return o.ok && size.minCoeff() > 0.1 * size.maxCoeff();
+    };
+    if (!solid(f) || 0.5 * (f.rms_px[0] + f.rms_px[1]) > opt.box_turn_rms_px) {
+      std::vector<Eigen::VectorXd> turned;
+      const Eigen::VectorXd from = solid(f) ? f.params : x0;
+      for (const double yaw_deg : {-40.0, -25.0, -10.0, 0.0, 10.0, 25.0, 40.0}) {
+        Eigen::VectorXd st = from;
+        st[6] = yaw_deg * M_PI / 180;
+        turned.push_back(st);
+      }
+      FitOutcome fo = fit_from(outline, inner, turned);
+      spdlog::debug("locate: turned box: score {:.3f} against aligned {:.3f}", score(fo),
+                    score(f));
+      if (!f.ok || (solid(fo) && (!solid(f) || score(fo) < 0.8 * score(f)))) f = std::move(fo);
+    }
   }
   spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}, inner {} {}",
                 f.ok ? "ok" : f.error, f.used[0], f.sampled[0], f.rms_px[0], f.used[1],
@@ -573,12 +664,31 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     c.axis = axis;
   } else {
     BoxResult& b = res.box;
-    b.min = x.head<3>().cwiseMin(x.tail<3>());
-    b.max = x.head<3>().cwiseMax(x.tail<3>());
-    const Eigen::VectorXd s = f.covariance.diagonal().cwiseMax(0).cwiseSqrt();
-    b.min_sigma = s.head<3>();
-    b.max_sigma = s.tail<3>();
-    if ((b.max - b.min).minCoeff() < 1e-6)
+    // Centre, size, yaw and the world-axis-aligned extent, with their deviations.
+    auto outputs = [](const Eigen::VectorXd& p) {
+      const Eigen::VectorXd q = CanonicalBox(p);
+      Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e18), hi = -lo;
+      for (const auto& c : BoxOutline(q)) {
+        lo = lo.cwiseMin(c);
+        hi = hi.cwiseMax(c);
+      }
+      Eigen::VectorXd o(13);
+      o << q.head<7>(), lo, hi;
+      return o;
+    };
+    const Eigen::VectorXd o = outputs(x), sd = Sigmas(outputs, x, f.covariance);
+    b.center = o.head<3>();
+    b.size = o.segment<3>(3);
+    b.yaw_deg = o[6] * 180 / M_PI;
+    b.rotation = BoxRotation(o[6]);
+    b.center_sigma = sd.head<3>();
+    b.size_sigma = sd.segment<3>(3);
+    b.yaw_sigma_deg = sd[6] * 180 / M_PI;
+    b.min = o.segment<3>(7);
+    b.max = o.segment<3>(10);
+    b.min_sigma = sd.segment<3>(7);
+    b.max_sigma = sd.segment<3>(10);
+    if (b.size.minCoeff() < 1e-6)
       return finish(Fail(res, Failure::kFitFailed, "the fitted box has no size"));
     double u0 = 1e18, v0 = 1e18, u1 = -1e18, v1 = -1e18;
     for (const auto& p : BoxOutline(x)) {

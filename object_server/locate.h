@@ -70,6 +70,8 @@ struct LocateOptions {
   double min_inlier_share = 0.6;     // consistency: share of outline samples with an edge
   bool box_inner_edges = true;       // fit a box's edges between seen faces too, not only
                                      // its silhouette
+  double box_turn_rms_px = 0.1;      // a world-aligned box fitting worse than this (mean
+                                     // RMS of the views) is tried turned about the vertical
   double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)
   double ranger_accuracy = 0.5;      // world units: the range's own error
   // Empty when valid, else what is wrong.
@@ -100,6 +102,14 @@ struct CylinderResult {
 };
 
 struct BoxResult {
+  // The oriented box: centre, size along its own axes, and its rotation (a yaw about the
+  // world's vertical, in (-45, 45] degrees; a quarter turn would swap the x and y sizes).
+  Eigen::Vector3d center = Eigen::Vector3d::Zero(), size = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // columns: the box's axes
+  double yaw_deg = 0;
+  Eigen::Vector3d center_sigma = Eigen::Vector3d::Zero(), size_sigma = Eigen::Vector3d::Zero();
+  double yaw_sigma_deg = 0;
+  // Its world-axis-aligned extent (the thesis's block, 3.8.2).
   Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();
   Eigen::Vector3d min_sigma = Eigen::Vector3d::Zero(), max_sigma = Eigen::Vector3d::Zero();
   cv::Rect texture_rect;  // the box's pixels in the left image (min/max u, v), for texturing

@@ -77,6 +77,12 @@ void ResultToProto(const LocateResult& r, igms::object::LocateResponse* out) {
     SetVec(r.box.max, b->mutable_max());
     SetVec(r.box.min_sigma, b->mutable_min_sigma());
     SetVec(r.box.max_sigma, b->mutable_max_sigma());
+    SetVec(r.box.center, b->mutable_center());
+    SetVec(r.box.size, b->mutable_size());
+    b->set_yaw_deg(r.box.yaw_deg);
+    SetVec(r.box.center_sigma, b->mutable_center_sigma());
+    SetVec(r.box.size_sigma, b->mutable_size_sigma());
+    b->set_yaw_sigma_deg(r.box.yaw_sigma_deg);
     b->set_texture_u0(r.box.texture_rect.x);
     b->set_texture_v0(r.box.texture_rect.y);
     b->set_texture_u1(r.box.texture_rect.x + r.box.texture_rect.width - 1);

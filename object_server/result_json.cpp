@@ -63,11 +63,14 @@ std::string ResultToJson(const LocateResult& r) {
   } else {
     const auto& b = r.box;
     o << ", \"min\": " << Vec(b.min) << ", \"max\": " << Vec(b.max)
-      << ", \"center\": " << Vec(0.5 * (b.min + b.max)) << ", \"size\": " << Vec(b.max - b.min)
+      << ", \"center\": " << Vec(b.center) << ", \"size\": " << Vec(b.size)
+      << ", \"yaw_deg\": " << Num(b.yaw_deg)
       << ", \"texture_rect\": [" << b.texture_rect.x << ", " << b.texture_rect.y << ", "
       << b.texture_rect.x + b.texture_rect.width - 1 << ", "
       << b.texture_rect.y + b.texture_rect.height - 1
-      << "], \"sigma\": {\"min\": " << Vec(b.min_sigma) << ", \"max\": " << Vec(b.max_sigma) << "}";
+      << "], \"sigma\": {\"min\": " << Vec(b.min_sigma) << ", \"max\": " << Vec(b.max_sigma)
+      << ", \"center\": " << Vec(b.center_sigma) << ", \"size\": " << Vec(b.size_sigma)
+      << ", \"yaw_deg\": " << Num(b.yaw_sigma_deg) << "}";
   }
   if (r.range.used) {
     o << ", \"range\": {\"measured\": " << Num(r.range.measured)

@@ -106,8 +106,8 @@ bool Truth(const igms::site::Shape& shape, Row* row, igms::object::LocateRequest
   }
   if (const auto* b = std::get_if<igms::site::Box>(&shape)) {
     row->kind = "box";
-    row->true_center = 0.5 * (b->AlignedMin() + b->AlignedMax());
-    row->true_size = b->AlignedMax() - b->AlignedMin();
+    row->true_center = b->center;
+    row->true_size = b->size;  // along its own axes, as the oriented result is
     request->set_type(igms::object::OBJECT_TYPE_BOX);
     return true;
   }
@@ -130,8 +130,8 @@ void Compare(const igms::site::Shape& shape, const igms::object::LocateResponse&
         std::acos(std::min(1.0, std::abs(V(m.axis()).normalized().dot(c->axis)))) * 180 / M_PI;
   } else {
     const auto& m = got.box();
-    row->found_center = 0.5 * (V(m.min()) + V(m.max()));
-    row->found_size = V(m.max()) - V(m.min());
+    row->found_center = V(m.center());
+    row->found_size = V(m.size());
   }
   row->position_error = (row->found_center - row->true_center).norm();
   row->size_error = (row->found_size - row->true_size).cwiseAbs().maxCoeff();

@@ -69,6 +69,11 @@ int main(int argc, char** argv) {
           kind, s.count, 100 * s.found_rate, s.radius_median, s.radius_p90, s.height_median,
           s.height_p90, s.position_median, s.position_p90, "-", s.time_median_ms);
   }
+  const Summary boxes = igms::object::Summarize(all, "box");
+  std::printf(
+      "\nboxes: sizes along each box's own axes; yaw error median %.2f deg, p90 %.2f deg (half "
+      "the blocks turned up to 40 degrees)\n",
+      boxes.axis_median_deg, boxes.axis_p90_deg);
   const Summary c = [&] {
     std::vector<igms::object::ObjectEvaluation> cyl;
     for (const auto& e : all)
@@ -76,7 +81,7 @@ int main(int argc, char** argv) {
     return igms::object::Summarize(cyl, "");
   }();
   std::printf(
-      "\nall cylinders: found %.1f%%, radius median %.4f in, height median %.4f in, position "
+      "all cylinders: found %.1f%%, radius median %.4f in, height median %.4f in, position "
       "median %.3f in\n",
       100 * c.found_rate, c.radius_median, c.height_median, c.position_median);
   std::printf(

@@ -72,10 +72,11 @@ Cylinder Lying(double x, double y, double r, double len, double yaw_deg) {
   return c;
 }
 
-Box Block(double x, double y, double sx, double sy, double sz) {
+Box Block(double x, double y, double sx, double sy, double sz, double yaw_deg) {
   Box b;
   b.center = {x, y, sz / 2};
   b.size = {sx, sy, sz};
+  b.rotation = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return b;
 }
 
@@ -111,6 +112,7 @@ Scene DefaultTestbedScene() {
   options.lying_cylinders = 1;
   options.boxes = 2;
   options.image_gap = 20.0;
+  options.turned_box_share = 0;  // the seed was picked for world-aligned blocks
   Scene s = RandomTestbedScene(kDefaultSeed, options);
   s.sensor.seed = 1;
   return s;
@@ -160,10 +162,16 @@ Scene RandomTestbedScene(uint64_t seed, const RandomSceneOptions& opt) {
       return Lying(x, y, r, len, yaw);
     }, 0.85);
   }
+  std::mt19937_64 yaw_rng(seed ^ 0x9e3779b97f4a7c15ULL);
+  auto yaw_uni = [&](double a, double b) {
+    return std::uniform_real_distribution<double>(a, b)(yaw_rng);
+  };
   for (int i = 0; i < opt.boxes; ++i) {
     const double sx = uni(1.0, 4.0), sy = uni(1.0, 4.0), sz = uni(1.0, 4.0);
+    const bool turned = yaw_uni(0, 1) < opt.turned_box_share;
+    const double yaw = yaw_uni(-opt.box_max_yaw_deg, opt.box_max_yaw_deg);
     place("box_" + std::to_string(i), [&](double x, double y) -> Shape {
-      return Block(x, y, sx, sy, sz);
+      return Block(x, y, sx, sy, sz, turned ? yaw : 0.0);
     }, 0.8);
   }
   return s;

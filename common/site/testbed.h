@@ -35,11 +35,15 @@ struct RandomSceneOptions {
   // marked region never holds another (the thesis assumes no occlusion, section 3.6).
   double image_gap = 28.0;
   int max_attempts = 2000;
+  // This share of the blocks is turned about the vertical by up to box_max_yaw_deg either
+  // way (drawn apart from the rest, so the cylinders of a seed stay where they were).
+  double turned_box_share = 0.5;
+  double box_max_yaw_deg = 40.0;
 };
 
 // A random testbed scene with the thesis's object sizes: cylinders 3-12 in high with radius
 // 0.5 or 0.25 in (lying ones 3-8 in long, axis within 60 degrees of the image's horizontal
-// so that they look longer than wide), axis-aligned blocks 1-4 in on a side. Every object
+// so that they look longer than wide), blocks 1-4 in on a side, half of them turned. Every object
 // is wholly inside both images with a margin. Deterministic for a seed; sensor.seed = seed.
 Scene RandomTestbedScene(uint64_t seed, const RandomSceneOptions& options = {});
 
