@@ -74,14 +74,25 @@ cv::Mat Gray(const cv::Mat& img) {
   return g;
 }
 
+constexpr int kCapPoints = 64;  // outline points around each end of a cylinder
+
+// A cylinder's axis (unit, p0 to p1) and two unit vectors across it.
+void CylinderFrame(const Eigen::VectorXd& x, Eigen::Vector3d& w, Eigen::Vector3d& u,
+                   Eigen::Vector3d& v) {
+  w = x.segment<3>(3) - x.segment<3>(0);
+  if (w.norm() < 1e-9) w = Eigen::Vector3d::UnitZ();
+  w.normalize();
+  u = w.unitOrthogonal();
+  v = w.cross(u);
+}
+
+// Point i of the outline: around the end at p0 for i < kCapPoints, then around p1.
 std::vector<Eigen::Vector3d> CylinderOutline(const Eigen::VectorXd& x) {
   const Eigen::Vector3d p0 = x.segment<3>(0), p1 = x.segment<3>(3);
   const double r = std::abs(x[6]);
-  Eigen::Vector3d w = p1 - p0;
-  if (w.norm() < 1e-9) w = Eigen::Vector3d::UnitZ();
-  w.normalize();
-  const Eigen::Vector3d u = w.unitOrthogonal(), v = w.cross(u);
-  constexpr int kN = 64;
+  Eigen::Vector3d w, u, v;
+  CylinderFrame(x, w, u, v);
+  constexpr int kN = kCapPoints;
   std::vector<Eigen::Vector3d> pts;
   pts.reserve(2 * kN);
   for (const Eigen::Vector3d& c : {p0, p1})
@@ -90,6 +101,43 @@ std::vector<Eigen::Vector3d> CylinderOutline(const Eigen::VectorXd& x) {
       pts.push_back(c + r * (std::cos(a) * u + std::sin(a) * v));
     }
   return pts;
+}
+
+// The rim of an end cap a camera at `centre` sees, where the pipe's side is seen too: the
+// edge between the cap's face and the side (a pipe lying towards the cameras shows it as
+// the inner half of an ellipse, whose width fixes the axis's turn and so the pipe's length).
+std::vector<InnerEdge> CylinderInnerEdges(const Eigen::VectorXd& x, const Eigen::Vector3d& centre) {
+  Eigen::Vector3d w, u, v;
+  CylinderFrame(x, w, u, v);
+  const double r = std::abs(x[6]);
+  std::vector<InnerEdge> edges;
+  for (int end = 0; end < 2; ++end) {
+    const Eigen::Vector3d c = x.segment<3>(3 * end);
+    const Eigen::Vector3d out = end == 0 ? -w : w;
+    if (out.dot(centre - c) <= 0) continue;  // the cap faces away
+    std::array<bool, kCapPoints> side_seen;
+    for (int i = 0; i < kCapPoints; ++i) {
+      const double a = 2 * M_PI * i / kCapPoints;
+      const Eigen::Vector3d radial = std::cos(a) * u + std::sin(a) * v;
+      side_seen[i] = radial.dot(centre - (c + r * radial)) > 0;
+    }
+    // The seen arc: from the first seen point after an unseen one, around while seen.
+    int start = -1;
+    for (int i = 0; i < kCapPoints; ++i)
+      if (side_seen[i] && !side_seen[(i + kCapPoints - 1) % kCapPoints]) start = i;
+    if (start < 0) continue;
+    InnerEdge e;
+    for (int k = 0; k < kCapPoints && side_seen[(start + k) % kCapPoints]; ++k)
+      e.chain.push_back(end * kCapPoints + (start + k) % kCapPoints);
+    const int middle = e.chain[e.chain.size() / 2] - end * kCapPoints;
+    e.c1 = end * kCapPoints + (middle + kCapPoints / 2) % kCapPoints;  // across the cap
+    e.c2 = (1 - end) * kCapPoints + middle;                           // along the side
+    // A curved rim has no parallel neighbour beside it as a box's face edge has: a thinner
+    // cap is safe to measure, and a far pipe's caps are thin.
+    e.min_width_px = 2.5;
+    edges.push_back(std::move(e));
+  }
+  return edges;
 }
 
 // A box's parameters: centre (3), size along its own axes (3) and its yaw about the world's
@@ -126,7 +174,7 @@ std::vector<InnerEdge> BoxInnerEdges(const Eigen::VectorXd& x, const Eigen::Vect
           if (!seen(k1, b1) || !seen(k2, b2)) continue;
           const int m = 3 - k1 - k2;
           const int base = (b1 << k1) | (b2 << k2);
-          edges.push_back({base, base | (1 << m), (b1 << k1) | ((1 - b2) << k2),
+          edges.push_back({{base, base | (1 << m)}, (b1 << k1) | ((1 - b2) << k2),
                            ((1 - b1) << k1) | (b2 << k2)});
         }
   return edges;
@@ -450,6 +498,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
         AtDepth(in.left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
     x0[6] = radius;
     outline = CylinderOutline;
+    if (opt.cylinder_inner_edges) inner = CylinderInnerEdges;
     // A pipe lying towards the cameras has its ends at different depths, which one depth for
     // both cannot start from (the fit then settles on a shorter pipe across the view): match
     // each end's patch into the right image on its own and start also from those depths.

@@ -70,6 +70,7 @@ struct LocateOptions {
   double min_inlier_share = 0.6;     // consistency: share of outline samples with an edge
   bool box_inner_edges = true;       // fit a box's edges between seen faces too, not only
                                      // its silhouette
+  bool cylinder_inner_edges = true;  // fit the rim of a seen end cap against the side too
   double box_turn_rms_px = 0.1;      // a world-aligned box fitting worse than this (mean
                                      // RMS of the views) is tried turned about the vertical
   double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)

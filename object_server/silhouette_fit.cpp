@@ -203,26 +203,38 @@ Eigen::Matrix<double, 2, 3> ProjectionJacobian(const geometry::Matrix34& P,
   return J;
 }
 
-// Samples each inner edge every pixel, away from its ends (where it meets the silhouette and
-// the corners blur), and measures the nearest edge across it. An edge whose faces are under
-// 4 px wide in this view is skipped: its neighbour lies within the search and could be taken.
+// Samples each inner edge every pixel along its chain, away from its ends (where it meets
+// the silhouette and the corners blur), and measures the nearest edge across it. An edge
+// whose surfaces are narrower than its min_width_px in this view is skipped: a neighbouring
+// edge lies within the search and could be taken.
 void MeasureInnerEdges(const std::vector<InnerEdge>& edges, const ViewOutline& o, int view,
                        const FitView& fv, double range, double min_gradient,
                        std::vector<Measurement>& ms) {
   for (const InnerEdge& e : edges) {
-    const Eigen::Vector2d a = o.px[e.a], b = o.px[e.b];
-    const double len = (b - a).norm();
-    if (len < 10) continue;
-    const Eigen::Vector2d dir = (b - a) / len, normal(dir.y(), -dir.x());
-    const double width = std::min(std::abs(normal.dot(o.px[e.c1] - a)),
-                                  std::abs(normal.dot(o.px[e.c2] - a)));
-    if (width < 4) continue;
+    if (e.chain.size() < 2) continue;
+    const Eigen::Vector2d first = o.px[e.chain.front()], last = o.px[e.chain.back()];
+    double total = 0;
+    for (size_t i = 0; i + 1 < e.chain.size(); ++i)
+      total += (o.px[e.chain[i + 1]] - o.px[e.chain[i]]).norm();
+    if (total < 10 || (last - first).norm() < 1e-9) continue;
+    const Eigen::Vector2d span = (last - first).normalized(), across(span.y(), -span.x());
+    const double width = std::min(std::abs(across.dot(o.px[e.c1] - first)),
+                                  std::abs(across.dot(o.px[e.c2] - first)));
+    if (width < e.min_width_px) continue;
     const double reach = std::min(range, 0.4 * width);
-    for (double t = 3; t <= len - 3; t += 1.0) {
-      const Eigen::Vector2d p = a + t * dir;
-      double s;
-      if (EdgeNearPoint(*fv.gradients, p, normal, reach, min_gradient, &s))
-        ms.push_back({view, p + s * normal, 0, e.a, e.b});
+    double walked = 0, next = 3;
+    for (size_t i = 0; i + 1 < e.chain.size(); ++i) {
+      const Eigen::Vector2d a = o.px[e.chain[i]], b = o.px[e.chain[i + 1]];
+      const double len = (b - a).norm();
+      if (len < 1e-9) continue;
+      const Eigen::Vector2d dir = (b - a) / len, normal(dir.y(), -dir.x());
+      for (; next < walked + len && next <= total - 3; next += 1.0) {
+        const Eigen::Vector2d p = a + (next - walked) * dir;
+        double s;
+        if (EdgeNearPoint(*fv.gradients, p, normal, reach, min_gradient, &s))
+          ms.push_back({view, p + s * normal, 0, e.chain[i], e.chain[i + 1]});
+      }
+      walked += len;
     }
   }
 }

@@ -25,11 +25,15 @@ namespace igms::object {
 
 using OutlineFn = std::function<std::vector<Eigen::Vector3d>(const Eigen::VectorXd&)>;
 
-// An edge inside the silhouette between two faces a camera sees (a box's front and top):
-// outline points a and b are its ends; c1 and c2 are a corner of each face away from it, so
-// the faces' widths in the image say whether the edge stands clear of its neighbours.
+// An edge inside the silhouette between two surfaces a camera sees (a box's front and top,
+// a pipe's end cap and its side): a chain of outline points (two for a straight edge);
+// c1 and c2 are points of each surface away from it, so the surfaces' widths in the image
+// (their distances from the line through the chain's ends) say whether the edge stands
+// clear of its neighbours.
 struct InnerEdge {
-  int a, b, c1, c2;
+  std::vector<int> chain;
+  int c1, c2;
+  double min_width_px = 4;  // narrower surfaces: the edge is not measured in that view
 };
 // The inner edges seen from a camera centre, for parameters x.
 using InnerEdgesFn =
