@@ -100,6 +100,16 @@ struct Recognizer::Impl {
         "-hmm",    hmm,     "-dict",  dict,   "-remove_noise", "no",  "-bestpath", "no",
         "-dither", "yes",   "-seed",  "1",    "-allphone_ci",  "yes", "-beam",     "1e-20",
         "-pbeam",  "1e-20", "-wbeam", "1e-15"};
+    // pocketsphinx refuses an argument given twice: one in decoder_args replaces the built-in.
+    for (size_t i = 0; i < options.decoder_args.size(); i += 2) {
+      for (size_t j = 0; j + 1 < args.size(); j += 2) {
+        if (args[j] == options.decoder_args[i]) {
+          args.erase(args.begin() + static_cast<std::ptrdiff_t>(j),
+                     args.begin() + static_cast<std::ptrdiff_t>(j + 2));
+          break;
+        }
+      }
+    }
     args.insert(args.end(), options.decoder_args.begin(), options.decoder_args.end());
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
@@ -267,6 +277,8 @@ struct Recognizer::Impl {
       if (tokens.size() == 1)
         r.uncovered_speech_ms =
             UncoveredSpeechMs(samples, span.first, span.last, options.speech_floor_db);
+      if (tokens.size() == 1 && span.last >= span.first)
+        r.command_ms = 10.0 * (span.last - span.first + 1);
       if (tokens.size() == 1 && span.last >= span.first && options.min_confidence > 0.0) {
         const double loop = PhoneLoopScore(samples, span);
         r.score_per_frame = (span.ascr - loop) / (span.last - span.first + 1);

@@ -53,7 +53,8 @@ struct RecognizerOptions {
   // n-gram language model (the three commands missing from it added), and a command is
   // accepted only when that decoding is the command's words too (english_match).
   bool english_check = false;
-  // More pocketsphinx arguments, in pairs ("-beam", "1e-40"), after the built-in ones.
+  // More pocketsphinx arguments, in pairs ("-beam", "1e-40"); one the recogniser also sets
+  // replaces the built-in value.
   std::vector<std::string> decoder_args;
   DecoyOptions decoys;
   GrammarOptions grammar;
@@ -86,6 +87,8 @@ struct Recognition {
   // what the decoder had to explain as silence or noise.
   double uncovered_speech_ms = 0.0;
   bool english_match = false;
+  // Length of the command word's frames; 0 unless the best path is one word.
+  double command_ms = 0.0;
 };
 
 class Recognizer {
