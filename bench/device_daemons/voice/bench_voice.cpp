@@ -6,7 +6,8 @@
 // features per utterance to prefix-<set>.csv (tune on the tuning set's only);
 // BENCH_VOICE_NO_SWEEP=1 leaves out the sweeps and the grammar-alone run. Settings to try,
 // applied to every run: BENCH_VOICE_ARGS="-beam 1e-30 ..." (pocketsphinx arguments),
-// BENCH_VOICE_DECOYS=N (decoys per command), BENCH_VOICE_DECOY_WEIGHT=W and
+// BENCH_VOICE_DECOYS=N (decoys per command), BENCH_VOICE_MIN_CONFIDENCE=C,
+// BENCH_VOICE_DECOY_WEIGHT=W and
 // BENCH_VOICE_LOOP_WEIGHT=W (grammar weights; the loop is off at 0).
 #include <cstdlib>
 #include <fstream>
@@ -62,6 +63,8 @@ int main(int argc, char** argv) {
     options.decoys.max_per_command = std::atoi(n);
   if (const char* w = std::getenv("BENCH_VOICE_DECOY_WEIGHT"))
     options.grammar.decoy_weight = std::atof(w);
+  if (const char* c = std::getenv("BENCH_VOICE_MIN_CONFIDENCE"))
+    options.min_confidence = std::atof(c);
   if (const char* w = std::getenv("BENCH_VOICE_LOOP_WEIGHT"))
     options.grammar.phone_loop_weight = std::atof(w);
   RecognizerOptions grammar_only = options;  // accepts whatever the grammar decodes: no confidence

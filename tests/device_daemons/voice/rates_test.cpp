@@ -5,28 +5,51 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <optional>
 
 #include "device_daemons/voice/evaluation.h"
 
 namespace igms::voice {
 namespace {
 
-TEST(VoiceRates, CommandsAndOutOfVocabularyOnUnseenVoices) {
-  ASSERT_GE(TestWords().size(), 50u);
+std::optional<EvaluationReport> Measure(const RecognizerOptions& options) {
   std::string error;
-  auto recognizer = Recognizer::Create(RecognizerOptions{}, &error);
-  ASSERT_NE(recognizer, nullptr) << error;
-  const auto corpus = BuildCorpus(TestVoices(), TestWords(), 1);
-  const auto report = Evaluate(*recognizer, corpus, &error);
-  ASSERT_TRUE(report) << error;
+  auto recognizer = Recognizer::Create(options, &error);
+  EXPECT_NE(recognizer, nullptr) << error;
+  if (!recognizer) return std::nullopt;
+  auto report = Evaluate(*recognizer, BuildCorpus(TestVoices(), TestWords(), 1), &error);
+  EXPECT_TRUE(report) << error;
+  if (!report) return std::nullopt;
   std::cout << report->Summary() << "wrong results:\n" << report->Failures();
   EXPECT_EQ(report->commands, 11 * static_cast<int>(TestVoices().size()));
   EXPECT_EQ(report->out_of_vocabulary, static_cast<int>(TestWords().size()));
+  return report;
+}
+
+TEST(VoiceRates, CommandsAndOutOfVocabularyOnUnseenVoices) {
+  ASSERT_GE(TestWords().size(), 50u);
+  const auto report = Measure(RecognizerOptions{});
+  ASSERT_TRUE(report);
   // Regression guards a little below the measured 86.4% and above the measured 15.4%
   // (docs/voice.md); the targets are NOT met yet. Decoding is deterministic (fixed dither
   // seed, fixed order), so a change in these figures means a change in the recogniser.
   EXPECT_GE(report->recognition_rate(), 0.80);
   EXPECT_LE(report->false_accept_rate(), 0.20);
+}
+
+// The stricter setting chosen on the tuning set: 15 decoys per command at weight 1e-15 and
+// min_confidence 0.1. Measured 79.5% and 11.5% here (docs/voice.md): fewer false accepts
+// than the default, and fewer commands. The guards also fail if the grammar's decoy weight
+// stops being applied (at weight 1 the decoys steal many more commands).
+TEST(VoiceRates, WeightedDecoysOnUnseenVoices) {
+  RecognizerOptions options;
+  options.decoys.max_per_command = 15;
+  options.grammar.decoy_weight = 1e-15;
+  options.min_confidence = 0.1;
+  const auto report = Measure(options);
+  ASSERT_TRUE(report);
+  EXPECT_GE(report->recognition_rate(), 0.75);
+  EXPECT_LE(report->false_accept_rate(), 0.14);
 }
 
 }  // namespace
