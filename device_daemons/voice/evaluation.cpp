@@ -137,7 +137,7 @@ std::string EvaluationReport::Lines(bool all) const {
                 : "rejected, " + std::string(RejectReasonName(r.recognition.reason)))
         << " (heard \"" << r.recognition.hypothesis << "\", confidence " << r.recognition.confidence
         << ", score " << r.recognition.score_per_frame << ", uncovered "
-        << r.recognition.uncovered_speech_ms << " ms"
+        << r.recognition.uncovered_speech_ms << " ms, agreement " << r.recognition.agreement
         << (r.recognition.english.empty() ? "" : ", English \"" + r.recognition.english + "\"")
         << ")\n";
   }
@@ -147,7 +147,7 @@ std::string EvaluationReport::Lines(bool all) const {
 std::string EvaluationReport::Csv() const {
   std::ostringstream out;
   out << "text,voice,wpm,state,expected,hypothesis,accepted,reason,confidence,score_per_frame,"
-         "uncovered_ms,command_ms,audio_s,decode_ms\n";
+         "uncovered_ms,command_ms,agreement,audio_s,decode_ms\n";
   for (const ItemResult& r : results) {
     const Recognition& g = r.recognition;
     out << r.item.speech.text << "," << r.item.speech.voice << "," << r.item.speech.words_per_minute
@@ -155,7 +155,7 @@ std::string EvaluationReport::Csv() const {
         << (r.item.expected ? CommandToken(*r.item.expected) : std::string()) << ","
         << g.hypothesis << "," << g.accepted << "," << RejectReasonName(g.reason) << ","
         << g.confidence << "," << g.score_per_frame << "," << g.uncovered_speech_ms << ","
-        << g.command_ms << "," << g.audio_seconds << "," << g.decode_ms << "\n";
+        << g.command_ms << "," << g.agreement << "," << g.audio_seconds << "," << g.decode_ms << "\n";
   }
   return out.str();
 }

@@ -7,6 +7,7 @@
 // BENCH_VOICE_NO_SWEEP=1 leaves out the sweeps and the grammar-alone run. Settings to try,
 // applied to every run: BENCH_VOICE_ARGS="-beam 1e-30 ..." (pocketsphinx arguments),
 // BENCH_VOICE_DECOYS=N (decoys per command), BENCH_VOICE_MIN_CONFIDENCE=C,
+// BENCH_VOICE_MIN_AGREEMENT=K,
 // BENCH_VOICE_DECOY_WEIGHT=W and
 // BENCH_VOICE_LOOP_WEIGHT=W (grammar weights; the loop is off at 0).
 #include <cstdlib>
@@ -65,11 +66,14 @@ int main(int argc, char** argv) {
     options.grammar.decoy_weight = std::atof(w);
   if (const char* c = std::getenv("BENCH_VOICE_MIN_CONFIDENCE"))
     options.min_confidence = std::atof(c);
+  if (const char* k = std::getenv("BENCH_VOICE_MIN_AGREEMENT"))
+    options.min_agreement = std::atoi(k);
   if (const char* w = std::getenv("BENCH_VOICE_LOOP_WEIGHT"))
     options.grammar.phone_loop_weight = std::atof(w);
   RecognizerOptions grammar_only = options;  // accepts whatever the grammar decodes: no confidence
   grammar_only.min_confidence = 0.0;
   grammar_only.max_uncovered_speech_ms = 1e9;
+  grammar_only.min_agreement = 0;
   RecognizerOptions sweep = options;
   sweep.min_confidence = 1e-6;  // confidence computed, nearly everything accepted
   const bool sweeps = std::getenv("BENCH_VOICE_NO_SWEEP") == nullptr;

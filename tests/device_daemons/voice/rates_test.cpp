@@ -30,19 +30,20 @@ TEST(VoiceRates, CommandsAndOutOfVocabularyOnUnseenVoices) {
   ASSERT_GE(TestWords().size(), 50u);
   const auto report = Measure(RecognizerOptions{});
   ASSERT_TRUE(report);
-  // Regression guards a little below the measured 86.4% and above the measured 15.4%
+  // Regression guards a little below the measured 86.4% and above the measured 7.7%
   // (docs/voice.md); the targets are NOT met yet. Decoding is deterministic (fixed dither
   // seed, fixed order), so a change in these figures means a change in the recogniser.
   EXPECT_GE(report->recognition_rate(), 0.80);
-  EXPECT_LE(report->false_accept_rate(), 0.20);
+  EXPECT_LE(report->false_accept_rate(), 0.12);
 }
 
-// The stricter setting chosen on the tuning set: 15 decoys per command at weight 1e-15 and
-// min_confidence 0.1. Measured 79.5% and 11.5% here (docs/voice.md): fewer false accepts
-// than the default, and fewer commands. The guards also fail if the grammar's decoy weight
-// stops being applied (at weight 1 the decoys steal many more commands).
+// The decoys chosen on the tuning set (without the playback-speed test): 15 per command at
+// weight 1e-15 and min_confidence 0.1. Measured 79.5% and 11.5% here (docs/voice.md). The
+// guards also fail if the grammar's decoy weight stops being applied (on the tuning set, the
+// same decoys at weight 1 recognised 63.6% of the commands instead of 81.8%).
 TEST(VoiceRates, WeightedDecoysOnUnseenVoices) {
   RecognizerOptions options;
+  options.min_agreement = 0;
   options.decoys.max_per_command = 15;
   options.grammar.decoy_weight = 1e-15;
   options.min_confidence = 0.1;
