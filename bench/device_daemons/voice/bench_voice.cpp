@@ -7,7 +7,8 @@
 // BENCH_VOICE_NO_SWEEP=1 leaves out the sweeps and the grammar-alone run. Settings to try,
 // applied to every run: BENCH_VOICE_ARGS="-beam 1e-30 ..." (pocketsphinx arguments),
 // BENCH_VOICE_DECOYS=N (decoys per command), BENCH_VOICE_MIN_CONFIDENCE=C,
-// BENCH_VOICE_MIN_AGREEMENT=K,
+// BENCH_VOICE_MIN_AGREEMENT=K, BENCH_VOICE_PERTURBATIONS="0.9 1.1",
+// BENCH_VOICE_MAX_UNCOVERED_MS=MS,
 // BENCH_VOICE_DECOY_WEIGHT=W and
 // BENCH_VOICE_LOOP_WEIGHT=W (grammar weights; the loop is off at 0).
 #include <cstdlib>
@@ -66,6 +67,13 @@ int main(int argc, char** argv) {
     options.grammar.decoy_weight = std::atof(w);
   if (const char* c = std::getenv("BENCH_VOICE_MIN_CONFIDENCE"))
     options.min_confidence = std::atof(c);
+  if (const char* u = std::getenv("BENCH_VOICE_MAX_UNCOVERED_MS"))
+    options.max_uncovered_speech_ms = std::atof(u);
+  if (const char* list = std::getenv("BENCH_VOICE_PERTURBATIONS")) {
+    std::istringstream in(list);
+    options.perturbations.clear();
+    for (double f; in >> f;) options.perturbations.push_back(f);
+  }
   if (const char* k = std::getenv("BENCH_VOICE_MIN_AGREEMENT"))
     options.min_agreement = std::atoi(k);
   if (const char* w = std::getenv("BENCH_VOICE_LOOP_WEIGHT"))
