@@ -7,6 +7,66 @@
 
 namespace igms::voice {
 
+const std::vector<Voice>& TuningVoices() {
+  // Two accents and two variants at two speeds were the first tuning set; the other eight
+  // add two more accents, six more variants and six more speeds (none of the test set's).
+  static const std::vector<Voice> voices = {
+      {"en-us", 140},           {"en-us", 190},         {"en-gb+f3", 140},
+      {"en-gb+f3", 190},        {"en-gb-x-gbclan+m1", 170}, {"en-gb-x-gbcwmd+f1", 130},
+      {"en-us+m2", 220},        {"en-gb+m5", 180},      {"en-us+f5", 165},
+      {"en-gb-x-gbcwmd+m7", 145}, {"en-us+m6", 230},    {"en-gb-x-gbclan+f3", 185}};
+  return voices;
+}
+
+const std::vector<std::string>& TuningWords() {
+  // Near misses of every command first, then short and unrelated words; none in TestWords().
+  static const std::vector<std::string> words = {
+      // freeze, unfreeze
+      "breeze", "freezer", "free", "fleas", "sneeze", "freezing", "frozen", "reeds", "unease",
+      "defrost",
+      // range
+      "rang", "ranger", "rage", "ranch", "grange", "wrench", "ray", "danger", "arranged",
+      // mark, unmark
+      "market", "marked", "remark", "mask", "bark", "march", "spark", "monk", "unmask",
+      "embark", "mike",
+      // remove points, remove model
+      "remove", "points", "model", "remote", "removing", "appoints", "remodel", "movie",
+      "joints", "bottle", "move it",
+      // box
+      "blocks", "boxes", "books", "bucks", "locks", "rocks", "bob", "ox",
+      // cylinder
+      "cinder", "cylinders", "splendor", "silly", "sender", "tinder", "linda",
+      // wireframe, solid
+      "wire", "frame", "fire", "famous", "wide frame", "solitude", "solo", "salt", "solely",
+      "stolid", "squid", "sullen",
+      // short and unrelated
+      "hello", "table", "seven", "stop", "go", "yes", "no", "up", "down", "left", "right", "one",
+      "two", "four", "six", "eight", "nine", "hi", "oops", "what", "why", "now", "wait", "help",
+      "cancel", "undo", "next", "save", "open", "close", "print", "light", "sorry", "please",
+      "excuse me", "hold on", "look here", "turn it around", "is that right", "very good"};
+  return words;
+}
+
+const std::vector<Voice>& TestVoices() {
+  static const std::vector<Voice> voices = {
+      {"en-gb-scotland+m3", 160}, {"en-029+f2", 210}, {"en-us-nyc+m4", 150}, {"en-gb-x-rp+f4", 200}};
+  return voices;
+}
+
+const std::vector<std::string>& TestWords() {
+  // 25 near misses (sound like a command) and 27 unrelated words and phrases.
+  static const std::vector<std::string> words = {
+      "frees",    "fries",     "freed",     "three",    "cheese",    "strange",   "change",
+      "arrange",  "rain",      "refreeze",  "park",     "dark",      "marker",    "marking",
+      "unpack",   "fox",       "socks",     "calendar", "slender",   "salad",     "valid",
+      "fireman",  "removal",   "pointer",   "modeling", "computer",  "camera",    "video",
+      "joystick", "banana",    "elephant",  "window",   "seventeen", "eleven",    "forty",
+      "green",    "orange",    "water",     "coffee",   "morning",   "station",   "robot",
+      "system",   "again",     "okay",      "maybe",    "never",     "ready",     "finish",
+      "thank you", "good night", "what time is it"};
+  return words;
+}
+
 std::vector<CorpusItem> BuildCorpus(const std::vector<Voice>& voices,
                                     const std::vector<std::string>& out_of_vocabulary,
                                     int oov_voices_per_word) {
@@ -77,9 +137,25 @@ std::string EvaluationReport::Lines(bool all) const {
                 : "rejected, " + std::string(RejectReasonName(r.recognition.reason)))
         << " (heard \"" << r.recognition.hypothesis << "\", confidence " << r.recognition.confidence
         << ", score " << r.recognition.score_per_frame << ", uncovered "
-        << r.recognition.uncovered_speech_ms << " ms"
+        << r.recognition.uncovered_speech_ms << " ms, agreement " << r.recognition.agreement
         << (r.recognition.english.empty() ? "" : ", English \"" + r.recognition.english + "\"")
         << ")\n";
+  }
+  return out.str();
+}
+
+std::string EvaluationReport::Csv() const {
+  std::ostringstream out;
+  out << "text,voice,wpm,state,expected,hypothesis,accepted,reason,confidence,score_per_frame,"
+         "uncovered_ms,command_ms,agreement,audio_s,decode_ms\n";
+  for (const ItemResult& r : results) {
+    const Recognition& g = r.recognition;
+    out << r.item.speech.text << "," << r.item.speech.voice << "," << r.item.speech.words_per_minute
+        << "," << StateName(r.item.state) << ","
+        << (r.item.expected ? CommandToken(*r.item.expected) : std::string()) << ","
+        << g.hypothesis << "," << g.accepted << "," << RejectReasonName(g.reason) << ","
+        << g.confidence << "," << g.score_per_frame << "," << g.uncovered_speech_ms << ","
+        << g.command_ms << "," << g.agreement << "," << g.audio_seconds << "," << g.decode_ms << "\n";
   }
   return out.str();
 }

@@ -27,6 +27,14 @@ struct CorpusItem {
   OperatorState state = OperatorState::kModelBuilding;
 };
 
+// The tuning set: the voices, speeds and other words the recogniser's settings are chosen
+// on. The test set: voices (accent and variant) and speeds not in the tuning set, and other
+// words not in its list; measured, never tuned on (docs/voice.md).
+const std::vector<Voice>& TuningVoices();
+const std::vector<std::string>& TuningWords();
+const std::vector<Voice>& TestVoices();
+const std::vector<std::string>& TestWords();
+
 // Every command in every voice (in the first state where it is valid), then every
 // out-of-vocabulary word in the voices taken in turn, `oov_voices_per_word` of them each.
 std::vector<CorpusItem> BuildCorpus(const std::vector<Voice>& voices,
@@ -52,6 +60,9 @@ struct EvaluationReport {
   std::string Summary() const;                // a few lines for a person
   std::string Failures() const;               // one line per wrong result
   std::string All() const;                    // one line per result
+  // One comma-separated line per result, with a header: the features the recogniser
+  // decides on, for choosing its settings outside the program.
+  std::string Csv() const;
   // Recognition and false-accept rates had min_confidence been each of `thresholds`
   // (meaningful for thresholds at or above the one the corpus was decoded with), one line
   // each: how the confidence trades misses against false accepts.

@@ -219,26 +219,29 @@ std::string BuildGrammar(OperatorState state, const std::vector<Pronunciation>& 
   std::vector<std::string> decoy_words;
   for (const Pronunciation& d : decoys) decoy_words.push_back(d.word);
 
+  // Every weighted alternative is written as a word in the public rule, not as a reference
+  // to a rule of its own: sphinxbase ignores the weight of a rule reference (measured: the
+  // same hypotheses from weights 1 to 1e-25), and applies the weight of a word.
   std::ostringstream g;
   g << "#JSGF V1.0;\n\ngrammar igms_" << StateName(state) << ";\n\n";
   g << "<command> = " << alternatives(valid) << ";\n";
   std::string utterance = "<command>";
-  if (!other.empty()) {
-    g << "<other_state> = " << alternatives(other) << ";\n";
-    utterance += " | /" + FormatWeight(options.other_state_weight) + "/ <other_state>";
-  }
-  if (!decoy_words.empty()) {
-    g << "<decoy> = " << alternatives(decoy_words) << ";\n";
-    utterance += " | /" + FormatWeight(options.decoy_weight) + "/ <decoy>";
-  }
+  for (const std::string& t : other)
+    utterance += " | /" + FormatWeight(options.other_state_weight) + "/ " + t;
+  for (const std::string& d : decoy_words)
+    utterance += " | /" + FormatWeight(options.decoy_weight) + "/ " + d;
   if (options.phone_loop_weight > 0.0) {
     // Bounded, not "<phone>+": sphinxbase's JSGF compiler closes a loop over the whole
-    // alternation, which lets phones and commands mix in one path.
+    // alternation, which lets phones and commands mix in one path. Each first phone is its
+    // own weighted alternative, so the weight is applied (above).
     g << "<phone> = " << alternatives(phones) << ";\n";
     std::string nested = "<phone>";
-    for (int i = 1; i < options.max_phones; ++i) nested = "<phone> [" + nested + "]";
-    g << "<phones> = " << nested << ";\n";
-    utterance += " | /" + FormatWeight(options.phone_loop_weight) + "/ <phones>";
+    for (int i = 2; i < options.max_phones; ++i) nested = "<phone> [" + nested + "]";
+    if (options.max_phones > 1) g << "<tail> = " << nested << ";\n";
+    for (const std::string& p : phones) {
+      utterance += " | /" + FormatWeight(options.phone_loop_weight) + "/ " + p +
+                   (options.max_phones > 1 ? " [<tail>]" : "");
+    }
   }
   g << "\npublic <utterance> = " << utterance << ";\n";
   return g.str();

@@ -50,6 +50,8 @@ std::string_view RejectReasonName(RejectReason reason) {
       return "low_confidence";
     case RejectReason::kUnexplainedSpeech:
       return "unexplained_speech";
+    case RejectReason::kUnstable:
+      return "unstable";
   }
   return "unknown";
 }
@@ -61,6 +63,13 @@ bool RecognizerOptions::Check(std::string* error) const {
   }
   if (!(max_uncovered_speech_ms >= 0.0)) {
     if (error) *error = "recognizer max_uncovered_speech_ms must be >= 0";
+    return false;
+  }
+  if (min_agreement < 0 || min_agreement > static_cast<int>(perturbations.size()) ||
+      !std::all_of(perturbations.begin(), perturbations.end(),
+                   [](double f) { return f >= 0.5 && f <= 2.0; })) {
+    if (error)
+      *error = "recognizer perturbations must be in [0.5, 2], min_agreement at most their number";
     return false;
   }
   if (decoder_args.size() % 2 != 0) {
@@ -100,6 +109,16 @@ struct Recognizer::Impl {
         "-hmm",    hmm,     "-dict",  dict,   "-remove_noise", "no",  "-bestpath", "no",
         "-dither", "yes",   "-seed",  "1",    "-allphone_ci",  "yes", "-beam",     "1e-20",
         "-pbeam",  "1e-20", "-wbeam", "1e-15"};
+    // pocketsphinx refuses an argument given twice: one in decoder_args replaces the built-in.
+    for (size_t i = 0; i < options.decoder_args.size(); i += 2) {
+      for (size_t j = 0; j + 1 < args.size(); j += 2) {
+        if (args[j] == options.decoder_args[i]) {
+          args.erase(args.begin() + static_cast<std::ptrdiff_t>(j),
+                     args.begin() + static_cast<std::ptrdiff_t>(j + 2));
+          break;
+        }
+      }
+    }
     args.insert(args.end(), options.decoder_args.begin(), options.decoder_args.end());
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
@@ -242,6 +261,24 @@ struct Recognizer::Impl {
     return total;
   }
 
+  // How many of the perturbed playbacks decode as exactly `token` in the current state.
+  int Agreement(std::span<const int16_t> samples, const std::string& token) {
+    int agree = 0;
+    for (double f : options.perturbations) {
+      // Read at f times the rate: f times faster, every frequency f times higher.
+      const std::vector<int16_t> played = Resample(
+          samples, static_cast<int>(std::lround(kModelSampleRate * f)), kModelSampleRate);
+      ps_set_search(decoder, std::string(StateName(state)).c_str());
+      if (played.empty() || ps_start_utt(decoder) < 0) continue;
+      ps_process_raw(decoder, played.data(), played.size(), FALSE, TRUE);
+      ps_end_utt(decoder);
+      int32 score = 0;
+      const char* hyp = ps_get_hyp(decoder, &score);
+      agree += hyp != nullptr && token == hyp;
+    }
+    return agree;
+  }
+
   Recognition Decode(std::span<const int16_t> samples) {
     Recognition r;
     r.state = state;
@@ -267,6 +304,8 @@ struct Recognizer::Impl {
       if (tokens.size() == 1)
         r.uncovered_speech_ms =
             UncoveredSpeechMs(samples, span.first, span.last, options.speech_floor_db);
+      if (tokens.size() == 1 && span.last >= span.first)
+        r.command_ms = 10.0 * (span.last - span.first + 1);
       if (tokens.size() == 1 && span.last >= span.first && options.min_confidence > 0.0) {
         const double loop = PhoneLoopScore(samples, span);
         r.score_per_frame = (span.ascr - loop) / (span.last - span.first + 1);
@@ -281,10 +320,23 @@ struct Recognizer::Impl {
       std::replace(phrase.begin(), phrase.end(), '_', ' ');
       r.english_match = r.english == phrase;
     }
-    r.decode_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     r.hypothesis = Join(tokens);
     Classify(tokens, r);
+    // Only a command that passed every other test is decoded again (it costs a decode each).
+    if (r.accepted && options.min_agreement > 0) {
+      r.agreement = Agreement(samples, tokens[0]);
+      if (r.agreement < options.min_agreement) {
+        r.accepted = false;
+        r.reason = RejectReason::kUnstable;
+        std::ostringstream why;
+        why << "\"" << Phrase(*r.command) << "\" heard again at only " << r.agreement << " of "
+            << options.perturbations.size() << " other playback speeds";
+        r.message = why.str();
+      }
+    }
+    if (r.accepted && options.predict_state) state = PredictNextState(state, *r.command);
+    r.decode_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return r;
   }
 
@@ -318,8 +370,7 @@ struct Recognizer::Impl {
       why << "\"" << Phrase(*command) << "\" confidence " << r.confidence << " is below "
           << options.min_confidence;
     } else {
-      r.accepted = true;
-      if (options.predict_state) state = PredictNextState(state, *command);
+      r.accepted = true;  // Decode() may still reject it, and predicts the next state
       return;
     }
     r.message = why.str();

@@ -10,7 +10,10 @@
 //      (the fillers around it swallowed the rest of a longer word), and
 //   4. its confidence is at least min_confidence. The confidence compares the command's
 //      acoustic score per frame with a free decoding of the same frames by a phone loop
-//      (pocketsphinx's allphone search), squashed into [0, 1].
+//      (pocketsphinx's allphone search), squashed into [0, 1], and
+//   5. the same audio played a little faster and slower (speed and pitch together) is
+//      decoded as the same command often enough: a near miss ("rage", "marked") sits
+//      between a command and nothing, and a small change tips it over.
 // Anything else is a Rejection with a reason a person can read.
 //
 // Threading: one Recognizer is not thread-safe; use one per thread. Creating one loads the
@@ -42,6 +45,10 @@ struct RecognizerOptions {
   double score_scale = 5.0;
   // The state the recogniser starts in, until the control client says otherwise.
   OperatorState initial_state = OperatorState::kVerification;
+  // Step 5: playback speeds to decode the utterance again at, and how many of them must give
+  // the same command. min_agreement 0 turns it off. Chosen on the tuning set (docs/voice.md).
+  std::vector<double> perturbations = {0.85, 0.92, 1.08, 1.15};
+  int min_agreement = 2;
   // After accepting a command, move to PredictNextState() until told otherwise.
   bool predict_state = true;
   // Reject a command when more than this much speech (10 ms frames within 35 dB of the
@@ -53,7 +60,8 @@ struct RecognizerOptions {
   // n-gram language model (the three commands missing from it added), and a command is
   // accepted only when that decoding is the command's words too (english_match).
   bool english_check = false;
-  // More pocketsphinx arguments, in pairs ("-beam", "1e-40"), after the built-in ones.
+  // More pocketsphinx arguments, in pairs ("-beam", "1e-40"); one the recogniser also sets
+  // replaces the built-in value.
   std::vector<std::string> decoder_args;
   DecoyOptions decoys;
   GrammarOptions grammar;
@@ -67,6 +75,7 @@ enum class RejectReason {
   kNotValidInState,    // a command, but not one of the current state's
   kLowConfidence,      // a valid command whose posterior is below min_confidence
   kUnexplainedSpeech,  // a valid command, but too much speech outside it
+  kUnstable,           // a valid command, but not heard again at other playback speeds
 };
 std::string_view RejectReasonName(RejectReason reason);
 
@@ -86,6 +95,10 @@ struct Recognition {
   // what the decoder had to explain as silence or noise.
   double uncovered_speech_ms = 0.0;
   bool english_match = false;
+  // Length of the command word's frames; 0 unless the best path is one word.
+  double command_ms = 0.0;
+  // How many of the perturbed decodings gave the same command (step 5); -1 when not tried.
+  int agreement = -1;
 };
 
 class Recognizer {

@@ -73,9 +73,32 @@ TEST(Grammar, OptionalPhoneLoopIsBoundedAndDecoysAppear) {
   options.max_phones = 3;
   const std::string g =
       BuildGrammar(OperatorState::kVerification, {{"breeze", P("B R IY Z")}}, options);
-  EXPECT_NE(g.find("<decoy> = breeze;"), std::string::npos);
-  EXPECT_NE(g.find("<phones> = <phone> [<phone> [<phone>]];"), std::string::npos);
+  EXPECT_NE(g.find("/ breeze"), std::string::npos);
+  EXPECT_NE(g.find("<tail> = <phone> [<phone>];"), std::string::npos);
+  EXPECT_NE(g.find("/ ph_aa [<tail>]"), std::string::npos);
   EXPECT_EQ(g.find("+"), std::string::npos);
+}
+
+// sphinxbase applies a JSGF weight written before a word and ignores one written before a
+// rule reference, so every weighted alternative must be a word of the public rule.
+TEST(Grammar, WeightsAreWrittenOnWordsNotRuleReferences) {
+  GrammarOptions options;
+  options.other_state_weight = 0.5;
+  options.decoy_weight = 0.25;
+  options.phone_loop_weight = 0.125;
+  const std::string g =
+      BuildGrammar(OperatorState::kVerification, {{"breeze", P("B R IY Z")}}, options);
+  const std::string rule = g.substr(g.find("public <utterance> ="));
+  EXPECT_NE(rule.find("/0.50"), std::string::npos);
+  EXPECT_NE(rule.find("0/ unfreeze"), std::string::npos);  // another state's command
+  EXPECT_NE(rule.find("/0.250"), std::string::npos);
+  EXPECT_NE(rule.find("0/ breeze"), std::string::npos);
+  EXPECT_NE(rule.find("/0.1250"), std::string::npos);
+  EXPECT_NE(rule.find("0/ ph_z [<tail>]"), std::string::npos);
+  // The only rule reference at the top level is the state's own commands, unweighted.
+  EXPECT_EQ(rule.find("/ <"), std::string::npos);
+  EXPECT_EQ(rule.find("<other_state>"), std::string::npos);
+  EXPECT_EQ(rule.find("<decoy>"), std::string::npos);
 }
 
 TEST(Grammar, DecoysAreNearButNeverHomophones) {

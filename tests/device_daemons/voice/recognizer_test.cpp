@@ -110,6 +110,31 @@ TEST_F(RecognizerTest, ConfidenceThresholdRejects) {
   EXPECT_EQ(r.command, Command::kFreeze);
 }
 
+TEST_F(RecognizerTest, OtherPlaybackSpeedsMustAgree) {
+  std::string error;
+  RecognizerOptions bad;
+  bad.min_agreement = static_cast<int>(bad.perturbations.size()) + 1;
+  EXPECT_EQ(Recognizer::Create(bad, &error), nullptr);
+  EXPECT_NE(error.find("min_agreement"), std::string::npos);
+
+  const Audio freeze = Say("freeze");
+  RecognizerOptions same;  // played back at its own speed, twice: the same command
+  same.predict_state = false;
+  same.perturbations = {1.0, 1.0};
+  same.min_agreement = 2;
+  auto steady = Recognizer::Create(same, &error);
+  ASSERT_NE(steady, nullptr) << error;
+  const Recognition r = steady->Recognize(freeze.samples);
+  EXPECT_TRUE(r.accepted) << r.message;
+  EXPECT_EQ(r.agreement, 2);
+
+  RecognizerOptions off = same;
+  off.min_agreement = 0;
+  auto unchecked = Recognizer::Create(off, &error);
+  ASSERT_NE(unchecked, nullptr) << error;
+  EXPECT_EQ(unchecked->Recognize(freeze.samples).agreement, -1);  // not tried
+}
+
 TEST_F(RecognizerTest, PredictsItsNextStateUntilToldOtherwise) {
   std::string error;
   auto predicting = Recognizer::Create(RecognizerOptions{}, &error);
