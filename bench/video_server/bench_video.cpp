@@ -116,10 +116,11 @@ std::unique_ptr<Server> StartServer(cv::Size size, std::vector<std::string> extr
   const std::string left = server->scratch.File("left.png"), right = server->scratch.File("right.png");
   cv::imwrite(left, Resized("aloeL.jpg", size));
   cv::imwrite(right, Resized("aloeR.jpg", size));
-  std::vector<std::string> args = {"--log-level", "warn", "--set", "processes.video.files.left=" + left,
-                                   "--set", "processes.video.files.right=" + right};
+  // The server's log goes to a file of the test support's, where its port is read from.
+  std::vector<std::string> args = {"--set", "processes.video.files.left=" + left, "--set",
+                                   "processes.video.files.right=" + right};
   args.insert(args.end(), extra.begin(), extra.end());
-  server->process = std::make_unique<igms::video::testing::ServerProcess>(server->scratch, args);
+  server->process = std::make_unique<igms::video::testing::ServerProcess>(args);
   server->port = server->process->WaitPort();
   if (server->port == 0) throw std::runtime_error("igms-video-server did not start");
   return server;

@@ -18,58 +18,20 @@ namespace igms::object {
 namespace {
 
 using namespace std::chrono_literals;
-using video::testing::ScratchDir;
 using video::testing::TestClient;
 
-std::string SourceDir() {
-  const char* dir = std::getenv("IGMS_SOURCE_DIR");
-  return dir ? dir : ".";
-}
-std::string Calibration() {
-  return SourceDir() + "/common/calibration/data/thesis_calibration.yaml";
-}
+std::string Calibration() { return igms::testing::ThesisCalibration(); }
 
 // Any IGMS server program, stopped with SIGTERM when destroyed.
-class Process {
+class Process : public igms::testing::ChildProcess {
  public:
-  Process(const ScratchDir& scratch, const std::string& program, std::vector<std::string> args) {
-    port_file_ = scratch.File(program + "-port-" + std::to_string(++starts_));
-    std::vector<std::string> argv = {video::testing::BinDir() + "/" + program, "--port-file",
-                                     port_file_};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> raw;
-    for (auto& a : argv) raw.push_back(a.data());
-    raw.push_back(nullptr);
-    if (posix_spawn(&pid_, raw[0], nullptr, nullptr, raw.data(), environ) != 0) pid_ = -1;
-  }
+  Process(const std::string& program, std::vector<std::string> args)
+      : ChildProcess(program, std::move(args)) {}
   ~Process() { Stop(); }
-  uint16_t WaitPort() {
-    for (int i = 0; i < 400 && pid_ > 0; ++i) {
-      std::ifstream in(port_file_);
-      int port = 0;
-      if (in >> port && port > 0) return static_cast<uint16_t>(port);
-      int status = 0;
-      if (waitpid(pid_, &status, WNOHANG) == pid_) {
-        pid_ = -1;
-        return 0;
-      }
-      std::this_thread::sleep_for(50ms);
-    }
-    return 0;
-  }
+  uint16_t WaitPort() { return WaitListening(); }
   void Stop() {
-    if (pid_ > 0) {
-      kill(pid_, SIGTERM);
-      int status = 0;
-      waitpid(pid_, &status, 0);
-      pid_ = -1;
-    }
+    if (!Exited()) Terminate();
   }
-
- private:
-  static inline int starts_ = 0;
-  pid_t pid_ = -1;
-  std::string port_file_;
 };
 
 std::vector<std::string> VideoArgs(uint16_t port) {
@@ -108,11 +70,11 @@ const std::string kLocate = "igms.object.ObjectService.Locate";
 class ObjectServerTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    video_ = std::make_unique<Process>(scratch_, "igms-video-server", VideoArgs(0));
+    video_ = std::make_unique<Process>("igms-video-server", VideoArgs(0));
     video_port_ = video_->WaitPort();
     ASSERT_NE(video_port_, 0);
     object_ = std::make_unique<Process>(
-        scratch_, "igms-object-server",
+        "igms-object-server",
         std::vector<std::string>{"--name", "object", "--port", "0", "--set",
                                  "processes.video.port=" + std::to_string(video_port_), "--set",
                                  "processes.object.fetch_timeout_ms=1500", "--set",
@@ -120,7 +82,6 @@ class ObjectServerTest : public ::testing::Test {
     object_port_ = object_->WaitPort();
     ASSERT_NE(object_port_, 0);
   }
-  ScratchDir scratch_;
   std::unique_ptr<Process> video_, object_;
   uint16_t video_port_ = 0, object_port_ = 0;
 };
@@ -223,7 +184,7 @@ TEST_F(ObjectServerTest, VideoServerGoneIsUnavailableAndItsReturnIsNoticed) {
       client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[0].shape, first, 1), 20s);
   EXPECT_EQ(got.status.code, igms::UNAVAILABLE) << got.status.message;
 
-  video_ = std::make_unique<Process>(scratch_, "igms-video-server", VideoArgs(video_port_));
+  video_ = std::make_unique<Process>("igms-video-server", VideoArgs(video_port_));
   ASSERT_EQ(video_->WaitPort(), video_port_);
   const uint64_t second = Grab(video_port_);
   bool found = false;

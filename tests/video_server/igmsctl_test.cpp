@@ -37,7 +37,7 @@ TEST(VideoServerWithIgmsctl, GrabEdgesOverlayAndLive) {
   IGMS_REQUIRE_OPENCV_DATA();
   testing::ScratchDir scratch;
   testing::ServerProcess server(
-      scratch, {"--set", "processes.video.files.left=" + OpenCvData("aloeL.jpg"), "--set",
+      {"--set", "processes.video.files.left=" + OpenCvData("aloeL.jpg"), "--set",
                 "processes.video.files.right=" + OpenCvData("aloeR.jpg"), "--set",
                 "processes.video.overlay_file=" + scratch.File("overlay.yaml")});
   const uint16_t port = server.WaitPort();

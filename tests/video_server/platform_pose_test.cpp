@@ -9,8 +9,6 @@
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <regex>
-#include <sstream>
 
 #include "common/calibration/calibration_file.h"
 #include "common/geometry/platform.h"
@@ -34,20 +32,7 @@ using testing::TestClient;
 const std::string kVideo = "igms.video.VideoService.";
 const std::string kPlatform = "igms.devices.PlatformService.";
 
-std::string SourceDir() {
-  const char* dir = std::getenv("IGMS_SOURCE_DIR");
-  return dir ? dir : ".";
-}
-std::string CalibrationPath() {
-  return SourceDir() + "/common/calibration/data/thesis_calibration.yaml";
-}
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+std::string CalibrationPath() { return igms::testing::ThesisCalibration(); }
 
 template <class F>
 bool WaitFor(F done, std::chrono::milliseconds timeout = 15s) {
@@ -59,46 +44,12 @@ bool WaitFor(F done, std::chrono::milliseconds timeout = 15s) {
   return done();
 }
 
-// igms-platformd --simulate on an ephemeral port, its log in a file.
-class PlatformDaemon {
+// igms-platformd --simulate on an ephemeral port.
+class PlatformDaemon : public igms::testing::ChildProcess {
  public:
-  explicit PlatformDaemon(const ScratchDir& scratch) : log_(scratch.File("platformd.log")) {
-    std::vector<std::string> argv = {testing::BinDir() + "/igms-platformd", "--simulate", "--port",
-                                     "0"};
-    std::vector<char*> raw;
-    for (auto& a : argv) raw.push_back(a.data());
-    raw.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 2, log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (posix_spawn(&pid_, raw[0], &actions, nullptr, raw.data(), environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&actions);
-  }
-  ~PlatformDaemon() { Kill(SIGTERM); }
-
-  uint16_t WaitPort() {
-    uint16_t port = 0;
-    WaitFor([&] {
-      std::smatch m;
-      const std::string log = ReadFile(log_);
-      if (std::regex_search(log, m, std::regex("daemon on port ([0-9]+)"))) {
-        port = static_cast<uint16_t>(std::stoi(m[1]));
-      }
-      return port != 0 || pid_ <= 0;
-    });
-    return port;
-  }
-  void Kill(int signal) {
-    if (pid_ <= 0) return;
-    kill(pid_, signal);
-    waitpid(pid_, nullptr, 0);
-    pid_ = -1;
-  }
-  std::string Log() const { return ReadFile(log_); }
-
- private:
-  std::string log_;
-  pid_t pid_ = -1;
+  PlatformDaemon() : ChildProcess("igms-platformd", {"--simulate", "--port", "0"}) {}
+  ~PlatformDaemon() { Terminate(); }
+  uint16_t WaitPort() { return WaitListening(); }
 };
 
 // The newest reading of the platform's Live stream, seen from the test.
@@ -197,13 +148,12 @@ std::vector<double> Joints(const PlatformPose& pose) {
 
 TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
   ScratchDir scratch;
-  PlatformDaemon platformd(scratch);
+  PlatformDaemon platformd;
   const uint16_t platform_port = platformd.WaitPort();
   ASSERT_NE(platform_port, 0) << platformd.Log();
-  const std::string log = scratch.File("video.log");
-  ServerProcess server(scratch, {"--config", WriteLab(scratch, platform_port)}, log);
+  ServerProcess server({"--config", WriteLab(scratch, platform_port)});
   const uint16_t port = server.WaitPort();
-  ASSERT_NE(port, 0) << ReadFile(log);
+  ASSERT_NE(port, 0) << server.Log();
   const auto calibration = calibration::LoadCalibration(CalibrationPath());
   ASSERT_TRUE(calibration && calibration->platform);
   const geometry::PlatformModel& model = *calibration->platform;
@@ -218,7 +168,7 @@ TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
   ASSERT_TRUE(WaitFor([&] {
     zero = Grab(video);
     return zero.pose.from_platform();
-  })) << ReadFile(log);
+  })) << server.Log();
   ASSERT_EQ(zero.pose.joints_rad_size(), 3);
   EXPECT_EQ(Joints(zero.pose), std::vector<double>(3, 0.0));
 
@@ -308,13 +258,12 @@ TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
 
 TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
   ScratchDir scratch;
-  PlatformDaemon platformd(scratch);
+  PlatformDaemon platformd;
   const uint16_t platform_port = platformd.WaitPort();
   ASSERT_NE(platform_port, 0) << platformd.Log();
-  const std::string log = scratch.File("video.log");
-  ServerProcess server(scratch, {"--config", WriteLab(scratch, platform_port)}, log);
+  ServerProcess server({"--config", WriteLab(scratch, platform_port)});
   const uint16_t port = server.WaitPort();
-  ASSERT_NE(port, 0) << ReadFile(log);
+  ASSERT_NE(port, 0) << server.Log();
   {
     TestClient platform(platform_port);
     PlatformWatch watch(platform);
@@ -334,7 +283,7 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
     return before.pose.joints_rad_size() == 3 && before.pose.joints_rad(0) < 0.0;
   }));
 
-  platformd.Kill(SIGKILL);
+  platformd.Kill();
   for (int i = 0; i < 3; ++i) {
     const auto start = std::chrono::steady_clock::now();
     Grabbed after = Grab(video);
@@ -345,8 +294,8 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
     std::this_thread::sleep_for(300ms);  // across a few reconnection attempts
   }
   ASSERT_TRUE(
-      WaitFor([&] { return ReadFile(log).find("lost the platform daemon") != std::string::npos; }));
-  const std::string text = ReadFile(log);
+      WaitFor([&] { return server.Log().find("lost the platform daemon") != std::string::npos; }));
+  const std::string text = server.Log();
   size_t losses = 0;
   for (size_t at = text.find("lost the platform"); at != std::string::npos;
        at = text.find("lost the platform", at + 1)) {
@@ -359,16 +308,15 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
 TEST(PlatformPose, FilesBackendPassesThePoseThrough) {
   IGMS_REQUIRE_OPENCV_DATA();
   ScratchDir scratch;
-  PlatformDaemon platformd(scratch);
+  PlatformDaemon platformd;
   const uint16_t platform_port = platformd.WaitPort();
   ASSERT_NE(platform_port, 0) << platformd.Log();
   const std::string backend =
       "    backend: files\n    files: {left: " + testing::OpenCvData("left01.jpg") +
       ", right: " + testing::OpenCvData("right01.jpg") + "}\n";
-  const std::string log = scratch.File("video.log");
-  ServerProcess server(scratch, {"--config", WriteLab(scratch, platform_port, backend)}, log);
+  ServerProcess server({"--config", WriteLab(scratch, platform_port, backend)});
   const uint16_t port = server.WaitPort();
-  ASSERT_NE(port, 0) << ReadFile(log);
+  ASSERT_NE(port, 0) << server.Log();
   TestClient platform(platform_port);
   PlatformWatch watch(platform);
   devices::SetOrientationRequest set;
@@ -406,14 +354,13 @@ TEST(PlatformPose, NoPlatformDaemonListeningGrabsAtTheZeroPose) {
   // A port nothing listens on: the platform's port is taken from a daemon already gone.
   uint16_t dead_port = 0;
   {
-    PlatformDaemon gone(scratch);
+    PlatformDaemon gone;
     dead_port = gone.WaitPort();
     ASSERT_NE(dead_port, 0) << gone.Log();
   }
-  const std::string log = scratch.File("video.log");
-  ServerProcess server(scratch, {"--config", WriteLab(scratch, dead_port)}, log);
+  ServerProcess server({"--config", WriteLab(scratch, dead_port)});
   const uint16_t port = server.WaitPort();
-  ASSERT_NE(port, 0) << ReadFile(log);
+  ASSERT_NE(port, 0) << server.Log();
   TestClient video(port);
   const auto start = std::chrono::steady_clock::now();
   Grabbed grabbed = Grab(video);
@@ -425,13 +372,10 @@ TEST(PlatformPose, NoPlatformDaemonListeningGrabsAtTheZeroPose) {
 }
 
 TEST(PlatformPose, NamingAProcessTheLabDoesNotHaveIsAConfigurationError) {
-  ScratchDir scratch;
-  const std::string log = scratch.File("video.log");
   ServerProcess server(
-      scratch,
-      {"--set", "processes.video.backend=sim", "--set", "processes.video.platform=nowhere"}, log);
-  EXPECT_EQ(server.WaitExit(20s), 2);
-  EXPECT_NE(ReadFile(log).find("processes.video.platform"), std::string::npos) << ReadFile(log);
+      {"--set", "processes.video.backend=sim", "--set", "processes.video.platform=nowhere"});
+  EXPECT_EQ(server.Wait(20s), 2);
+  EXPECT_NE(server.Log().find("processes.video.platform"), std::string::npos) << server.Log();
 }
 
 }  // namespace

@@ -47,7 +47,7 @@ class VideoServerTest : public ::testing::Test {
     args.insert(args.end(), {"--set", "processes.video.overlay_file=" + scratch_.File("overlay.yaml")});
     args.insert(args.end(), extra.begin(), extra.end());
     client_.reset();
-    server_ = std::make_unique<ServerProcess>(scratch_, args);
+    server_ = std::make_unique<ServerProcess>(args);
     const uint16_t port = server_->WaitPort();
     ASSERT_NE(port, 0) << "igms-video-server did not start";
     client_ = std::make_unique<TestClient>(port);
@@ -322,8 +322,7 @@ TEST_F(VideoServerTest, BadLiveRequestIsRefused) {
 }
 
 TEST(VideoServerProcess, MissingCameraGrabIsUnavailableNotAHang) {
-  ScratchDir scratch;
-  ServerProcess server(scratch, {"--set", "processes.video.backend=camera", "--set",
+  ServerProcess server({"--set", "processes.video.backend=camera", "--set",
                                  "processes.video.camera.left=/dev/video97", "--set",
                                  "processes.video.camera.right=/dev/video98", "--set",
                                  "processes.video.camera.frame_timeout_ms=500"});
@@ -338,15 +337,14 @@ TEST(VideoServerProcess, MissingCameraGrabIsUnavailableNotAHang) {
 }
 
 TEST(VideoServerProcess, BadConfigurationExitsWithAClearStatus) {
-  ScratchDir scratch;
-  ServerProcess missing(scratch, FilesArgs("/nonexistent/left.png", "/nonexistent/right.png"));
-  EXPECT_EQ(missing.WaitExit(20s), 2);
-  ServerProcess unknown(scratch, {"--set", "processes.video.backend=telepathy"});
-  EXPECT_EQ(unknown.WaitExit(20s), 2);
-  ServerProcess bad_edges(scratch, {"--set", "processes.video.files.left=" + OpenCvData("left01.jpg"),
+  ServerProcess missing(FilesArgs("/nonexistent/left.png", "/nonexistent/right.png"));
+  EXPECT_EQ(missing.Wait(20s), 2);
+  ServerProcess unknown({"--set", "processes.video.backend=telepathy"});
+  EXPECT_EQ(unknown.Wait(20s), 2);
+  ServerProcess bad_edges({"--set", "processes.video.files.left=" + OpenCvData("left01.jpg"),
                                     "--set", "processes.video.files.right=" + OpenCvData("right01.jpg"),
                                     "--set", "processes.video.edges.low=500"});
-  EXPECT_EQ(bad_edges.WaitExit(20s), 2);
+  EXPECT_EQ(bad_edges.Wait(20s), 2);
 }
 
 }  // namespace

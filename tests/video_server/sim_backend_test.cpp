@@ -22,10 +22,6 @@ using testing::ServerProcess;
 using testing::TestClient;
 const std::string kService = "igms.video.VideoService.";
 
-std::string SourceDir() {
-  const char* dir = std::getenv("IGMS_SOURCE_DIR");
-  return dir ? dir : ".";
-}
 
 // Grabs one pair and fetches both images losslessly.
 GetImagesResponse GrabPair(uint16_t port) {
@@ -49,9 +45,9 @@ void ExpectSame(const cv::Mat& expected, const Image& got) {
 
 TEST(SimBackend, DefaultTestbedThroughTheLabCalibration) {
   ScratchDir scratch;
-  const std::string calibration = SourceDir() + "/common/calibration/data/thesis_calibration.yaml";
+  const std::string calibration = igms::testing::ThesisCalibration();
   ServerProcess server(
-      scratch, {"--set", "processes.video.backend=sim", "--set", "lab.calibration=" + calibration,
+      {"--set", "processes.video.backend=sim", "--set", "lab.calibration=" + calibration,
                 "--set", "processes.video.sim.seed=7"});
   const uint16_t port = server.WaitPort();
   ASSERT_NE(port, 0) << "the server did not start";
@@ -77,7 +73,7 @@ TEST(SimBackend, SceneFileNamedInTheVideoSection) {
   scene.sensor.seed = 3;
   const std::string path = scratch.File("scene.yaml");
   std::ofstream(path) << site::SceneToYaml(scene);
-  ServerProcess server(scratch, {"--set", "processes.video.backend=sim", "--set",
+  ServerProcess server({"--set", "processes.video.backend=sim", "--set",
                                  "processes.video.sim.scene=" + path});
   const uint16_t port = server.WaitPort();
   ASSERT_NE(port, 0) << "the server did not start";
@@ -90,9 +86,9 @@ TEST(SimBackend, SceneFileNamedInTheVideoSection) {
 
 TEST(SimBackend, MissingSceneFileIsAConfigurationError) {
   ScratchDir scratch;
-  ServerProcess server(scratch, {"--set", "processes.video.backend=sim", "--set",
+  ServerProcess server({"--set", "processes.video.backend=sim", "--set",
                                  "processes.video.sim.scene=" + scratch.File("none.yaml")});
-  EXPECT_EQ(server.WaitExit(20s), 2);
+  EXPECT_EQ(server.Wait(20s), 2);
 }
 
 }  // namespace
