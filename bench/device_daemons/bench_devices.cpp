@@ -31,6 +31,7 @@
 #include "device_daemons/serial/serial_link.h"
 #include "device_daemons/viewer/viewer_sim.h"
 #include "tests/device_daemons/daemons/daemon_process.h"
+#include "tests/device_daemons/test_util.h"
 
 namespace {
 

@@ -22,6 +22,7 @@
 #include "device_daemons/voice/dragon_sim.h"
 #include "igms/devices.pb.h"
 #include "tests/device_daemons/daemons/daemon_process.h"
+#include "tests/device_daemons/test_util.h"
 
 namespace {
 

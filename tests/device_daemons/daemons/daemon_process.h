@@ -1,95 +1,27 @@
-// A daemon as a real child process for tests: started with arguments, its stderr kept in
-// a file, its listening port read from its log, stopped with SIGTERM.
+// A daemon as a real child process for tests and benchmarks (the shared test support runs
+// it, keeps its log and reads its port from it), stopped with SIGTERM.
 #pragma once
 
-#include <fcntl.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cstdlib>
-#include <fstream>
-#include <regex>
-#include <sstream>
+#include <chrono>
 #include <string>
 #include <vector>
 
-#include "tests/device_daemons/test_util.h"
+#include "tests/support/child_process.h"
 
 namespace igms::devices::testing {
 
-inline std::string Bin(const std::string& name) { return std::string(std::getenv("IGMS_BIN_DIR")) + "/" + name; }
-
-class DaemonProcess {
+class DaemonProcess : public igms::testing::ChildProcess {
  public:
-  DaemonProcess(const std::string& program, std::vector<std::string> args) : log_(TempPath("log")) {
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      const int fd = ::open(log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(fd, 2);
-      std::vector<char*> argv;
-      const std::string path = Bin(program);
-      argv.push_back(const_cast<char*>(path.c_str()));
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      ::execv(path.c_str(), argv.data());
-      ::_exit(127);
-    }
+  DaemonProcess(const std::string& program, std::vector<std::string> args)
+      : ChildProcess(program, std::move(args)) {}
+  // The port it listens on; 0 if it ended or did not listen within the time.
+  uint16_t WaitForPort(std::chrono::milliseconds limit = std::chrono::seconds(10)) {
+    return WaitListening(limit);
   }
-  ~DaemonProcess() {
-    if (pid_ > 0 && !exited_) {
-      ::kill(pid_, SIGKILL);
-      ::waitpid(pid_, nullptr, 0);
-    }
-  }
-  std::string Log() const {
-    std::ifstream in(log_);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
-  // The port from the "daemon on port N" line; 0 if it did not come within the timeout.
-  uint16_t WaitForPort(std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
-    uint16_t port = 0;
-    WaitFor([&] {
-      std::smatch m;
-      const std::string log = Log();
-      if (std::regex_search(log, m, std::regex("daemon on port ([0-9]+)"))) port = static_cast<uint16_t>(std::stoi(m[1]));
-      return port != 0 || Exited();
-    }, timeout);
-    return port;
-  }
-  bool Exited() {
-    if (exited_) return true;
-    int status = 0;
-    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-      exited_ = true;
-      exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    }
-    return exited_;
-  }
-  // SIGTERM, then the exit code (-1 if it had to be killed).
-  int Stop() {
-    if (!exited_) ::kill(pid_, SIGTERM);
-    if (!WaitFor([&] { return Exited(); }, std::chrono::seconds(5))) {
-      ::kill(pid_, SIGKILL);
-      ::waitpid(pid_, nullptr, 0);
-      exited_ = true;
-      return -1;
-    }
-    return exit_code_;
-  }
-  int WaitExit() {
-    WaitFor([&] { return Exited(); }, std::chrono::seconds(10));
-    return exit_code_;
-  }
-  pid_t pid() const { return pid_; }
-
- private:
-  std::string log_;
-  pid_t pid_ = -1;
-  bool exited_ = false;
-  int exit_code_ = -1;
+  // SIGTERM, then its exit status (-1 if it had to be killed).
+  int Stop() { return Exited() ? exit_status() : Terminate(std::chrono::seconds(5)); }
+  // Waits for it to end by itself; its exit status, or -1.
+  int WaitExit() { return Wait(std::chrono::seconds(10)); }
 };
 
 }  // namespace igms::devices::testing

@@ -17,6 +17,7 @@
 #include "device_daemons/serial/recording.h"
 #include "igms/devices.pb.h"
 #include "tests/device_daemons/daemons/daemon_process.h"
+#include "tests/device_daemons/test_util.h"
 #include "tests/device_daemons/ranger/test_site.h"
 
 namespace igms::devices {
