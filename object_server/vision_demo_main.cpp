@@ -132,6 +132,10 @@ void Compare(const igms::site::Shape& shape, const igms::object::LocateResponse&
     const auto& m = got.box();
     row->found_center = V(m.center());
     row->found_size = V(m.size());
+    // The yaw about the vertical, modulo the quarter turn that swaps a box's x and y.
+    const auto& b = std::get<igms::site::Box>(shape);
+    const double true_yaw = std::atan2(b.rotation(1, 0), b.rotation(0, 0)) * 180 / M_PI;
+    row->axis_error_deg = std::abs(std::remainder(m.yaw_deg() - true_yaw, 90.0));
   }
   row->position_error = (row->found_center - row->true_center).norm();
   row->size_error = (row->found_size - row->true_size).cwiseAbs().maxCoeff();
