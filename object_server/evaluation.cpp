@@ -59,6 +59,9 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
         e.height_error = std::abs(e.height_signed);
         e.position_error = (c.center - cyl->center).norm();
         e.axis_error_deg = std::acos(std::min(1.0, std::abs(c.axis.dot(cyl->axis)))) * 180 / M_PI;
+        e.z_scores = {e.radius_error / c.radius_sigma, e.height_error / c.height_sigma};
+        for (int k = 0; k < 3; ++k)
+          e.z_scores.push_back(std::abs(c.center[k] - cyl->center[k]) / c.center_sigma[k]);
       }
     } else {
       e.kind = "box";
@@ -81,6 +84,10 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
         e.axis_error_deg = best * 180 / M_PI;
         e.size_error = e.size_signed.cwiseAbs();
         e.position_error = (b.center - box->center).norm();
+        for (int k = 0; k < 3; ++k) {
+          e.z_scores.push_back(e.size_error[k] / b.size_sigma[k]);
+          e.z_scores.push_back(std::abs(b.center[k] - box->center[k]) / b.center_sigma[k]);
+        }
       }
     }
     out.push_back(e);
@@ -91,6 +98,7 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
 Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& which) {
   Summary s;
   std::vector<double> radius, height, position, time, sx, sy, sz, axis;
+  int z_count = 0, z_within = 0;
   for (const auto& e : all) {
     if (!which.empty() && e.kind != which) continue;
     ++s.count;
@@ -99,6 +107,10 @@ Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& w
     ++s.found;
     position.push_back(e.position_error);
     axis.push_back(e.axis_error_deg);
+    for (const double z : e.z_scores) {
+      ++z_count;
+      z_within += z < 2.0;  // a NaN (no deviation reported) counts as outside
+    }
     if (e.kind == "box") {
       sx.push_back(e.size_error.x());
       sy.push_back(e.size_error.y());
@@ -117,6 +129,7 @@ Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& w
   s.position_p90 = Percentile(position, 0.9);
   s.size_median = {Percentile(sx, 0.5), Percentile(sy, 0.5), Percentile(sz, 0.5)};
   s.size_p90 = {Percentile(sx, 0.9), Percentile(sy, 0.9), Percentile(sz, 0.9)};
+  s.within_2_sigma = z_count ? double(z_within) / z_count : 0;
   s.axis_median_deg = Percentile(axis, 0.5);
   s.axis_p90_deg = Percentile(axis, 0.9);
   s.time_median_ms = Percentile(time, 0.5);

@@ -26,6 +26,10 @@ struct ObjectEvaluation {
   // Signed (found - true), to tell a bias from scatter.
   double radius_signed = 0, height_signed = 0;
   Eigen::Vector3d size_signed = Eigen::Vector3d::Zero();
+  // Each reported dimension's error over its reported standard deviation (cylinder: radius,
+  // height; box: size x, y, z; both: centre x, y, z), to tell whether the uncertainty can be
+  // believed.
+  std::vector<double> z_scores;
 };
 
 // Renders the scene's stereo pair, generates marks for each cylinder and box from the
@@ -42,6 +46,7 @@ struct Summary {
   double position_median = 0, position_p90 = 0;
   Eigen::Vector3d size_median = Eigen::Vector3d::Zero(), size_p90 = Eigen::Vector3d::Zero();
   double axis_median_deg = 0, axis_p90_deg = 0;  // cylinder axis or box yaw
+  double within_2_sigma = 0;  // share of the z-scores under 2 (about 95% if believable)
   double time_median_ms = 0;
 };
 // Statistics over the evaluations whose kind matches ("" = all; "upright", "lying", "box").

@@ -480,7 +480,9 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
   }
   const int kept = count[0] + count[1] + out.inner_used[0] + out.inner_used[1];
   const double dof = std::max(1, kept - np);
-  const double sigma2 = (sum[0] + sum[1] + inner_sum) / dof;
+  const double sigma2 =
+      std::max((sum[0] + sum[1] + inner_sum) / dof, options.min_sigma_px * options.min_sigma_px) *
+      std::max(1.0, options.correlated_samples);
   const Eigen::MatrixXd H = J.transpose() * wk.asDiagonal() * J;
   out.covariance = sigma2 * H.completeOrthogonalDecomposition().pseudoInverse();
   {

@@ -52,6 +52,12 @@ struct FitOptions {
   int inner_iterations = 6;
   double huber_px = 0.5;
   double outlier_px = 2.0;  // measurements farther than this after a pass are dropped
+  // The covariance: edge points one pixel apart do not err independently (blur, the same
+  // shading, a sliver's two edges read as one), and the residuals of a clean image
+  // understate the edges' real error. Each point's error is taken as at least
+  // min_sigma_px, and as shared by correlated_samples neighbours.
+  double min_sigma_px = 0.4;
+  double correlated_samples = 10;
   Eigen::VectorXd step;     // finite-difference step per parameter (world units)
 };
 

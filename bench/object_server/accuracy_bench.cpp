@@ -69,9 +69,13 @@ int main(int argc, char** argv) {
           kind, s.count, 100 * s.found_rate, s.radius_median, s.radius_p90, s.height_median,
           s.height_p90, s.position_median, s.position_p90, "-", s.time_median_ms);
   }
+  std::printf("\nuncertainty: share of errors within 2 reported sigma (about 95%% if believable):");
+  for (const char* kind : {"upright", "lying", "box"})
+    std::printf(" %s %.0f%%", kind, 100 * igms::object::Summarize(all, kind).within_2_sigma);
+  std::printf("\n");
   const Summary boxes = igms::object::Summarize(all, "box");
   std::printf(
-      "\nboxes: sizes along each box's own axes; yaw error median %.2f deg, p90 %.2f deg (half "
+      "boxes: sizes along each box's own axes; yaw error median %.2f deg, p90 %.2f deg (half "
       "the blocks turned up to 40 degrees)\n",
       boxes.axis_median_deg, boxes.axis_p90_deg);
   const Summary c = [&] {
