@@ -646,7 +646,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     if (!solid(f) || 0.5 * (f.rms_px[0] + f.rms_px[1]) > opt.box_turn_rms_px) {
       std::vector<Eigen::VectorXd> turned;
       const Eigen::VectorXd from = solid(f) ? f.params : x0;
-      for (const double yaw_deg : {-40.0, -25.0, -10.0, 0.0, 10.0, 25.0, 40.0}) {
+      for (const double yaw_deg : {-36.0, -18.0, 0.0, 18.0, 36.0}) {
         Eigen::VectorXd st = from;
         st[6] = yaw_deg * M_PI / 180;
         turned.push_back(st);
