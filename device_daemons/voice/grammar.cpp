@@ -80,6 +80,13 @@ std::vector<Pronunciation> CommandPronunciations() {
   return out;
 }
 
+std::vector<Pronunciation> AlternativePronunciations() {
+  return {{CommandToken(Command::kRemovePoints) + "(2)", Split("R IH M UW V P OY N T S")},
+          {CommandToken(Command::kRemoveModel) + "(2)", Split("R IH M UW V M AA D AH L")},
+          {CommandToken(Command::kWireframe) + "(2)", Split("W AY R F R EY M")},
+          {CommandToken(Command::kSolid) + "(2)", Split("S AA L IH D")}};
+}
+
 const std::vector<std::string>& ModelPhones() {
   static const std::vector<std::string> phones = Split(
       "AA AE AH AO AW AY B CH D DH EH ER EY F G HH IH IY JH K L M N NG OW OY P R S SH T TH "

@@ -145,6 +145,7 @@ struct Recognizer::Impl {
       return false;
     }
     if (!AddWords(CommandPronunciations(), TRUE, error)) return false;
+    if (!AddWords(AlternativePronunciations(), TRUE, error)) return false;
     // The general English model ranks dictionary words by how common they are.
     ngram_model_t* lm =
         ngram_model_read(config, lm_path.c_str(), NGRAM_AUTO, ps_get_logmath(decoder));

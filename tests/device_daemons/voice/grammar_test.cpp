@@ -44,6 +44,18 @@ TEST(Grammar, PronunciationsCoverTheMissingWords) {
   EXPECT_EQ(words[2].phones, P("AH N F R IY Z"));
 }
 
+TEST(Grammar, AlternativePronunciationsNameACommand) {
+  for (const Pronunciation& p : AlternativePronunciations()) {
+    ASSERT_TRUE(p.word.ends_with("(2)")) << p.word;
+    EXPECT_TRUE(CommandFromToken(p.word.substr(0, p.word.size() - 3))) << p.word;
+    for (const std::string& phone : p.phones) {
+      EXPECT_NE(std::find(ModelPhones().begin(), ModelPhones().end(), phone),
+                ModelPhones().end())
+          << phone << " in " << p.word;
+    }
+  }
+}
+
 TEST(Grammar, PhoneDistance) {
   EXPECT_EQ(PhoneDistance(P("F R IY Z"), P("F R IY Z")), 0);
   EXPECT_EQ(PhoneDistance(P("F R IY Z"), P("B R IY Z")), 1);     // breeze
