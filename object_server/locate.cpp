@@ -92,14 +92,19 @@ std::vector<Eigen::Vector3d> CylinderOutline(const Eigen::VectorXd& x) {
   const double r = std::abs(x[6]);
   Eigen::Vector3d w, u, v;
   CylinderFrame(x, w, u, v);
-  constexpr int kN = kCapPoints;
+  // The fit evaluates the outline once per parameter for every Jacobian: the angles'
+  // cosines and sines are worked out once.
+  static const std::array<Eigen::Vector2d, kCapPoints> circle = [] {
+    std::array<Eigen::Vector2d, kCapPoints> c;
+    for (int i = 0; i < kCapPoints; ++i)
+      c[i] = {std::cos(2 * M_PI * i / kCapPoints), std::sin(2 * M_PI * i / kCapPoints)};
+    return c;
+  }();
+  const Eigen::Vector3d ru = r * u, rv = r * v;
   std::vector<Eigen::Vector3d> pts;
-  pts.reserve(2 * kN);
+  pts.reserve(2 * kCapPoints);
   for (const Eigen::Vector3d& c : {p0, p1})
-    for (int i = 0; i < kN; ++i) {
-      const double a = 2 * M_PI * i / kN;
-      pts.push_back(c + r * (std::cos(a) * u + std::sin(a) * v));
-    }
+    for (const Eigen::Vector2d& cs : circle) pts.push_back(c + cs.x() * ru + cs.y() * rv);
   return pts;
 }
 
