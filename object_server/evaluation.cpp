@@ -7,6 +7,7 @@
 #include "common/site/marks.h"
 #include "common/site/renderer.h"
 #include "object_server/debug_image.h"
+#include "object_server/solid_models.h"
 
 namespace igms::object {
 
@@ -68,20 +69,15 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
       e.distance = (box->center - eye).norm();
       if (e.result.found) {
         const auto& b = e.result.box;
-        // The true box's yaw (it stands on the table), paired with the found one: a quarter
-        // turn swaps the x and y sizes, so take the pairing whose yaws agree best.
-        const double true_yaw = std::atan2(box->rotation(1, 0), box->rotation(0, 0));
-        double best = 1e9;
-        for (int quarter = 0; quarter < 2; ++quarter) {
-          const double d = std::remainder(b.yaw_deg * M_PI / 180 - true_yaw - quarter * M_PI / 2,
-                                          M_PI);
-          if (std::abs(d) >= best) continue;
-          best = std::abs(d);
-          Eigen::Vector3d true_size = box->size;
-          if (quarter) std::swap(true_size.x(), true_size.y());
-          e.size_signed = b.size - true_size;
-        }
-        e.axis_error_deg = best * 180 / M_PI;
+        // The found yaw is within 45 degrees of the true one, or of a quarter turn from it,
+        // which swaps the box's x and y sizes.
+        e.axis_error_deg = BoxYawErrorDeg(b.yaw_deg, box->rotation);
+        const double true_yaw = std::atan2(box->rotation(1, 0), box->rotation(0, 0)) * 180 / M_PI;
+        const bool quarter_turn =
+            std::abs(std::remainder(b.yaw_deg - true_yaw, 180.0)) > 45.0;
+        Eigen::Vector3d true_size = box->size;
+        if (quarter_turn) std::swap(true_size.x(), true_size.y());
+        e.size_signed = b.size - true_size;
         e.size_error = e.size_signed.cwiseAbs();
         e.position_error = (b.center - box->center).norm();
         for (int k = 0; k < 3; ++k) {

@@ -22,6 +22,7 @@
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"
 #include "object_server/result_json.h"
+#include "object_server/solid_models.h"
 #include "video_server/sim_capture.h"
 
 namespace po = boost::program_options;
@@ -132,10 +133,8 @@ void Compare(const igms::site::Shape& shape, const igms::object::LocateResponse&
     const auto& m = got.box();
     row->found_center = V(m.center());
     row->found_size = V(m.size());
-    // The yaw about the vertical, modulo the quarter turn that swaps a box's x and y.
-    const auto& b = std::get<igms::site::Box>(shape);
-    const double true_yaw = std::atan2(b.rotation(1, 0), b.rotation(0, 0)) * 180 / M_PI;
-    row->axis_error_deg = std::abs(std::remainder(m.yaw_deg() - true_yaw, 90.0));
+    row->axis_error_deg =
+        igms::object::BoxYawErrorDeg(m.yaw_deg(), std::get<igms::site::Box>(shape).rotation);
   }
   row->position_error = (row->found_center - row->true_center).norm();
   row->size_error = (row->found_size - row->true_size).cwiseAbs().maxCoeff();

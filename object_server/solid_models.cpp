@@ -1,0 +1,142 @@
+#include "object_server/solid_models.h"
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+
+namespace igms::object {
+namespace {
+
+// A cylinder's axis (unit, p0 to p1) and two unit vectors across it.
+void CylinderFrame(const Eigen::VectorXd& x, Eigen::Vector3d& w, Eigen::Vector3d& u,
+                   Eigen::Vector3d& v) {
+  w = x.segment<3>(3) - x.segment<3>(0);
+  if (w.norm() < 1e-9) w = Eigen::Vector3d::UnitZ();
+  w.normalize();
+  u = w.unitOrthogonal();
+  v = w.cross(u);
+}
+
+}  // namespace
+
+// Point i of the outline: around the end at p0 for i < kCapPoints, then around p1.
+std::vector<Eigen::Vector3d> CylinderOutline(const Eigen::VectorXd& x) {
+  const Eigen::Vector3d p0 = x.segment<3>(0), p1 = x.segment<3>(3);
+  const double r = std::abs(x[6]);
+  Eigen::Vector3d w, u, v;
+  CylinderFrame(x, w, u, v);
+  // The fit evaluates the outline once per parameter for every Jacobian: the angles'
+  // cosines and sines are worked out once.
+  static const std::array<Eigen::Vector2d, kCapPoints> circle = [] {
+    std::array<Eigen::Vector2d, kCapPoints> c;
+    for (int i = 0; i < kCapPoints; ++i)
+      c[i] = {std::cos(2 * M_PI * i / kCapPoints), std::sin(2 * M_PI * i / kCapPoints)};
+    return c;
+  }();
+  const Eigen::Vector3d ru = r * u, rv = r * v;
+  std::vector<Eigen::Vector3d> pts;
+  pts.reserve(2 * kCapPoints);
+  for (const Eigen::Vector3d& c : {p0, p1})
+    for (const Eigen::Vector2d& cs : circle) pts.push_back(c + cs.x() * ru + cs.y() * rv);
+  return pts;
+}
+
+// The rim of an end cap a camera at `centre` sees, where the pipe's side is seen too: the
+// edge between the cap's face and the side (a pipe lying towards the cameras shows it as
+// the inner half of an ellipse, whose width fixes the axis's turn and so the pipe's length).
+std::vector<InnerEdge> CylinderInnerEdges(const Eigen::VectorXd& x, const Eigen::Vector3d& centre) {
+  Eigen::Vector3d w, u, v;
+  CylinderFrame(x, w, u, v);
+  const double r = std::abs(x[6]);
+  std::vector<InnerEdge> edges;
+  for (int end = 0; end < 2; ++end) {
+    const Eigen::Vector3d c = x.segment<3>(3 * end);
+    const Eigen::Vector3d out = end == 0 ? -w : w;
+    if (out.dot(centre - c) <= 0) continue;  // the cap faces away
+    std::array<bool, kCapPoints> side_seen;
+    for (int i = 0; i < kCapPoints; ++i) {
+      const double a = 2 * M_PI * i / kCapPoints;
+      const Eigen::Vector3d radial = std::cos(a) * u + std::sin(a) * v;
+      side_seen[i] = radial.dot(centre - (c + r * radial)) > 0;
+    }
+    // The seen arc: from the first seen point after an unseen one, around while seen.
+    int start = -1;
+    for (int i = 0; i < kCapPoints; ++i)
+      if (side_seen[i] && !side_seen[(i + kCapPoints - 1) % kCapPoints]) start = i;
+    if (start < 0) continue;
+    InnerEdge e;
+    for (int k = 0; k < kCapPoints && side_seen[(start + k) % kCapPoints]; ++k)
+      e.chain.push_back(end * kCapPoints + (start + k) % kCapPoints);
+    const int middle = e.chain[e.chain.size() / 2] - end * kCapPoints;
+    e.c1 = end * kCapPoints + (middle + kCapPoints / 2) % kCapPoints;  // across the cap
+    e.c2 = (1 - end) * kCapPoints + middle;                           // along the side
+    // A curved rim has no parallel neighbour beside it as a box's face edge has: a thinner
+    // cap is safe to measure, and a far pipe's caps are thin.
+    e.min_width_px = 2.5;
+    edges.push_back(std::move(e));
+  }
+  return edges;
+}
+
+// A box's parameters: centre (3), size along its own axes (3) and its yaw about the world's
+// vertical (a block stands on the table; the thesis's block is the yaw-0 case, 3.8.2).
+Eigen::Matrix3d BoxRotation(double yaw) {
+  return Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
+// Corner i has bit k set when its coordinate k along the box's own axes is +size/2.
+std::vector<Eigen::Vector3d> BoxOutline(const Eigen::VectorXd& x) {
+  const Eigen::Matrix3d R = BoxRotation(x[6]);
+  const Eigen::Vector3d c = x.head<3>(), h = 0.5 * x.segment<3>(3);
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 8; ++i)
+    pts.push_back(c + R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(),
+                                          (i & 4) ? h.z() : -h.z()));
+  return pts;
+}
+
+// The box's edges between two faces a camera at `centre` sees. A face is seen when the
+// centre lies on its outer side.
+std::vector<InnerEdge> BoxInnerEdges(const Eigen::VectorXd& x, const Eigen::Vector3d& centre) {
+  const Eigen::Vector3d local = BoxRotation(x[6]).transpose() * (centre - x.head<3>());
+  const Eigen::Vector3d h = 0.5 * x.segment<3>(3);
+  auto seen = [&](int k, int bit) {
+    const double face = bit ? h[k] : -h[k];  // where the face lies; outward is away from 0
+    return (face >= 0 ? 1.0 : -1.0) * (local[k] - face) > 0;
+  };
+  std::vector<InnerEdge> edges;
+  for (int k1 = 0; k1 < 3; ++k1)
+    for (int k2 = k1 + 1; k2 < 3; ++k2)
+      for (int b1 = 0; b1 < 2; ++b1)
+        for (int b2 = 0; b2 < 2; ++b2) {
+          if (!seen(k1, b1) || !seen(k2, b2)) continue;
+          const int m = 3 - k1 - k2;
+          const int base = (b1 << k1) | (b2 << k2);
+          edges.push_back({{base, base | (1 << m)}, (b1 << k1) | ((1 - b2) << k2),
+                           ((1 - b1) << k1) | (b2 << k2)});
+        }
+  return edges;
+}
+
+// The same box with its yaw in (-45, 45] degrees and positive sizes: a quarter turn swaps
+// the box's x and y sizes and leaves the solid as it was.
+Eigen::VectorXd CanonicalBox(Eigen::VectorXd x) {
+  x.segment<3>(3) = x.segment<3>(3).cwiseAbs();
+  x[6] = std::remainder(x[6], M_PI);  // (-90, 90]
+  while (x[6] > M_PI / 4) {
+    x[6] -= M_PI / 2;
+    std::swap(x[3], x[4]);
+  }
+  while (x[6] <= -M_PI / 4) {
+    x[6] += M_PI / 2;
+    std::swap(x[3], x[4]);
+  }
+  return x;
+}
+
+double BoxYawErrorDeg(double found_yaw_deg, const Eigen::Matrix3d& true_rotation) {
+  const double true_yaw = std::atan2(true_rotation(1, 0), true_rotation(0, 0)) * 180 / M_PI;
+  return std::abs(std::remainder(found_yaw_deg - true_yaw, 90.0));
+}
+
+}  // namespace igms::object
