@@ -72,9 +72,8 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
         // The found yaw is within 45 degrees of the true one, or of a quarter turn from it,
         // which swaps the box's x and y sizes.
         e.axis_error_deg = BoxYawErrorDeg(b.yaw_deg, box->rotation);
-        const double true_yaw = std::atan2(box->rotation(1, 0), box->rotation(0, 0)) * 180 / M_PI;
         const bool quarter_turn =
-            std::abs(std::remainder(b.yaw_deg - true_yaw, 180.0)) > 45.0;
+            std::abs(std::remainder(b.yaw_deg - StandingBoxYawDeg(box->rotation), 180.0)) > 45.0;
         Eigen::Vector3d true_size = box->size;
         if (quarter_turn) std::swap(true_size.x(), true_size.y());
         e.size_signed = b.size - true_size;

@@ -134,9 +134,12 @@ Eigen::VectorXd CanonicalBox(Eigen::VectorXd x) {
   return x;
 }
 
+double StandingBoxYawDeg(const Eigen::Matrix3d& rotation) {
+  return std::atan2(rotation(1, 0), rotation(0, 0)) * 180 / M_PI;
+}
+
 double BoxYawErrorDeg(double found_yaw_deg, const Eigen::Matrix3d& true_rotation) {
-  const double true_yaw = std::atan2(true_rotation(1, 0), true_rotation(0, 0)) * 180 / M_PI;
-  return std::abs(std::remainder(found_yaw_deg - true_yaw, 90.0));
+  return std::abs(std::remainder(found_yaw_deg - StandingBoxYawDeg(true_rotation), 90.0));
 }
 
 }  // namespace igms::object

@@ -29,6 +29,8 @@ std::vector<InnerEdge> BoxInnerEdges(const Eigen::VectorXd& x, const Eigen::Vect
 // The same box with its yaw in (-45, 45] degrees and positive sizes.
 Eigen::VectorXd CanonicalBox(Eigen::VectorXd x);
 
+// The yaw (degrees) of a box standing on the table, from its rotation's columns.
+double StandingBoxYawDeg(const Eigen::Matrix3d& rotation);
 // How far a found yaw (degrees) is from a standing box's true rotation, modulo the quarter
 // turn that swaps a box's x and y sizes: 0 to 45 degrees.
 double BoxYawErrorDeg(double found_yaw_deg, const Eigen::Matrix3d& true_rotation);

@@ -134,11 +134,11 @@ void Server::Stop() {
   const auto& strand = impl_->strand;
   if (strand.running_in_this_thread() || impl_->io.stopped()) {
     close_once();
-  } else if (impl_->io.get_executor().running_in_this_thread()) {
-    asio::post(strand, close_once);
   } else {
     asio::post(strand, close_once);
-    if (done.wait_for(std::chrono::seconds(1)) != std::future_status::ready) close_once();
+    const bool outside_loop = !impl_->io.get_executor().running_in_this_thread();
+    if (outside_loop && done.wait_for(std::chrono::seconds(1)) != std::future_status::ready)
+      close_once();
   }
   for (auto& s : sessions) s->Close("server shutting down");
 }
