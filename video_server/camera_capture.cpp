@@ -22,6 +22,14 @@ bool IsIndex(const std::string& device) {
   return true;
 }
 
+// OpenCV's capture backends (GStreamer above all) set themselves up on the first open and
+// are not safe to open from two threads at once: the two cameras' readers crashed the
+// process doing so. Opening is rare (start-up, retries), so all opens take turns.
+std::mutex& OpenMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
 // One device, read continuously on its own thread; the newest frame wins.
 class DeviceReader {
  public:
@@ -103,6 +111,7 @@ class DeviceReader {
   }
 
   bool Open(cv::VideoCapture& capture) {
+    std::lock_guard open_lock(OpenMutex());
     const bool ok = IsIndex(device_) ? capture.open(std::stoi(device_)) : capture.open(device_);
     if (!ok || !capture.isOpened()) {
       capture.release();
