@@ -1,6 +1,7 @@
 #include "object_server/image_ops.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -31,25 +32,26 @@ Gradients::Gradients(const cv::Mat& gray, cv::Rect region, double sigma) {
   cv::Mat f;
   gray(region_).convertTo(f, CV_32F);
   if (sigma > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
-  cv::Sobel(f, gx_, CV_32F, 1, 0, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
-  cv::Sobel(f, gy_, CV_32F, 0, 1, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+  cv::Mat gx, gy;
+  cv::Sobel(f, gx, CV_32F, 1, 0, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+  cv::Sobel(f, gy, CV_32F, 0, 1, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+  cv::merge(std::vector<cv::Mat>{gx, gy}, g_);
 }
 
 Eigen::Vector2d Gradients::At(const Eigen::Vector2d& p) const {
   const double x = p.x() - region_.x, y = p.y() - region_.y;
   const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-  if (x0 < 1 || y0 < 1 || x0 + 2 >= gx_.cols || y0 + 2 >= gx_.rows) return {0, 0};
+  if (x0 < 1 || y0 < 1 || x0 + 2 >= g_.cols || y0 + 2 >= g_.rows) return {0, 0};
   double wx[4], wy[4];
   CubicWeights(x - x0, wx);
   CubicWeights(y - y0, wy);
   double sx = 0, sy = 0;
   for (int j = 0; j < 4; ++j) {
-    const float* rx = gx_.ptr<float>(y0 - 1 + j) + x0 - 1;
-    const float* ry = gy_.ptr<float>(y0 - 1 + j) + x0 - 1;
+    const float* row = g_.ptr<float>(y0 - 1 + j) + 2 * (x0 - 1);  // gx, gy interleaved
     double ax = 0, ay = 0;
     for (int i = 0; i < 4; ++i) {
-      ax += wx[i] * rx[i];
-      ay += wx[i] * ry[i];
+      ax += wx[i] * row[2 * i];
+      ay += wx[i] * row[2 * i + 1];
     }
     sx += wy[j] * ax;
     sy += wy[j] * ay;
@@ -60,8 +62,9 @@ Eigen::Vector2d Gradients::At(const Eigen::Vector2d& p) const {
 float Gradients::MagnitudeAt(int x, int y) const {
   x -= region_.x;
   y -= region_.y;
-  if (x < 0 || y < 0 || x >= gx_.cols || y >= gx_.rows) return 0;
-  return std::hypot(gx_.at<float>(y, x), gy_.at<float>(y, x));
+  if (x < 0 || y < 0 || x >= g_.cols || y >= g_.rows) return 0;
+  const cv::Vec2f& g = g_.at<cv::Vec2f>(y, x);
+  return std::hypot(g[0], g[1]);
 }
 
 std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
@@ -71,9 +74,24 @@ std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
   const cv::Rect box = cv::boundingRect(polygon) & grad.region();
   std::vector<std::pair<cv::Point, float>> inside;
   float max_mag = 0;
+  if (box.empty()) {
+    if (strongest) *strongest = 0;
+    return {};
+  }
+  // The polygon drawn once into a mask of the box (vertices to 1/16 px), not tested per pixel.
+  cv::Mat mask = cv::Mat::zeros(box.size(), CV_8U);
+  {
+    constexpr int kShift = 4;
+    std::vector<cv::Point> vertices;
+    for (const auto& p : polygon)
+      vertices.emplace_back(cvRound((p.x - box.x) * (1 << kShift)),
+                            cvRound((p.y - box.y) * (1 << kShift)));
+    cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{vertices}, 255, cv::LINE_8, kShift);
+  }
   for (int y = box.y; y < box.y + box.height; ++y) {
+    const uint8_t* in_polygon = mask.ptr<uint8_t>(y - box.y);
     for (int x = box.x; x < box.x + box.width; ++x) {
-      if (cv::pointPolygonTest(polygon, cv::Point2f(x, y), false) < 0) continue;
+      if (!in_polygon[x - box.x]) continue;
       if (!edges.empty() && (y >= edges.rows || x >= edges.cols || edges.at<uint8_t>(y, x) == 0))
         continue;
       const float m = grad.MagnitudeAt(x, y);
@@ -97,10 +115,11 @@ bool EdgePeak(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vect
               double range, double min_gradient, Peak which, double* s) {
   // Coarse scan every half pixel, then a parabola through the best sample and its neighbours.
   const double step = 0.5;
-  const int count = static_cast<int>(std::floor(range / step));
+  constexpr int kMaxCount = 64;  // a 32 px search either side
+  const int count = std::min(kMaxCount, static_cast<int>(std::floor(range / step)));
   double best = -1;
   int best_i = 0;
-  std::vector<double> g(2 * count + 1);
+  std::array<double, 2 * kMaxCount + 1> g;
   for (int i = -count; i <= count; ++i) {
     const double v = std::abs(grad.At(p + i * step * n).dot(n));
     g[i + count] = v;

@@ -23,11 +23,11 @@ class Gradients {
   // Magnitude at an integer pixel (no interpolation).
   float MagnitudeAt(int x, int y) const;
   cv::Rect region() const { return region_; }
-  bool empty() const { return gx_.empty(); }
+  bool empty() const { return g_.empty(); }
 
  private:
-  cv::Rect region_;  // where gx_, gy_ sit in the image
-  cv::Mat gx_, gy_;  // CV_32F
+  cv::Rect region_;  // where g_ sits in the image
+  cv::Mat g_;        // CV_32FC2: the x and y gradients side by side, read together
 };
 
 // Pixels inside `polygon` (image coordinates) whose gradient magnitude is above

@@ -83,7 +83,7 @@ bool Project(const std::vector<Eigen::Vector3d>& pts, const geometry::Projective
 // Where a point is closest to the hull: on segment `seg` (hull position), at its start or end
 // vertex or in between.
 struct Closest {
-  double distance = std::numeric_limits<double>::infinity();  // unsigned
+  double distance2 = std::numeric_limits<double>::infinity();  // squared, unsigned
   int seg = 0;
   double t = 0;  // 0 start vertex, 1 end vertex
 };
@@ -91,13 +91,13 @@ struct Closest {
 Closest ToSegment(const ViewOutline& o, int seg, const Eigen::Vector2d& p) {
   const int n = static_cast<int>(o.hull.size());
   const Eigen::Vector2d& a = o.px[o.hull[seg]];
-  const Eigen::Vector2d& b = o.px[o.hull[(seg + 1) % n]];
+  const Eigen::Vector2d& b = o.px[o.hull[seg + 1 < n ? seg + 1 : 0]];
   const Eigen::Vector2d d = b - a;
   const double len2 = d.squaredNorm();
   Closest c;
   c.seg = seg;
   c.t = len2 < 1e-18 ? 0.0 : std::clamp((p - a).dot(d) / len2, 0.0, 1.0);
-  c.distance = (a + c.t * d - p).norm();
+  c.distance2 = (a + c.t * d - p).squaredNorm();
   return c;
 }
 
@@ -111,17 +111,26 @@ Closest FindClosest(const ViewOutline& o, int hint, const Eigen::Vector2d& p) {
     Closest best;
     for (int s = 0; s < n; ++s) {
       const Closest c = ToSegment(o, s, p);
-      if (c.distance < best.distance) best = c;
+      if (c.distance2 < best.distance2) best = c;
     }
     return best;
   }
   Closest best = ToSegment(o, start, p);
+  // Outside the hull and level with the segment: the hull lies wholly on the segment's inner
+  // side, so the foot of the perpendicular is the closest point of all (the common case).
+  if (best.t > 0 && best.t < 1) {
+    const Eigen::Vector2d& a = o.px[o.hull[start]];
+    const Eigen::Vector2d e = o.px[o.hull[(start + 1) % n]] - a;
+    if ((p - a).x() * e.y() - (p - a).y() * e.x() > 0) return best;
+  }
   for (const int dir : {1, -1}) {
     int s = start;
     for (int steps = 0; steps < n; ++steps) {
-      s = (s + dir + n) % n;
+      s += dir;
+      if (s == n) s = 0;
+      if (s < 0) s = n - 1;
       const Closest c = ToSegment(o, s, p);
-      if (c.distance > best.distance + 1e-12) break;
+      if (c.distance2 > best.distance2 + 1e-18) break;
       best = c;
     }
   }
@@ -159,9 +168,9 @@ double SignedFromClosest(const ViewOutline& o, const Closest& c, const Eigen::Ve
   return d;
 }
 
-// Samples every pixel along the outline, away from corners sharper than 30 degrees; `seg`
-// gets the outline index starting each sample's hull segment.
-void SampleOutline(const ViewOutline& o, std::vector<Eigen::Vector2d>& points,
+// Samples the outline every `spacing` pixels, away from corners sharper than 30 degrees;
+// `seg` gets the outline index starting each sample's hull segment.
+void SampleOutline(const ViewOutline& o, double spacing, std::vector<Eigen::Vector2d>& points,
                    std::vector<Eigen::Vector2d>& normals, std::vector<int>& seg) {
   const size_t n = o.hull.size();
   if (n < 3) return;
@@ -172,7 +181,7 @@ void SampleOutline(const ViewOutline& o, std::vector<Eigen::Vector2d>& points,
     const Eigen::Vector2d b = (at(i + 1) - at(i)).normalized();
     corner[i] = a.dot(b) < std::cos(30.0 * M_PI / 180.0);
   }
-  const double keep_off = 1.5, spacing = 1.0;
+  const double keep_off = 1.5;
   double carry = 0;  // arc length into the next edge where the next sample falls
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d a = at(i), b = at(i + 1);
@@ -283,6 +292,11 @@ namespace {
 // analytic from each measurement's closest hull segment, through the projection, down to the
 // outline points, whose derivatives with respect to the parameters are taken numerically
 // (a handful of cheap outline evaluations instead of one full residual pass per parameter).
+// At most this many parameters (a cylinder's and a box's are 7), so the per-point Jacobians
+// live on the stack.
+constexpr int kMaxParams = 8;
+using PixelJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kMaxParams>;
+
 class Evaluator {
  public:
   Evaluator(const OutlineFn& outline, const std::array<FitView, 2>& views,
@@ -302,9 +316,18 @@ class Evaluator {
     std::array<ViewOutline, 2> o;
     if (!Outlines(x, o)) return false;
     const int np = static_cast<int>(x.size());
-    // d(pixel)/d(params) of every outline point in each view.
-    std::array<std::vector<Eigen::Matrix<double, 2, Eigen::Dynamic>>, 2> dpx;
+    // d(pixel)/d(params) of the outline points a residual depends on in each view: the
+    // hull's and the measured inner edges' (a cylinder's far cap points are neither).
+    std::array<std::vector<PixelJacobian>, 2> dpx;
     if (J) {
+      if (np > kMaxParams) return false;
+      std::array<std::vector<bool>, 2> needed;
+      for (int v = 0; v < 2; ++v) {
+        needed[v].assign(pts_.size(), false);
+        for (const int i : o[v].hull) needed[v][i] = true;
+      }
+      for (const Measurement& m : ms)
+        if (m.a >= 0) needed[m.view][m.a] = needed[m.view][m.b] = true;
       const std::vector<Eigen::Vector3d> base = pts_;
       std::vector<std::vector<Eigen::Vector3d>> moved(np);
       for (int k = 0; k < np; ++k) {
@@ -313,9 +336,11 @@ class Evaluator {
         moved[k] = outline_(xp);
       }
       for (int v = 0; v < 2; ++v) {
-        dpx[v].assign(base.size(), Eigen::Matrix<double, 2, Eigen::Dynamic>(2, np));
+        dpx[v].resize(base.size());
         for (size_t i = 0; i < base.size(); ++i) {
+          if (!needed[v][i]) continue;
           const Eigen::Matrix<double, 2, 3> jp = ProjectionJacobian(views_[v].camera->P(), base[i]);
+          dpx[v][i].resize(2, np);
           for (int k = 0; k < np; ++k) dpx[v][i].col(k) = jp * ((moved[k][i] - base[i]) / step_[k]);
         }
       }
@@ -357,6 +382,8 @@ class Evaluator {
 FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initial,
                          const std::array<FitView, 2>& views, const FitOptions& options,
                          const InnerEdgesFn& inner) {
+  // A pass that moves no outline point farther than this has settled the fit.
+  constexpr double kSettledPx = 0.01;
   FitOutcome out;
   Eigen::VectorXd x = initial;
   const int np = static_cast<int>(x.size());
@@ -393,7 +420,7 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
     for (int v = 0; v < 2; ++v) {
       std::vector<Eigen::Vector2d> pts, normals;
       std::vector<int> seg;
-      SampleOutline(o[v], pts, normals, seg);
+      SampleOutline(o[v], 1.0, pts, normals, seg);
       out.sampled[v] = static_cast<int>(pts.size());
       for (size_t i = 0; i < pts.size(); ++i) {
         double s;
@@ -433,7 +460,7 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
         // Directions no edge constrains (an end with no measurement yet) must not drift:
         // a small stiffness relative to the mean curvature holds them.
         A.diagonal() += lambda * H.diagonal() +
-                        Eigen::VectorXd::Constant(np, 1e-3 * H.diagonal().mean() + 1e-9);
+                        Eigen::VectorXd::Constant(np, 1e-6 * H.diagonal().mean() + 1e-9);
         const Eigen::VectorXd dx = -A.ldlt().solve(g);
         Eigen::VectorXd rn;
         std::vector<Measurement> trial = ms;
@@ -448,7 +475,18 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
         }
       }
       // Converged: a step that gains almost nothing ends this measurement's iterations.
-      if (!improved || gain < 1e-6 * (1 + cost)) break;
+      if (!improved || gain < 1e-4 * (1 + cost)) break;
+    }
+    // Passes from the third on search the same range: once a pass has left the outline
+    // where it was measured, measuring again would find the same edges.
+    if (outer >= 2 && outer + 1 < options.outer_iterations) {
+      std::array<ViewOutline, 2> now;
+      if (!eval.Outlines(x, now)) continue;
+      double moved = 0;
+      for (int v = 0; v < 2; ++v)
+        for (size_t i = 0; i < now[v].px.size(); ++i)
+          moved = std::max(moved, (now[v].px[i] - o[v].px[i]).squaredNorm());
+      if (moved < kSettledPx * kSettledPx) break;
     }
   }
   // Final statistics and covariance on the last measurements.
