@@ -179,6 +179,7 @@ const char* FailureName(Failure f) {
 std::string LocateOptions::Check() const {
   if (!(depth_tolerance > 0)) return "depth_tolerance must be positive";
   if (!(edge_sigma >= 0 && edge_sigma <= 10)) return "edge_sigma must be in 0..10";
+  if (!(camera_blur_px >= 0 && camera_blur_px <= 10)) return "camera_blur_px must be in 0..10";
   if (!(edge_fraction > 0 && edge_fraction < 1)) return "edge_fraction must be in (0, 1)";
   if (!(search_px >= 1 && search_px <= 20)) return "search_px must be in 1..20";
   if (outer_iterations < 1 || inner_iterations < 1) return "iterations must be at least 1";
@@ -345,6 +346,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   FitOptions fit;
   fit.search_px = opt.search_px;
   fit.min_gradient = std::max(opt.min_edge_gradient, 0.25 * strongest);
+  fit.edge_blur_px = std::hypot(opt.edge_sigma, opt.camera_blur_px);
   fit.outer_iterations = opt.outer_iterations;
   fit.inner_iterations = opt.inner_iterations;
   const std::array<FitView, 2> views = {FitView{&in.left_camera, &grad_left},

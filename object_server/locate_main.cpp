@@ -34,9 +34,11 @@ int Run(int argc, char** argv) {
   po::options_description desc(
       "igms locate: find a cylinder or box from a stereo pair and four marks\n"
       "Usage: igms locate --calibration FILE --left IMG --right IMG --type cylinder|box "
-      "--mark X,Y,Z (four times) [--range D] [--debug-image FILE] [--json]\nOptions");
+      "--mark X,Y,Z (four times) [--range D] [--camera-blur PX] [--debug-image FILE] [--json]\n"
+      "Options");
   std::string calibration, left_path, right_path, type, debug_image;
   double range = -1;
+  igms::object::LocateOptions input_options;
   std::vector<std::string> marks;
   desc.add_options()("help,h", "this help")("calibration", po::value(&calibration),
                                             "stereo calibration YAML")(
@@ -49,6 +51,9 @@ int Run(int argc, char** argv) {
       "map)")("debug-image", po::value(&debug_image),
               "write an image of the edges, measured points and fitted outline over the images "
               "(PNG, JPEG)")("json", "print the result as one JSON object")(
+      "camera-blur", po::value(&input_options.camera_blur_px),
+      "the cameras' blur as a Gaussian's sigma in pixels (default 0.7, the simulated site's; "
+      "measure it for real cameras): curved edges are corrected for it")(
       "verbose,v", "log the pipeline's steps to stderr");
   po::variables_map vm;
   try {
@@ -105,7 +110,9 @@ int Run(int argc, char** argv) {
   input.right = cv::imread(right_path, cv::IMREAD_GRAYSCALE);
   if (input.right.empty()) return bad("cannot read image " + right_path);
 
-  const auto result = igms::object::Locate(input);
+  if (const std::string problem = input_options.Check(); !problem.empty())
+    return bad("options: " + problem);
+  const auto result = igms::object::Locate(input, input_options);
   if (!debug_image.empty()) {
     bool written = false;
     try {

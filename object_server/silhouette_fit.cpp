@@ -169,17 +169,22 @@ double SignedFromClosest(const ViewOutline& o, const Closest& c, const Eigen::Ve
 }
 
 // Samples the outline every `spacing` pixels, away from corners sharper than 30 degrees;
-// `seg` gets the outline index starting each sample's hull segment.
+// `seg` gets the outline index starting each sample's hull segment and `curvature` the
+// outline's curvature there (1/px, from the turn at the segment's ends).
 void SampleOutline(const ViewOutline& o, double spacing, std::vector<Eigen::Vector2d>& points,
-                   std::vector<Eigen::Vector2d>& normals, std::vector<int>& seg) {
+                   std::vector<Eigen::Vector2d>& normals, std::vector<int>& seg,
+                   std::vector<double>& curvature) {
   const size_t n = o.hull.size();
   if (n < 3) return;
   auto at = [&](size_t i) -> const Eigen::Vector2d& { return o.px[o.hull[i % n]]; };
   std::vector<bool> corner(n);
+  std::vector<double> kappa(n);
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d a = (at(i) - at(i + n - 1)).normalized();
-    const Eigen::Vector2d b = (at(i + 1) - at(i)).normalized();
+    const Eigen::Vector2d in = at(i) - at(i + n - 1), out = at(i + 1) - at(i);
+    const Eigen::Vector2d a = in.normalized(), b = out.normalized();
     corner[i] = a.dot(b) < std::cos(30.0 * M_PI / 180.0);
+    const double turn = std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+    kappa[i] = std::abs(turn) / std::max(1e-9, 0.5 * (in.norm() + out.norm()));
   }
   const double keep_off = 1.5;
   double carry = 0;  // arc length into the next edge where the next sample falls
@@ -196,6 +201,7 @@ void SampleOutline(const ViewOutline& o, double spacing, std::vector<Eigen::Vect
       points.push_back(a + s * dir);
       normals.push_back(normal);
       seg.push_back(o.hull[i]);
+      curvature.push_back(kappa[i] + (kappa[(i + 1) % n] - kappa[i]) * (s / len));
     }
     carry = s - len;
   }
@@ -420,13 +426,20 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
     for (int v = 0; v < 2; ++v) {
       std::vector<Eigen::Vector2d> pts, normals;
       std::vector<int> seg;
-      SampleOutline(o[v], 1.0, pts, normals, seg);
+      std::vector<double> curvature;
+      SampleOutline(o[v], 1.0, pts, normals, seg, curvature);
       out.sampled[v] = static_cast<int>(pts.size());
       for (size_t i = 0; i < pts.size(); ++i) {
         double s;
-        if (EdgeAlongNormal(*views[v].gradients, pts[i], normals[i], range, options.min_gradient,
-                            &s))
-          ms.push_back({v, pts[i] + s * normals[i], seg[i]});
+        if (!EdgeAlongNormal(*views[v].gradients, pts[i], normals[i], range, options.min_gradient,
+                             &s))
+          continue;
+        // A blurred curved edge's gradient peak lies inside the true outline by about
+        // blur^2 * curvature / 2 (a disc of radius R: sigma^2 / 2R): where the outline turns
+        // fast (a thin pipe's ends), the measurement is moved back out by that much.
+        const double k = std::min(curvature[i], 1.0 / std::max(1e-9, 1.5 * options.edge_blur_px));
+        s += 0.5 * options.edge_blur_px * options.edge_blur_px * k;
+        ms.push_back({v, pts[i] + s * normals[i], seg[i]});
       }
       if (inner) MeasureInnerEdges(inner(x, views[v].camera->Center()), o[v], v, views[v],
                                    range, options.min_gradient, ms);

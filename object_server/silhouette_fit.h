@@ -47,6 +47,9 @@ struct FitView {
 struct FitOptions {
   double search_px = 4.0;     // first outer iteration's search range; later ones use half
   double min_gradient = 6.0;  // edges weaker than this are not measured
+  // The edges' total blur (the camera's and the gradient's smoothing, as one Gaussian's
+  // sigma, pixels): a curved outline's measured edge is corrected for it. 0: no correction.
+  double edge_blur_px = 0.0;
   int outer_iterations = 5;
   int first_outer = 0;  // continuing an earlier fit: its passes already made
   int inner_iterations = 6;

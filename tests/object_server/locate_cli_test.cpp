@@ -25,9 +25,11 @@ struct ProcessRun {
   std::string out;
 };
 
-ProcessRun Exec(const std::string& args) {
+// Runs igms-locate; its stderr is dropped, or read after stdout with `with_stderr`.
+ProcessRun Exec(const std::string& args, bool with_stderr = false) {
   const char* bin = std::getenv("IGMS_BIN_DIR");
-  const std::string cmd = std::string(bin ? bin : ".") + "/igms-locate " + args + " 2>/dev/null";
+  const std::string cmd = std::string(bin ? bin : ".") + "/igms-locate " + args +
+                          (with_stderr ? " 2>&1" : " 2>/dev/null");
   ProcessRun r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -137,6 +139,9 @@ TEST_F(LocateCli, BadInputExitsTwo) {
                 .status,
             2);
   EXPECT_EQ(Exec("--bogus-flag").status, 2);
+  const ProcessRun blur = Exec(base_ + " --type box" + four + " --camera-blur -1", true);
+  EXPECT_EQ(blur.status, 2);
+  EXPECT_NE(blur.out.find("camera_blur_px must be in 0..10"), std::string::npos) << blur.out;
 }
 
 TEST_F(LocateCli, DebugImageShowsEdgesPointsAndOutline) {
