@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
     igms::object::ObjectServiceOptions options;
     options.fetch_timeout = std::chrono::milliseconds(process->Get<int>("fetch_timeout_ms", 5000));
     options.cache_frames = static_cast<size_t>(std::max(0, process->Get<int>("cache_frames", 4)));
+    options.workers = process->Get<int>("workers", options.workers);
     options.locate.camera_blur_px =
         process->Get<double>("camera_blur_px", options.locate.camera_blur_px);
     options.ranger = igms::object::RangerInWorld(*calibration);

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
@@ -29,6 +30,7 @@ std::string ObjectServiceOptions::Check() const {
   if (fetch_timeout.count() <= 0) return "fetch_timeout_ms must be positive";
   if (cache_frames == 0) return "cache_frames must be at least 1";
   if (max_queue == 0) return "max_queue must be at least 1";
+  if (workers < 1 || workers > 64) return "workers must be in 1..64";
   return locate.Check();
 }
 
@@ -123,8 +125,9 @@ ObjectService::ObjectService(net::Client& video, geometry::ProjectiveCamera left
     : video_(video),
       left_camera_(std::move(left)),
       right_camera_(std::move(right)),
-      options_(std::move(options)),
-      worker_([this] { Work(); }) {}
+      options_(std::move(options)) {
+  for (int i = 0; i < options_.workers; ++i) workers_.emplace_back([this] { Work(); });
+}
 
 ObjectService::~ObjectService() {
   {
@@ -132,7 +135,7 @@ ObjectService::~ObjectService() {
     stopping_ = true;
   }
   wake_.notify_all();
-  worker_.join();
+  for (auto& w : workers_) w.join();
 }
 
 void ObjectService::Register(net::Server& server) {
@@ -184,13 +187,18 @@ void ObjectService::Work() {
 }
 
 net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_ms) {
-  for (auto it = cache_.begin(); it != cache_.end(); ++it) {
-    if (it->id != frame_id) continue;
-    cache_.splice(cache_.begin(), cache_, it);
-    *frame = cache_.front();
-    *fetch_ms = 0;
-    return net::Status::Ok();
+  {
+    std::lock_guard lock(cache_mutex_);
+    for (auto it = cache_.begin(); it != cache_.end(); ++it) {
+      if (it->id != frame_id) continue;
+      cache_.splice(cache_.begin(), cache_, it);
+      *frame = cache_.front();  // the images' pixels are shared, not copied
+      *fetch_ms = 0;
+      return net::Status::Ok();
+    }
   }
+  // Fetched without the lock, so a cached frame's locate need not wait for this one; two
+  // workers wanting the same new frame may both fetch it, and the cache keeps one.
   const auto start = Clock::now();
   igms::video::GetImagesRequest request;
   request.set_frame_id(frame_id);
@@ -220,8 +228,13 @@ net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_
                                                      std::to_string(frame_id) +
                                                      " with images that do not decode");
   }
-  cache_.push_front(fetched);
-  while (cache_.size() > options_.cache_frames) cache_.pop_back();
+  {
+    std::lock_guard lock(cache_mutex_);
+    if (std::none_of(cache_.begin(), cache_.end(),
+                     [&](const Frame& f) { return f.id == frame_id; }))
+      cache_.push_front(fetched);
+    while (cache_.size() > options_.cache_frames) cache_.pop_back();
+  }
   *frame = std::move(fetched);
   return net::Status::Ok();
 }

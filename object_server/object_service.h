@@ -1,7 +1,8 @@
 // The object server's service: igms.object.ObjectService.Locate over the net library
-// (docs/protocol-object.md). A request is validated on the io thread, then queued for one
-// worker thread, which fetches the frame's images from the video server (kept in a small
-// cache: an operator models several objects on one grab), runs the locator and replies.
+// (docs/protocol-object.md). A request is validated on the io thread, then queued for a
+// pool of worker threads; a worker fetches the frame's images from the video server (kept
+// in a small cache: an operator models several objects on one grab), runs the locator and
+// replies. Several requests are located at once, one per worker.
 //
 // Errors (envelope ERROR): BAD_REQUEST for a request that is not four finite marks and a
 // known type; NOT_FOUND for a frame the video server does not hold; UNAVAILABLE when the
@@ -20,6 +21,7 @@
 #include <thread>
 #include <span>
 #include <utility>
+#include <vector>
 
 #include "common/calibration/calibration_file.h"
 #include "common/geometry/camera.h"
@@ -36,6 +38,7 @@ struct ObjectServiceOptions {
   std::chrono::milliseconds fetch_timeout{5000};  // one GetImages call to the video server
   size_t cache_frames = 4;                        // grabs' images kept
   size_t max_queue = 16;                          // locates waiting; more are UNAVAILABLE
+  int workers = 2;                                // locates run at once
   LocateOptions locate;
   // The ultrasonic ranger in the world (the calibration's ranger map at the platform's zero
   // pose, as the cameras); without one a request's range is not used (said in the response).
@@ -88,13 +91,14 @@ class ObjectService {
   net::Client& video_;
   geometry::ProjectiveCamera left_camera_, right_camera_;
   ObjectServiceOptions options_;
-  std::list<Frame> cache_;  // most recent first; worker thread only
+  std::mutex cache_mutex_;
+  std::list<Frame> cache_;  // most recent first; under cache_mutex_
 
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<Job> queue_;
   bool stopping_ = false;
-  std::thread worker_;
+  std::vector<std::thread> workers_;
 };
 
 }  // namespace igms::object

@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
 #include <chrono>
@@ -203,6 +204,53 @@ int main(int argc, char** argv) {
       offline_cpu.push_back((c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6);
     }
   }
+  // A grab's objects asked for all at once (an operator queueing several models): time to
+  // the last answer, beside the same requests one at a time in the same round.
+  std::vector<double> burst_all, burst_serial;
+  size_t burst_size = 0;
+  for (int round = 0; round < std::max(5, rounds / 4); ++round) {
+    auto grab = video_client->CallSync<igms::video::GrabResponse>("igms.video.VideoService.Grab",
+                                                                  igms::video::GrabRequest{}, 60s);
+    if (!grab.ok()) break;
+    std::vector<igms::object::LocateRequest> burst;
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+      const auto& shape = scene.objects[i].shape;
+      const bool cylinder = std::holds_alternative<igms::site::Cylinder>(shape);
+      if (!cylinder && !std::holds_alternative<igms::site::Box>(shape)) continue;
+      const auto marks = igms::site::GenerateMarks(shape, scene.cameras.left, round * 1000 + i);
+      if (!marks) continue;
+      igms::object::LocateRequest request;
+      request.set_type(cylinder ? igms::object::OBJECT_TYPE_CYLINDER
+                                : igms::object::OBJECT_TYPE_BOX);
+      for (const auto& m : *marks) {
+        auto* v = request.add_marks();
+        v->set_x(m.x());
+        v->set_y(m.y());
+        v->set_z(m.z());
+      }
+      request.set_frame_id(grab.value.frame_id());
+      burst.push_back(request);
+    }
+    burst_size = burst.size();
+    std::atomic<int> left{static_cast<int>(burst.size())};
+    const auto start = Clock::now();
+    for (const auto& request : burst)
+      object_client->Call<igms::object::LocateResponse>(
+          "igms.object.ObjectService.Locate", request, 60s,
+          [&](igms::net::Result<igms::object::LocateResponse> r) {
+            failures += !r.ok();
+            if (left.fetch_sub(1) == 1) left.notify_one();
+          });
+    for (int n = left.load(); n != 0; n = left.load()) left.wait(n);
+    burst_all.push_back(Ms(Clock::now() - start));
+    const auto serial_start = Clock::now();
+    for (const auto& request : burst)
+      failures += !object_client
+                       ->CallSync<igms::object::LocateResponse>(
+                           "igms.object.ObjectService.Locate", request, 60s)
+                       .ok();
+    burst_serial.push_back(Ms(Clock::now() - serial_start));
+  }
   object_client->Stop();
   video_client->Stop();
   work.reset();
@@ -224,6 +272,10 @@ int main(int argc, char** argv) {
   Row("server: fetch from the video server", server_fetch);
   Row("offline Locate(), same marks, this process", offline);
   Row("  its CPU time (this thread)", offline_cpu);
+  std::printf("\n%zu requests on one grab, sent at once (the server's workers share them):\n",
+              burst_size);
+  Row("  all answered (the frame fetched once)", burst_all);
+  Row("  the same, one at a time (frame cached)", burst_serial);
   double load[3] = {0, 0, 0};
   if (getloadavg(load, 3) < 1) load[0] = -1;
   std::printf(

@@ -3,6 +3,7 @@
 // while the video server is gone and after it returns.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
@@ -122,6 +123,54 @@ TEST_F(ObjectServerTest, LocatesTheTestbedsFirstCylinderAndBox) {
     }
   }
   EXPECT_EQ(cylinders > 0 && boxes > 0, true);
+}
+
+// Every object of the testbed asked for at once, on a frame not yet fetched: the workers
+// race for the frame and the cache, and every request gets its own object back.
+TEST_F(ObjectServerTest, SeveralRequestsAtOnceEachGetTheirObject) {
+  const uint64_t frame = Grab(video_port_);
+  const site::Scene scene = site::DefaultTestbedScene();
+  TestClient client(object_port_);
+  struct Pending {
+    const site::Shape* shape;
+    std::atomic<bool> done{false};
+    net::Result<LocateResponse> result;
+  };
+  std::vector<std::unique_ptr<Pending>> pending;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const auto& shape = scene.objects[i].shape;
+    if (!std::holds_alternative<site::Cylinder>(shape) && !std::holds_alternative<site::Box>(shape))
+      continue;
+    auto p = std::make_unique<Pending>();
+    p->shape = &shape;
+    Pending* raw = p.get();
+    client->Call<LocateResponse>(kLocate, RequestFor(shape, frame, i), 60s,
+                                 [raw](net::Result<LocateResponse> r) {
+                                   raw->result = std::move(r);
+                                   raw->done.store(true);
+                                   raw->done.notify_one();
+                                 });
+    pending.push_back(std::move(p));
+  }
+  ASSERT_GE(pending.size(), 4u);
+  for (auto& p : pending) {
+    p->done.wait(false);
+    ASSERT_TRUE(p->result.ok()) << p->result.status.message;
+    ASSERT_TRUE(p->result.value.found()) << p->result.value.detail();
+    if (const auto* cyl = std::get_if<site::Cylinder>(p->shape)) {
+      const auto& c = p->result.value.cylinder();
+      EXPECT_LT(
+          (Eigen::Vector3d(c.center().x(), c.center().y(), c.center().z()) - cyl->center).norm(),
+          0.5);
+      EXPECT_NEAR(c.radius(), cyl->radius, 0.1);
+    } else {
+      const auto& box = std::get<site::Box>(*p->shape);
+      const auto& b = p->result.value.box();
+      EXPECT_LT((Eigen::Vector3d(b.center().x(), b.center().y(), b.center().z()) - box.center)
+                    .norm(),
+                0.6);
+    }
+  }
 }
 
 TEST_F(ObjectServerTest, BadRequestsAndUnknownFrames) {
