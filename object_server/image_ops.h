@@ -33,7 +33,8 @@ class Gradients {
 // Pixels inside `polygon` (image coordinates) whose gradient magnitude is above
 // max(min_gradient, fraction * strongest in the polygon) and, when `edges` is not empty,
 // set in the edge map. Returns them with the strongest magnitude seen.
-std::vector<cv::Point> StrongEdgePixels(const Gradients& grad, const std::vector<cv::Point2f>& polygon,
+std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
+                                        const std::vector<cv::Point2f>& polygon,
                                         const cv::Mat& edges, double fraction, double min_gradient,
                                         double* strongest = nullptr);
 

@@ -506,11 +506,12 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     std::vector<Eigen::VectorXd> starts6;
     for (const auto& st : starts) starts6.push_back(st.head<6>());
     InnerEdgesFn inner6;
-    if (inner) inner6 = [&](const Eigen::VectorXd& p, const Eigen::Vector3d& c) {
-      return inner(aligned(p), c);
-    };
-    FitOutcome fa = fit_from([&](const Eigen::VectorXd& p) { return outline(aligned(p)); }, inner6,
-                             starts6);
+    if (inner)
+      inner6 = [&](const Eigen::VectorXd& p, const Eigen::Vector3d& c) {
+        return inner(aligned(p), c);
+      };
+    FitOutcome fa =
+        fit_from([&](const Eigen::VectorXd& p) { return outline(aligned(p)); }, inner6, starts6);
     if (fa.ok) {
       fa.params = aligned(fa.params);
       Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(7, 7);
@@ -533,8 +534,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
         turned.push_back(st);
       }
       FitOutcome fo = fit_from(outline, inner, turned);
-      spdlog::debug("locate: turned box: score {:.3f} against aligned {:.3f}", score(fo),
-                    score(f));
+      spdlog::debug("locate: turned box: score {:.3f} against aligned {:.3f}", score(fo), score(f));
       if (!f.ok || (solid(fo) && (!solid(f) || score(fo) < 0.8 * score(f)))) f = std::move(fo);
     }
   }

@@ -55,8 +55,8 @@ enum class Failure {
 const char* FailureName(Failure f);
 
 struct LocateOptions {
-  double depth_tolerance = 3.0;      // marks' depth error allowed, world units (3.6)
-  double edge_sigma = 1.0;           // Gaussian smoothing before gradients, pixels
+  double depth_tolerance = 3.0;  // marks' depth error allowed, world units (3.6)
+  double edge_sigma = 1.0;       // Gaussian smoothing before gradients, pixels
   // The camera's own blur (its point spread as a Gaussian's sigma, pixels), for the
   // correction of curved edges; the simulated site's cameras have 0.7.
   double camera_blur_px = 0.7;

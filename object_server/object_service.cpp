@@ -272,9 +272,10 @@ void ObjectService::Run(const igms::object::LocateRequest& request,
       ranger = RangerInWorld(mount, frame.joints_rad);
     }
   } else if (posed) {
-    spdlog::warn("frame {} was grabbed at a platform pose the calibration has no model for; "
-                 "locating it at the zero pose",
-                 request.frame_id());
+    spdlog::warn(
+        "frame {} was grabbed at a platform pose the calibration has no model for; "
+        "locating it at the zero pose",
+        request.frame_id());
   }
   if (request.range() > 0 && ranger) {
     input.range = request.range();

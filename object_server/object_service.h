@@ -18,8 +18,8 @@
 #include <functional>
 #include <list>
 #include <mutex>
-#include <thread>
 #include <span>
+#include <thread>
 #include <utility>
 #include <vector>
 

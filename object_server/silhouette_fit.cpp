@@ -360,8 +360,8 @@ class Evaluator {
         r[i] = LineDistance(ov.px[ms[i].a], ov.px[ms[i].b], ms[i].point, J ? &da : nullptr,
                             J ? &db : nullptr);
         if (J)
-          J->row(i) = da.transpose() * dpx[ms[i].view][ms[i].a] +
-                      db.transpose() * dpx[ms[i].view][ms[i].b];
+          J->row(i) =
+              da.transpose() * dpx[ms[i].view][ms[i].a] + db.transpose() * dpx[ms[i].view][ms[i].b];
         continue;
       }
       const Closest c = FindClosest(ov, ms[i].hint, ms[i].point);
@@ -441,8 +441,9 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
         s += 0.5 * options.edge_blur_px * options.edge_blur_px * k;
         ms.push_back({v, pts[i] + s * normals[i], seg[i]});
       }
-      if (inner) MeasureInnerEdges(inner(x, views[v].camera->Center()), o[v], v, views[v],
-                                   range, options.min_gradient, ms);
+      if (inner)
+        MeasureInnerEdges(inner(x, views[v].camera->Center()), o[v], v, views[v], range,
+                          options.min_gradient, ms);
     }
     if (spdlog::should_log(spdlog::level::debug)) {
       std::string params;

@@ -61,7 +61,7 @@ struct FitOptions {
   // min_sigma_px, and as shared by correlated_samples neighbours.
   double min_sigma_px = 0.4;
   double correlated_samples = 10;
-  Eigen::VectorXd step;     // finite-difference step per parameter (world units)
+  Eigen::VectorXd step;  // finite-difference step per parameter (world units)
 };
 
 struct FitOutcome {
@@ -70,8 +70,8 @@ struct FitOutcome {
   Eigen::VectorXd params;
   Eigen::MatrixXd covariance;  // of params, from the weighted residuals
   std::array<double, 2> rms_px{0, 0};
-  std::array<int, 2> used{0, 0};     // measurements kept in the final pass, per view
-  std::array<int, 2> sampled{0, 0};  // outline samples, per view
+  std::array<int, 2> used{0, 0};        // measurements kept in the final pass, per view
+  std::array<int, 2> sampled{0, 0};     // outline samples, per view
   std::array<int, 2> inner_used{0, 0};  // inner-edge measurements kept, per view
   // For a person to look at (debug images): per view the fitted outline and the edge points
   // measured in the final pass, each with whether it counted (within outlier_px).

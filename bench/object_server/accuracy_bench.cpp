@@ -1,4 +1,4 @@
-// Accuracy of the locators on generated testbed scenes (issue 5): per object type the found
+// Accuracy of the locators on generated testbed scenes: per object type the found
 // rate and the median and 90th-percentile errors, beside the thesis's figures (Cooke,
 // section 4.5 and the abstract: dimensions within 0.1 in, position within 1.5 in) and the
 // project's targets. Usage: bench_object_accuracy [scenes=100] [first_seed=1000 | default] [-v
@@ -48,7 +48,8 @@ int main(int argc, char** argv) {
   const double cpu_ms = (c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6;
   std::printf(
       "Locator accuracy: %d simulated testbed scenes (seeds %d..%d), objects 3-7 ft away,\n"
-      "sensor noise sigma 2 grey levels, blur 0.7 px, marks as modelled in issue 5.\n\n",
+      "sensor noise sigma 2 grey levels, blur 0.7 px, operator marks as common/site/marks.h models "
+      "them.\n\n",
       scenes, first, first + scenes - 1);
   std::printf("%-9s %5s %7s | %-15s | %-15s | %-15s | %-29s | %7s\n", "type", "n", "found",
               "radius err med/p90", "height err med/p90", "position med/p90",

@@ -1,4 +1,4 @@
-// Marks to model, end to end (issue 5): igms-video-server (simulated site, the default
+// Marks to model, end to end: igms-video-server (simulated site, the default
 // testbed scene, 512x480) and igms-object-server started here as real processes on loopback,
 // a grab, then the operator's Locate requests over TCP for every object of the scene, as the
 // control client sends them; a new grab every round, so each round's first request also
@@ -246,8 +246,8 @@ int main(int argc, char** argv) {
     const auto serial_start = Clock::now();
     for (const auto& request : burst)
       failures += !object_client
-                       ->CallSync<igms::object::LocateResponse>(
-                           "igms.object.ObjectService.Locate", request, 60s)
+                       ->CallSync<igms::object::LocateResponse>("igms.object.ObjectService.Locate",
+                                                                request, 60s)
                        .ok();
     burst_serial.push_back(Ms(Clock::now() - serial_start));
   }

@@ -166,9 +166,9 @@ TEST_F(ObjectServerTest, SeveralRequestsAtOnceEachGetTheirObject) {
     } else {
       const auto& box = std::get<site::Box>(*p->shape);
       const auto& b = p->result.value.box();
-      EXPECT_LT((Eigen::Vector3d(b.center().x(), b.center().y(), b.center().z()) - box.center)
-                    .norm(),
-                0.6);
+      EXPECT_LT(
+          (Eigen::Vector3d(b.center().x(), b.center().y(), b.center().z()) - box.center).norm(),
+          0.6);
     }
   }
 }

@@ -1,12 +1,12 @@
 // Simulator speed: 512 x 480 stereo pairs of the default testbed scene rendered on one core,
 // beside a bare pass that only writes every pixel (the floor any renderer pays).
-// Target (issue 4): a stereo pair at 30 frames/s or better on one core.
+// Target: a stereo pair at 30 frames/s or better on one core.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/core/utility.hpp>
 #include <ctime>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
@@ -55,7 +55,9 @@ int main(int argc, char** argv) {
     for (int y = 0; y < fill.rows; ++y)
       for (int x = 0; x < fill.cols; ++x) fill.at<float>(y, x) = static_cast<float>(x ^ y ^ i);
     auto t4 = Clock::now();
-    auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+    auto ms = [](auto a, auto b) {
+      return std::chrono::duration<double, std::milli>(b - a).count();
+    };
     pair_ms.push_back(ms(t0, t1));
     radiance_ms.push_back(ms(t1, t2));
     sensor_ms.push_back(ms(t2, t3));
@@ -66,8 +68,8 @@ int main(int argc, char** argv) {
               scene.objects.size(), runs);
   std::printf("  stereo pair (render + sensor), median  %7.2f ms  = %6.1f pairs/s (target 30)\n",
               Median(pair_ms), 1000.0 / Median(pair_ms));
-  std::printf("  stereo pair, CPU time of the thread     %7.2f ms  = %6.1f pairs/s\n", Median(pair_cpu_ms),
-              1000.0 / Median(pair_cpu_ms));
+  std::printf("  stereo pair, CPU time of the thread     %7.2f ms  = %6.1f pairs/s\n",
+              Median(pair_cpu_ms), 1000.0 / Median(pair_cpu_ms));
   std::printf("  one image: ray casting + anti-aliasing  %7.2f ms\n", Median(radiance_ms));
   std::printf("  one image: sensor (blur, noise, 8 bits) %7.2f ms\n", Median(sensor_ms));
   std::printf("  baseline: writing every pixel once       %7.2f ms\n", Median(fill_ms));
