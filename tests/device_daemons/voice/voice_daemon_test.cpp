@@ -213,5 +213,65 @@ TEST(VoiceDaemon, RecogniserGrammarFollowsTheStateRequest) {
   std::filesystem::remove(wav);
 }
 
+// The microphone path for real. A private PulseAudio server with a null sink stands in for
+// the sound card: the sink's monitor is the capture device OpenAL opens, and paplay speaks
+// espeak-ng's words into the sink, as a person would speak into a microphone.
+TEST(VoiceDaemon, HearsCommandsThroughAMicrophone) {
+  for (const char* tool : {"/usr/bin/pulseaudio", "/usr/bin/paplay"})
+    ASSERT_TRUE(std::filesystem::exists(tool))
+        << tool << " is missing: deploy/install-deps.sh installs pulseaudio and pulseaudio-utils";
+  igms::testing::ScratchDir scratch;
+  std::filesystem::permissions(scratch.path(), std::filesystem::perms::owner_all,
+                               std::filesystem::perm_options::replace);
+  const std::string socket = scratch.File("pulse.socket");
+  // The server and every client of it (the daemon, paplay) find each other here, and
+  // nothing of the machine's own sound setup is used.
+  setenv("PULSE_SERVER", ("unix:" + socket).c_str(), 1);
+  setenv("PULSE_RUNTIME_PATH", scratch.path().c_str(), 1);
+  setenv("XDG_RUNTIME_DIR", scratch.path().c_str(), 1);
+  setenv("ALSOFT_DRIVERS", "pulse", 1);
+  igms::testing::ChildProcess pulse(
+      "/usr/bin/pulseaudio",
+      {"-n", "--daemonize=no", "--exit-idle-time=-1", "--disallow-exit", "--log-target=stderr",
+       "-L", "module-native-protocol-unix socket=" + socket + " auth-anonymous=1", "-L",
+       "module-null-sink sink_name=igms_lab rate=16000 channels=1"});
+  ASSERT_TRUE(WaitFor([&] { return std::filesystem::exists(socket); }, 20s)) << pulse.Log();
+
+  const std::string freeze = scratch.File("freeze.wav"), range = scratch.File("range.wav");
+  ASSERT_EQ(std::system(("espeak-ng -v en-us -w " + freeze + " freeze").c_str()), 0);
+  ASSERT_EQ(std::system(("espeak-ng -v en-us -w " + range + " range").c_str()), 0);
+  DaemonProcess daemon("igms-voiced", {"--microphone", "--port", "0"});
+  const uint16_t port = daemon.WaitForPort(60s);
+  ASSERT_NE(port, 0) << daemon.Log() << pulse.Log();
+  Connected client(port);
+  testing::Collected<VoiceState> got;
+  client->Subscribe<VoiceState>("igms.devices.VoiceService.Live", SubscribeRequest(),
+                                [&](const VoiceState& s) { got.Add(s); });
+  ASSERT_TRUE(WaitFor([&] { return StatusOf(client).state() == CONNECTED; }, 20s))
+      << StatusOf(client).message() << daemon.Log();
+  auto speak = [&](const std::string& wav) {
+    return std::system(("/usr/bin/paplay --device=igms_lab " + wav).c_str());
+  };
+  // "freeze" in verification, then "range" once frozen (the state the daemon predicts).
+  ASSERT_EQ(speak(freeze), 0);
+  ASSERT_TRUE(WaitFor([&] { return got.size() >= 1; }, 30s)) << daemon.Log();
+  EXPECT_EQ(got.last().command(), VOICE_FREEZE) << daemon.Log();
+  ASSERT_EQ(speak(range), 0);
+  ASSERT_TRUE(WaitFor([&] { return got.size() >= 2; }, 30s)) << daemon.Log();
+  EXPECT_EQ(got.last().command(), VOICE_RANGE) << daemon.Log();
+  EXPECT_EQ(got.size(), 2u);
+
+  // The sound server going away is the microphone unplugged: the daemon says so and keeps
+  // serving, and no command is made up.
+  pulse.Terminate();
+  EXPECT_TRUE(WaitFor([&] { return StatusOf(client).state() == REOPENING; }, 30s))
+      << StatusOf(client).message() << daemon.Log();
+  EXPECT_EQ(got.size(), 2u);
+  EXPECT_FALSE(daemon.Exited()) << daemon.Log();
+  for (const char* name : {"PULSE_SERVER", "PULSE_RUNTIME_PATH", "XDG_RUNTIME_DIR",
+                           "ALSOFT_DRIVERS"})
+    unsetenv(name);
+}
+
 }  // namespace
 }  // namespace igms::devices
