@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -31,12 +32,18 @@ class Tracer {
                     0
                 ? -1.0
                 : 1.0;
+    ray_ = sign_ * minv_;
     for (const auto& light : scene.lighting.lights)
       lights_.push_back({light.direction.normalized(), light.intensity});
-    for (const auto& object : scene.objects) rects_.push_back(ImageRect(object.shape, camera));
+    for (const auto& object : scene.objects) {
+      rects_.push_back(ImageRect(object.shape, camera));
+      solids_.emplace_back(object.shape, center_);
+    }
     table_shade_ = Shade(Eigen::Vector3d::UnitZ());
-    const Eigen::Vector3d a = (minv_ * Eigen::Vector3d(size_.width / 2.0, size_.height / 2.0, 1)).normalized();
-    const Eigen::Vector3d b = (minv_ * Eigen::Vector3d(size_.width / 2.0 + 1, size_.height / 2.0, 1)).normalized();
+    const Eigen::Vector3d a =
+        (minv_ * Eigen::Vector3d(size_.width / 2.0, size_.height / 2.0, 1)).normalized();
+    const Eigen::Vector3d b =
+        (minv_ * Eigen::Vector3d(size_.width / 2.0 + 1, size_.height / 2.0, 1)).normalized();
     pixel_angle_ = std::acos(std::clamp(a.dot(b), -1.0, 1.0));
   }
 
@@ -46,24 +53,28 @@ class Tracer {
   // of filtering the hole texture at that sample (see Supersample).
   Sample Trace(double u, double v, const int* objects, int object_count,
                float table_radiance = -1.0f) const {
-    Eigen::Vector3d d = sign_ * (minv_ * Eigen::Vector3d(u, v, 1.0));
-    d.normalize();
+    Eigen::Vector3d d = ray_ * Eigen::Vector3d(u, v, 1.0);
+    d *= 1.0 / d.norm();  // one division, not three
     double best_t = std::numeric_limits<double>::infinity();
     int key = kBackground;
     Eigen::Vector3d normal;
     int hit_object = -1;
+    int hit_face = 0;
     for (int k = 0; k < object_count; ++k) {
       const int i = objects[k];
       const cv::Rect2d& r = rects_[i];
       if (u < r.x || u > r.x + r.width || v < r.y || v > r.y + r.height) continue;
-      auto hit = Intersect(scene_.objects[i].shape, center_, d);
-      if (hit && hit->t < best_t) {
-        best_t = hit->t;
-        key = i * 8 + hit->face;
-        normal = hit->normal;
+      double t;
+      int face;
+      if (solids_[i].Hit(d, best_t, &t, &face)) {
+        best_t = t;
+        key = i * 8 + face;
         hit_object = i;
+        hit_face = face;
       }
     }
+    // The normal for the nearest hit only.
+    if (hit_object >= 0) normal = solids_[hit_object].Normal(d, best_t, hit_face);
     const Table& table = scene_.table;
     if (table.enabled && center_.z() > 0 && d.z() < 0) {
       const double t = -center_.z() / d.z();
@@ -78,15 +89,15 @@ class Tracer {
     }
     if (key == kBackground) return {key, static_cast<float>(255.0 * table.background)};
     const SceneObject& object = scene_.objects[static_cast<size_t>(hit_object)];
-    const double rho = object.texture.enabled() ? AlbedoAt(object, center_ + best_t * d)
-                                                : object.albedo;
+    const double rho =
+        object.texture.enabled() ? AlbedoAt(object, center_ + best_t * d) : object.albedo;
     return {key, static_cast<float>(255.0 * rho * Shade(normal))};
   }
 
   // The table's radiance filtered over pixel (x, y)'s footprint, as the pixel-centre ray sees
   // it, whether or not that ray lands inside the table; -1 when it misses the plane.
   float TableRadianceAt(int x, int y) const {
-    Eigen::Vector3d d = sign_ * (minv_ * Eigen::Vector3d(x, y, 1.0));
+    Eigen::Vector3d d = ray_ * Eigen::Vector3d(x, y, 1.0);
     d.normalize();
     if (!scene_.table.enabled || center_.z() <= 0 || d.z() >= 0) return -1.0f;
     const double t = -center_.z() / d.z();
@@ -135,8 +146,8 @@ class Tracer {
     double coverage = std::clamp(0.5 + (table.hole_radius - rho) / extent, 0.0, 1.0);
     // Far away a hole is smaller than the footprint: keep its mean darkness.
     const double hole_area = M_PI * table.hole_radius * table.hole_radius;
-    coverage *= std::min(1.0, hole_area / (across * along + 1e-12) * 0.25 + 0.75 *
-                             std::min(1.0, hole_area / (across * along + 1e-12)));
+    coverage *= std::min(1.0, hole_area / (across * along + 1e-12) * 0.25 +
+                                  0.75 * std::min(1.0, hole_area / (across * along + 1e-12)));
     return table.albedo + coverage * (table.hole_albedo - table.albedo);
   }
 
@@ -166,12 +177,14 @@ class Tracer {
   const Scene& scene_;
   geometry::ImageSize size_;
   Eigen::Matrix3d minv_;
+  Eigen::Matrix3d ray_;  // sign_ * minv_: pixel (u, v, 1) to a ray direction into the scene
   Eigen::Vector3d center_;
   double sign_ = 1;
   double pixel_angle_ = 0.001;
   double table_shade_ = 1.0;
   std::vector<DirLight> lights_;
   std::vector<cv::Rect2d> rects_;
+  std::vector<SolidFromOrigin> solids_;  // every ray starts at the camera centre
 };
 
 std::vector<int>& ScratchObjects(size_t size) {

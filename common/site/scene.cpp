@@ -19,85 +19,6 @@ double AlbedoAt(const SceneObject& object, const Eigen::Vector3d& p) {
 }
 namespace {
 
-constexpr double kEps = 1e-9;
-
-std::optional<Hit> IntersectCylinder(const Cylinder& c, const Eigen::Vector3d& origin,
-                                     const Eigen::Vector3d& dir) {
-  const Eigen::Vector3d& w = c.axis;
-  const Eigen::Vector3d o = origin - c.center;
-  const double ow = o.dot(w), dw = dir.dot(w);
-  const double half = 0.5 * c.height;
-  std::optional<Hit> best;
-  auto offer = [&](double t, const Eigen::Vector3d& n, int face) {
-    if (t > kEps && (!best || t < best->t)) best = Hit{t, n, face};
-  };
-  const Eigen::Vector3d a = dir - dw * w, b = o - ow * w;
-  const double A = a.squaredNorm(), B = 2.0 * a.dot(b), C = b.squaredNorm() - c.radius * c.radius;
-  if (A > kEps) {
-    const double disc = B * B - 4 * A * C;
-    if (disc >= 0) {
-      const double s = std::sqrt(disc);
-      for (double t : {(-B - s) / (2 * A), (-B + s) / (2 * A)}) {
-        if (std::abs(ow + t * dw) <= half) {
-          offer(t, (b + t * a).normalized(), 0);
-          break;  // the nearer root on the finite side wins; the far one only if it is cut off
-        }
-      }
-    }
-  }
-  if (std::abs(dw) > kEps) {
-    for (int sign : {1, -1}) {
-      const double t = (sign * half - ow) / dw;
-      if ((b + t * a).squaredNorm() <= c.radius * c.radius) offer(t, sign * w, sign > 0 ? 1 : 2);
-    }
-  }
-  return best;
-}
-
-std::optional<Hit> IntersectBox(const Box& box, const Eigen::Vector3d& origin,
-                                const Eigen::Vector3d& dir) {
-  const Eigen::Vector3d o = box.rotation.transpose() * (origin - box.center);
-  const Eigen::Vector3d d = box.rotation.transpose() * dir;
-  double t_near = -std::numeric_limits<double>::infinity();
-  double t_far = std::numeric_limits<double>::infinity();
-  int axis_near = 0;
-  double sign_near = 1;
-  for (int i = 0; i < 3; ++i) {
-    const double h = 0.5 * box.size[i];
-    if (std::abs(d[i]) < kEps) {
-      if (std::abs(o[i]) > h) return std::nullopt;
-      continue;
-    }
-    double t0 = (-h - o[i]) / d[i], t1 = (h - o[i]) / d[i];
-    double s = -1;  // entering through the -h face
-    if (t0 > t1) {
-      std::swap(t0, t1);
-      s = 1;
-    }
-    if (t0 > t_near) {
-      t_near = t0;
-      axis_near = i;
-      sign_near = s;
-    }
-    t_far = std::min(t_far, t1);
-  }
-  if (t_near > t_far || t_near <= kEps) return std::nullopt;
-  Eigen::Vector3d n = Eigen::Vector3d::Zero();
-  n[axis_near] = sign_near;
-  return Hit{t_near, box.rotation * n, 2 * axis_near + (sign_near > 0 ? 1 : 0)};
-}
-
-std::optional<Hit> IntersectSphere(const Sphere& s, const Eigen::Vector3d& origin,
-                                   const Eigen::Vector3d& dir) {
-  const Eigen::Vector3d o = origin - s.center;
-  const double b = o.dot(dir), c = o.squaredNorm() - s.radius * s.radius;
-  const double disc = b * b - c;
-  if (disc < 0) return std::nullopt;
-  double t = -b - std::sqrt(disc);
-  if (t <= kEps) return std::nullopt;  // camera inside or behind: nothing visible
-  return Hit{t, (o + t * dir) / s.radius, 0};
-}
-
 // Two unit vectors completing `w` to a right-handed orthonormal frame.
 void Frame(const Eigen::Vector3d& w, Eigen::Vector3d& u, Eigen::Vector3d& v) {
   u = w.unitOrthogonal();
@@ -106,18 +27,40 @@ void Frame(const Eigen::Vector3d& w, Eigen::Vector3d& u, Eigen::Vector3d& v) {
 
 }  // namespace
 
-Eigen::Vector3d Box::AlignedMin() const {
-  return center - 0.5 * (rotation.cwiseAbs() * size);
-}
-Eigen::Vector3d Box::AlignedMax() const {
-  return center + 0.5 * (rotation.cwiseAbs() * size);
-}
+Eigen::Vector3d Box::AlignedMin() const { return center - 0.5 * (rotation.cwiseAbs() * size); }
+Eigen::Vector3d Box::AlignedMax() const { return center + 0.5 * (rotation.cwiseAbs() * size); }
 
 std::optional<Hit> Intersect(const Shape& shape, const Eigen::Vector3d& origin,
                              const Eigen::Vector3d& dir) {
-  if (auto* c = std::get_if<Cylinder>(&shape)) return IntersectCylinder(*c, origin, dir);
-  if (auto* b = std::get_if<Box>(&shape)) return IntersectBox(*b, origin, dir);
-  return IntersectSphere(std::get<Sphere>(shape), origin, dir);
+  const SolidFromOrigin solid(shape, origin);
+  double t;
+  int face;
+  if (!solid.Hit(dir, std::numeric_limits<double>::infinity(), &t, &face)) return std::nullopt;
+  return Hit{t, solid.Normal(dir, t, face), face};
+}
+
+SolidFromOrigin::SolidFromOrigin(const Shape& shape, const Eigen::Vector3d& origin) {
+  if (const auto* c = std::get_if<Cylinder>(&shape)) {
+    kind_ = Kind::kCylinder;
+    w_ = c->axis;
+    const Eigen::Vector3d o = origin - c->center;
+    ow_ = o.dot(w_);
+    half_ = 0.5 * c->height;
+    b_ = o - ow_ * w_;
+    r2_ = c->radius * c->radius;
+    c_ = b_.squaredNorm() - r2_;
+  } else if (const auto* box = std::get_if<Box>(&shape)) {
+    kind_ = Kind::kBox;
+    rotation_ = box->rotation;
+    o_ = box->rotation.transpose() * (origin - box->center);
+    half_size_ = 0.5 * box->size;
+  } else {
+    const auto& sphere = std::get<Sphere>(shape);
+    kind_ = Kind::kSphere;
+    o_ = origin - sphere.center;
+    r_ = sphere.radius;
+    c_ = o_.squaredNorm() - r_ * r_;
+  }
 }
 
 std::vector<Eigen::Vector3d> OutlinePoints(const Shape& shape, int n) {

@@ -9,6 +9,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -39,7 +42,7 @@ struct Table {
   double y_min = -96.0, y_max = -24.0;
   double albedo = 0.12;
   double hole_albedo = 0.02;
-  double hole_pitch = 1.0;   // distance between hole centres, both axes
+  double hole_pitch = 1.0;  // distance between hole centres, both axes
   double hole_radius = 0.125;
   Eigen::Vector2d hole_origin{0.0, 0.0};  // one hole's centre; the grid repeats from it
   double background = 0.03;               // radiance beyond the table's edge
@@ -58,8 +61,8 @@ struct Cylinder {
 
 struct Box {
   Eigen::Vector3d center{0, 0, 0};
-  Eigen::Vector3d size{1, 1, 1};                               // along the box's own axes
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();      // columns: box axes in world
+  Eigen::Vector3d size{1, 1, 1};                           // along the box's own axes
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // columns: box axes in world
   // Corners of the world-axis-aligned bounding box (the thesis's block model).
   Eigen::Vector3d AlignedMin() const;
   Eigen::Vector3d AlignedMax() const;
@@ -130,6 +133,119 @@ struct Hit {
 };
 std::optional<Hit> Intersect(const Shape& shape, const Eigen::Vector3d& origin,
                              const Eigen::Vector3d& dir);
+
+// A solid seen from one ray origin, for many rays from it (a camera's every pixel): what
+// depends on the origin alone is worked out once, and the normal only for the hit kept.
+// Intersect() is this for one ray.
+class SolidFromOrigin {
+ public:
+  SolidFromOrigin(const Shape& shape, const Eigen::Vector3d& origin);
+  // The nearest hit along unit direction `dir` closer than `limit`: its t and face.
+  bool Hit(const Eigen::Vector3d& dir, double limit, double* t, int* face) const;
+  // The outward unit normal at the hit (t, face) along `dir`.
+  Eigen::Vector3d Normal(const Eigen::Vector3d& dir, double t, int face) const;
+
+ private:
+  enum class Kind { kCylinder, kBox, kSphere } kind_;
+  // Cylinder: axis w, the origin's part across it (b) and along it (ow) from the centre.
+  // Box: its rotation and the origin in its frame (o). Sphere: the origin from the centre (o).
+  Eigen::Vector3d w_, b_, o_, half_size_;
+  Eigen::Matrix3d rotation_;
+  double ow_ = 0, half_ = 0, r_ = 0, r2_ = 0, c_ = 0;
+};
+
+// Defined here, inline: the renderer calls these for every ray it casts.
+inline constexpr double kHitEps = 1e-9;  // nearer hits are the origin's own surface
+
+inline bool SolidFromOrigin::Hit(const Eigen::Vector3d& d, double limit, double* t_hit,
+                                 int* face) const {
+  double best = std::numeric_limits<double>::infinity();
+  int best_face = 0;
+  auto offer = [&](double t, int f) {
+    if (t > kHitEps && t < best) {
+      best = t;
+      best_face = f;
+    }
+  };
+  if (kind_ == Kind::kCylinder) {
+    const double dw = d.dot(w_);
+    const Eigen::Vector3d a = d - dw * w_;
+    const double A = a.squaredNorm(), B = 2.0 * a.dot(b_);
+    if (A > kHitEps) {
+      const double disc = B * B - 4 * A * c_;
+      if (disc >= 0) {
+        const double s = std::sqrt(disc), inv = 0.5 / A;
+        for (double t : {(-B - s) * inv, (-B + s) * inv}) {
+          if (std::abs(ow_ + t * dw) <= half_) {
+            offer(t, 0);
+            break;  // the nearer root on the finite side wins; the far one only if cut off
+          }
+        }
+      }
+    }
+    if (std::abs(dw) > kHitEps) {
+      const double inv_dw = 1.0 / dw;
+      for (int sign : {1, -1}) {
+        const double t = (sign * half_ - ow_) * inv_dw;
+        if ((b_ + t * a).squaredNorm() <= r2_) offer(t, sign > 0 ? 1 : 2);
+      }
+    }
+  } else if (kind_ == Kind::kBox) {
+    const Eigen::Vector3d db = rotation_.transpose() * d;
+    double t_near = -std::numeric_limits<double>::infinity();
+    double t_far = std::numeric_limits<double>::infinity();
+    int axis_near = 0;
+    double sign_near = 1;
+    for (int i = 0; i < 3; ++i) {
+      const double h = half_size_[i];
+      if (std::abs(db[i]) < kHitEps) {
+        if (std::abs(o_[i]) > h) return false;
+        continue;
+      }
+      double t0 = (-h - o_[i]) / db[i], t1 = (h - o_[i]) / db[i];
+      double s = -1;  // entering through the -h face
+      if (t0 > t1) {
+        std::swap(t0, t1);
+        s = 1;
+      }
+      if (t0 > t_near) {
+        t_near = t0;
+        axis_near = i;
+        sign_near = s;
+      }
+      t_far = std::min(t_far, t1);
+    }
+    if (t_near > t_far || t_near <= kHitEps) return false;
+    offer(t_near, 2 * axis_near + (sign_near > 0 ? 1 : 0));
+  } else {
+    const double b = o_.dot(d), disc = b * b - c_;
+    if (disc < 0) return false;
+    offer(-b - std::sqrt(disc), 0);  // the origin inside or behind: nothing visible
+  }
+  if (!(best < limit)) return false;
+  *t_hit = best;
+  *face = best_face;
+  return true;
+}
+
+inline Eigen::Vector3d SolidFromOrigin::Normal(const Eigen::Vector3d& d, double t, int face) const {
+  switch (kind_) {
+    case Kind::kCylinder: {
+      if (face == 1) return w_;
+      if (face == 2) return -w_;
+      const Eigen::Vector3d a = d - d.dot(w_) * w_;
+      return (b_ + t * a).normalized();
+    }
+    case Kind::kBox: {
+      Eigen::Vector3d n = Eigen::Vector3d::Zero();
+      n[face / 2] = face % 2 ? 1.0 : -1.0;
+      return rotation_ * n;
+    }
+    case Kind::kSphere:
+      break;
+  }
+  return (o_ + t * d) / r_;
+}
 
 // Points on the solid's surface whose projections' convex hull is its image silhouette
 // (cap circles for a cylinder, corners for a box, a dense sampling for a sphere).
