@@ -168,10 +168,10 @@ double SignedFromClosest(const ViewOutline& o, const Closest& c, const Eigen::Ve
   return d;
 }
 
-// Samples the outline every `spacing` pixels, away from corners sharper than 30 degrees;
-// `seg` gets the outline index starting each sample's hull segment and `curvature` the
-// outline's curvature there (1/px, from the turn at the segment's ends).
-void SampleOutline(const ViewOutline& o, double spacing, std::vector<Eigen::Vector2d>& points,
+// Samples every pixel along the outline, away from corners sharper than 30 degrees; `seg`
+// gets the outline index starting each sample's hull segment and `curvature` the outline's
+// curvature there (1/px, from the turn at the segment's ends).
+void SampleOutline(const ViewOutline& o, std::vector<Eigen::Vector2d>& points,
                    std::vector<Eigen::Vector2d>& normals, std::vector<int>& seg,
                    std::vector<double>& curvature) {
   const size_t n = o.hull.size();
@@ -186,7 +186,7 @@ void SampleOutline(const ViewOutline& o, double spacing, std::vector<Eigen::Vect
     const double turn = std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
     kappa[i] = std::abs(turn) / std::max(1e-9, 0.5 * (in.norm() + out.norm()));
   }
-  const double keep_off = 1.5;
+  const double keep_off = 1.5, spacing = 1.0;
   double carry = 0;  // arc length into the next edge where the next sample falls
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d a = at(i), b = at(i + 1);
@@ -326,7 +326,6 @@ class Evaluator {
     // hull's and the measured inner edges' (a cylinder's far cap points are neither).
     std::array<std::vector<PixelJacobian>, 2> dpx;
     if (J) {
-      if (np > kMaxParams) return false;
       std::array<std::vector<bool>, 2> needed;
       for (int v = 0; v < 2; ++v) {
         needed[v].assign(pts_.size(), false);
@@ -393,6 +392,10 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
   FitOutcome out;
   Eigen::VectorXd x = initial;
   const int np = static_cast<int>(x.size());
+  if (np < 1 || np > kMaxParams) {
+    out.error = "a model needs 1 to " + std::to_string(kMaxParams) + " parameters";
+    return out;
+  }
   const Eigen::VectorXd step =
       options.step.size() == np ? options.step : Eigen::VectorXd::Constant(np, 1e-4);
   const Evaluator eval(outline, views, step);
@@ -427,7 +430,7 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
       std::vector<Eigen::Vector2d> pts, normals;
       std::vector<int> seg;
       std::vector<double> curvature;
-      SampleOutline(o[v], 1.0, pts, normals, seg, curvature);
+      SampleOutline(o[v], pts, normals, seg, curvature);
       out.sampled[v] = static_cast<int>(pts.size());
       for (size_t i = 0; i < pts.size(); ++i) {
         double s;
