@@ -239,6 +239,16 @@ net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_
   return net::Status::Ok();
 }
 
+void MarksToProto(const std::array<Eigen::Vector3d, 4>& marks,
+                  igms::object::LocateRequest* request) {
+  for (const auto& m : marks) {
+    auto* v = request->add_marks();
+    v->set_x(m.x());
+    v->set_y(m.y());
+    v->set_z(m.z());
+  }
+}
+
 void ObjectService::Run(const igms::object::LocateRequest& request,
                         net::Reply<igms::object::LocateResponse> reply) {
   Frame frame;

@@ -11,6 +11,7 @@
 // nothing is a normal response with found = false and a reason.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -63,6 +64,9 @@ geometry::ProjectiveCamera CameraAtPose(const geometry::ProjectiveCamera& camera
 
 // The response form of a locator result.
 void ResultToProto(const LocateResult& result, igms::object::LocateResponse* response);
+// A client's side: the operator's four marks (world units) into a request, after any there.
+void MarksToProto(const std::array<Eigen::Vector3d, 4>& marks,
+                  igms::object::LocateRequest* request);
 
 class ObjectService {
  public:

@@ -21,6 +21,7 @@
 #include "common/site/marks.h"
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"
+#include "object_server/object_service.h"
 #include "object_server/result_json.h"
 #include "object_server/solid_models.h"
 #include "video_server/sim_capture.h"
@@ -240,12 +241,7 @@ int Run(int argc, char** argv) {
       stop();
       return Fail("marks " + row.name, "the object is not wholly in front of the left camera");
     }
-    for (const auto& m : *marks) {
-      auto* v = request.add_marks();
-      v->set_x(m.x());
-      v->set_y(m.y());
-      v->set_z(m.z());
-    }
+    igms::object::MarksToProto(*marks, &request);
     request.set_frame_id(frame_id);
     const auto start = std::chrono::steady_clock::now();
     auto got = object->CallSync<igms::object::LocateResponse>("igms.object.ObjectService.Locate",

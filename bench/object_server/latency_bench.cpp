@@ -36,6 +36,7 @@
 #include "igms/video.pb.h"
 #include "object_server/evaluation.h"
 #include "object_server/locate.h"
+#include "object_server/object_service.h"
 
 extern char** environ;
 
@@ -89,6 +90,16 @@ std::unique_ptr<igms::net::Client> Connect(boost::asio::io_context& io, uint16_t
   client->Start();
   for (int i = 0; i < 250 && !client->connected(); ++i) std::this_thread::sleep_for(20ms);
   return client;
+}
+
+// The operator's Locate request for one solid's marks on a grab.
+igms::object::LocateRequest RequestFor(bool cylinder, const igms::site::Marks& marks,
+                                       uint64_t frame_id) {
+  igms::object::LocateRequest request;
+  request.set_type(cylinder ? igms::object::OBJECT_TYPE_CYLINDER : igms::object::OBJECT_TYPE_BOX);
+  igms::object::MarksToProto(marks, &request);
+  request.set_frame_id(frame_id);
+  return request;
 }
 
 void Row(const char* what, const std::vector<double>& v) {
@@ -159,16 +170,7 @@ int main(int argc, char** argv) {
       if (!cylinder && !std::holds_alternative<igms::site::Box>(shape)) continue;
       const auto marks = igms::site::GenerateMarks(shape, scene.cameras.left, round * 1000 + i);
       if (!marks) continue;
-      igms::object::LocateRequest request;
-      request.set_type(cylinder ? igms::object::OBJECT_TYPE_CYLINDER
-                                : igms::object::OBJECT_TYPE_BOX);
-      for (const auto& m : *marks) {
-        auto* v = request.add_marks();
-        v->set_x(m.x());
-        v->set_y(m.y());
-        v->set_z(m.z());
-      }
-      request.set_frame_id(grab.value.frame_id());
+      const auto request = RequestFor(cylinder, *marks, grab.value.frame_id());
       const auto start = Clock::now();
       auto got = object_client->CallSync<igms::object::LocateResponse>(
           "igms.object.ObjectService.Locate", request, 60s);
@@ -219,17 +221,7 @@ int main(int argc, char** argv) {
       if (!cylinder && !std::holds_alternative<igms::site::Box>(shape)) continue;
       const auto marks = igms::site::GenerateMarks(shape, scene.cameras.left, round * 1000 + i);
       if (!marks) continue;
-      igms::object::LocateRequest request;
-      request.set_type(cylinder ? igms::object::OBJECT_TYPE_CYLINDER
-                                : igms::object::OBJECT_TYPE_BOX);
-      for (const auto& m : *marks) {
-        auto* v = request.add_marks();
-        v->set_x(m.x());
-        v->set_y(m.y());
-        v->set_z(m.z());
-      }
-      request.set_frame_id(grab.value.frame_id());
-      burst.push_back(request);
+      burst.push_back(RequestFor(cylinder, *marks, grab.value.frame_id()));
     }
     burst_size = burst.size();
     std::atomic<int> left{static_cast<int>(burst.size())};

@@ -41,9 +41,8 @@ TEST(ObjectServerPlatformPose, LocatesAFrameGrabbedWithThePlatformTurned) {
   ChildProcess video("igms-video-server", {"--config", lab, "--name", "video"});
   const uint16_t video_port = video.WaitListening();
   ASSERT_NE(video_port, 0) << video.Log();
-  ChildProcess object("igms-object-server",
-                      {"--config", lab, "--name", "object", "--set",
-                       "processes.video.port=" + std::to_string(video_port)});
+  ChildProcess object("igms-object-server", {"--config", lab, "--name", "object", "--set",
+                                             "processes.video.port=" + std::to_string(video_port)});
   const uint16_t object_port = object.WaitListening();
   ASSERT_NE(object_port, 0) << object.Log();
 
@@ -87,12 +86,7 @@ TEST(ObjectServerPlatformPose, LocatesAFrameGrabbedWithThePlatformTurned) {
     LocateRequest request;
     request.set_type(OBJECT_TYPE_CYLINDER);
     request.set_frame_id(grab.frame_id());
-    for (const auto& m : *marks) {
-      auto* v = request.add_marks();
-      v->set_x(m.x());
-      v->set_y(m.y());
-      v->set_z(m.z());
-    }
+    MarksToProto(*marks, &request);
     auto got = client->CallSync<LocateResponse>("igms.object.ObjectService.Locate", request, 60s);
     ASSERT_TRUE(got.ok()) << got.status.message;
     ASSERT_TRUE(got.value.found()) << scene.objects[i].name << ": " << got.value.detail();

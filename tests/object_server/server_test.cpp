@@ -13,6 +13,7 @@
 #include "common/site/testbed.h"
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"
+#include "object_server/object_service.h"
 #include "tests/video_server/server_process.h"
 
 namespace igms::object {
@@ -48,12 +49,7 @@ LocateRequest RequestFor(const site::Shape& shape, uint64_t frame_id, uint64_t s
   LocateRequest request;
   request.set_type(std::holds_alternative<site::Cylinder>(shape) ? OBJECT_TYPE_CYLINDER
                                                                  : OBJECT_TYPE_BOX);
-  for (const auto& m : *marks) {
-    auto* v = request.add_marks();
-    v->set_x(m.x());
-    v->set_y(m.y());
-    v->set_z(m.z());
-  }
+  MarksToProto(*marks, &request);
   request.set_frame_id(frame_id);
   return request;
 }
