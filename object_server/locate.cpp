@@ -521,9 +521,11 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     f = std::move(fa);
     // A fit that flattened the box (no depth left) explained nothing: the turned box's
     // faces drawn as one.
+    // A failed fit has no parameters to look at.
     auto solid = [](const FitOutcome& o) {
+      if (!o.ok || o.params.size() < 6) return false;
       const Eigen::Vector3d size = o.params.segment<3>(3).cwiseAbs();
-      return o.ok && size.minCoeff() > 0.1 * size.maxCoeff();
+      return size.minCoeff() > 0.1 * size.maxCoeff();
     };
     if (!solid(f) || 0.5 * (f.rms_px[0] + f.rms_px[1]) > opt.box_turn_rms_px) {
       std::vector<Eigen::VectorXd> turned;
