@@ -10,7 +10,7 @@ PACKAGES=(
   libeigen3-dev libopencv-dev libboost-dev libboost-system-dev libboost-program-options-dev
   libprotobuf-dev protobuf-compiler libyaml-cpp-dev libspdlog-dev
   libglfw3-dev libopenal-dev libsndfile1-dev libsqlite3-dev
-  libpocketsphinx-dev pocketsphinx pocketsphinx-en-us
+  libpocketsphinx-dev pocketsphinx pocketsphinx-en-us sphinxtrain
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev clang-14 libclang-rt-14-dev
   # run time: headless windows, sound, speech, serial ports, namespaces, real test images

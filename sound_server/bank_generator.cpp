@@ -1,13 +1,8 @@
 #include "sound_server/bank_generator.h"
 
-#include <spawn.h>
-#include <sys/wait.h>
-
-#include <cerrno>
-#include <cstring>
 #include <sstream>
 
-extern char** environ;
+#include "common/process/process.h"
 
 namespace igms::sound {
 namespace {
@@ -17,12 +12,6 @@ std::vector<std::string> SplitWords(const std::string& text) {
   std::vector<std::string> words;
   for (std::string word; in >> word;) words.push_back(word);
   return words;
-}
-
-std::string Join(const std::vector<std::string>& argv) {
-  std::string line;
-  for (const std::string& arg : argv) line += (line.empty() ? "" : " ") + arg;
-  return line;
 }
 
 std::string PeakArg(double peak_db) {
@@ -61,24 +50,6 @@ std::string GenerateEntry(const Manifest& manifest, const SoundEntry& entry,
 }
 
 }  // namespace
-
-std::string RunProgram(const std::vector<std::string>& argv) {
-  std::vector<char*> args;
-  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
-  args.push_back(nullptr);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ);
-  if (rc != 0) return "cannot run '" + Join(argv) + "': " + std::strerror(rc);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return "cannot wait for '" + Join(argv) + "': " + std::strerror(errno);
-  }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
-  if (WIFEXITED(status)) {
-    return "'" + Join(argv) + "' exited with status " + std::to_string(WEXITSTATUS(status));
-  }
-  return "'" + Join(argv) + "' was killed by signal " + std::to_string(WTERMSIG(status));
-}
 
 GenerateResult GenerateBank(const Manifest& manifest, const std::filesystem::path& out_dir,
                             const GenerateOptions& options) {

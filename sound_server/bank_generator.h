@@ -33,8 +33,4 @@ struct GenerateResult {
 GenerateResult GenerateBank(const Manifest& manifest, const std::filesystem::path& out_dir,
                             const GenerateOptions& options = {});
 
-// Runs a program with arguments (no shell), waiting for it. Returns "" when it exits 0,
-// otherwise a message with the command line and how it ended.
-std::string RunProgram(const std::vector<std::string>& argv);
-
 }  // namespace igms::sound

@@ -208,4 +208,17 @@ std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
   return report;
 }
 
+std::optional<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
+    const std::vector<Voice>& voices, std::string* error) {
+  std::vector<AdaptationUtterance> out;
+  for (const Voice& voice : voices) {
+    for (const std::string& prompt : EnrolmentPrompts()) {
+      auto audio = Synthesize({prompt, voice.name, voice.words_per_minute}, error);
+      if (!audio) return std::nullopt;
+      out.push_back({std::move(*audio), prompt});
+    }
+  }
+  return out;
+}
+
 }  // namespace igms::voice

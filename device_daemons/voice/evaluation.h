@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "device_daemons/voice/adaptation.h"
 #include "device_daemons/voice/recognizer.h"
 #include "device_daemons/voice/speech_synth.h"
 
@@ -76,5 +77,11 @@ struct EvaluationReport {
 // its own prediction does not carry over. nullopt, with *error set, when espeak-ng fails.
 std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
                                          const std::vector<CorpusItem>& corpus, std::string* error);
+
+// Synthetic enrolment: every enrolment prompt (adaptation.h) said in each of `voices`, for
+// adapting the model to espeak-ng's speech as an operator's enrolment adapts it to theirs.
+// nullopt, with *error set, when espeak-ng fails.
+std::optional<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
+    const std::vector<Voice>& voices, std::string* error);
 
 }  // namespace igms::voice

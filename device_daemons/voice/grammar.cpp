@@ -84,7 +84,8 @@ std::vector<Pronunciation> AlternativePronunciations() {
   return {{CommandToken(Command::kRemovePoints) + "(2)", Split("R IH M UW V P OY N T S")},
           {CommandToken(Command::kRemoveModel) + "(2)", Split("R IH M UW V M AA D AH L")},
           {CommandToken(Command::kWireframe) + "(2)", Split("W AY R F R EY M")},
-          {CommandToken(Command::kSolid) + "(2)", Split("S AA L IH D")}};
+          {CommandToken(Command::kSolid) + "(2)", Split("S AA L IH D")},
+          {CommandToken(Command::kCylinder) + "(3)", Split("S IH L IH N D AH")}};
 }
 
 const std::vector<std::string>& ModelPhones() {

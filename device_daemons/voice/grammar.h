@@ -43,10 +43,11 @@ std::optional<Command> CommandFromToken(std::string_view token);
 // "unfreeze", "unmark" and "wireframe"; their entries are built from "freeze", "mark",
 // "wire" and "frame".
 std::vector<Pronunciation> CommandPronunciations();
-// Second pronunciations, added as "token(2)" after the first: "remove" with IH as the
-// British voices say it (both two-word commands), "wire" in one syllable, and "solid" with
-// IH in its second syllable. The CMU dictionary's own alternatives ("cylinder(2)") come with
-// it already.
+// More pronunciations, added as "token(2)" after the first: "remove" with IH as the British
+// voices say it (both two-word commands), "wire" in one syllable, "solid" with IH in its
+// second syllable, and, as "cylinder(3)" since the CMU dictionary's own "cylinder(2)" comes
+// with it already, a cylinder without the final R (S IH L IH N D AH), as non-rhotic
+// accents say it.
 std::vector<Pronunciation> AlternativePronunciations();
 // The 39 phones of the model and the phone-loop tokens made from them.
 const std::vector<std::string>& ModelPhones();

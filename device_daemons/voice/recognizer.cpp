@@ -36,6 +36,14 @@ std::string BaseWord(const char* token) {
 
 }  // namespace
 
+const std::vector<std::string>& FrontEndArgs() {
+  // Noise removal hurt synthetic speech; dither with a fixed seed keeps digital silence from
+  // upsetting the features and makes every result repeatable.
+  static const std::vector<std::string> args = {"-remove_noise", "no", "-dither", "yes",
+                                                "-seed", "1"};
+  return args;
+}
+
 std::string_view RejectReasonName(RejectReason reason) {
   switch (reason) {
     case RejectReason::kNone:
@@ -105,10 +113,10 @@ struct Recognizer::Impl {
     if (!words) return false;
     // Beams narrower than pocketsphinx's defaults (1e-48, 7e-29, 1e-48): speech far from
     // every command then more often finds no path at all (tuned on the tuning voices).
-    std::vector<std::string> args = {
-        "-hmm",    hmm,     "-dict",  dict,   "-remove_noise", "no",  "-bestpath", "no",
-        "-dither", "yes",   "-seed",  "1",    "-allphone_ci",  "yes", "-beam",     "1e-20",
-        "-pbeam",  "1e-20", "-wbeam", "1e-15"};
+    std::vector<std::string> args = {"-hmm",        hmm,   "-dict", dict,    "-bestpath", "no",
+                                     "-allphone_ci", "yes", "-beam", "1e-20", "-pbeam",    "1e-20",
+                                     "-wbeam",       "1e-15"};
+    args.insert(args.end(), FrontEndArgs().begin(), FrontEndArgs().end());
     // pocketsphinx refuses an argument given twice: one in decoder_args replaces the built-in.
     for (size_t i = 0; i < options.decoder_args.size(); i += 2) {
       for (size_t j = 0; j + 1 < args.size(); j += 2) {

@@ -68,6 +68,10 @@ struct RecognizerOptions {
   bool Check(std::string* error) const;
 };
 
+// The front end's settings the recogniser decodes with, as pocketsphinx arguments in pairs;
+// adaptation computes its features with the same (adaptation.h).
+const std::vector<std::string>& FrontEndArgs();
+
 enum class RejectReason {
   kNone,               // accepted
   kNoSpeech,           // nothing decoded (silence, too short, or no path through the grammar)

@@ -1,6 +1,5 @@
 #include "device_daemons/voice/speech_synth.h"
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -8,26 +7,9 @@
 #include <filesystem>
 #include <vector>
 
+#include "common/process/process.h"
+
 namespace igms::voice {
-namespace {
-
-// fork/exec rather than system(): the text is data, not shell syntax.
-int RunEspeak(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    execvp(argv[0], argv.data());
-    _exit(127);
-  }
-  int status = 0;
-  if (waitpid(pid, &status, 0) < 0) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-}  // namespace
 
 bool SpeechRequest::Check(std::string* error) const {
   auto fail = [&](const std::string& why) {
@@ -54,15 +36,15 @@ std::optional<Audio> Synthesize(const SpeechRequest& request, std::string* error
     return std::nullopt;
   }
   close(fd);
-  const int status = RunEspeak({"espeak-ng", "-v", request.voice, "-s",
-                                std::to_string(request.words_per_minute), "-p",
-                                std::to_string(request.pitch), "-w", path, "--", request.text});
+  const std::string failure = RunProgram({"espeak-ng", "-v", request.voice, "-s",
+                                           std::to_string(request.words_per_minute), "-p",
+                                           std::to_string(request.pitch), "-w", path, "--",
+                                           request.text});
   std::optional<Audio> audio;
-  if (status == 0) {
+  if (failure.empty()) {
     audio = LoadSoundFile(path, error);
   } else if (error) {
-    *error = "espeak-ng failed (exit status " + std::to_string(status) + ") for voice " +
-             request.voice;
+    *error = "espeak-ng failed for voice " + request.voice + ": " + failure;
   }
   std::filesystem::remove(path);
   if (!audio) return std::nullopt;

@@ -147,7 +147,6 @@ TEST(BankGenerator, MakesEachEntryAndReportsTheOnesItCannot) {
   AudioFileResult hello = ReadAudioFile(dir / "out/speech/hello.wav");
   ASSERT_TRUE(hello.clip) << hello.error;
   EXPECT_GT(hello.clip->Seconds(), 0.3);
-  EXPECT_NE(RunProgram({"no-such-program-igms"}).find("cannot run"), std::string::npos);
   std::filesystem::remove_all(dir);
 }
 

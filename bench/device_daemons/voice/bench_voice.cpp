@@ -8,7 +8,9 @@
 // applied to every run: BENCH_VOICE_ARGS="-beam 1e-30 ..." (pocketsphinx arguments),
 // BENCH_VOICE_DECOYS=N (decoys per command), BENCH_VOICE_MIN_CONFIDENCE=C,
 // BENCH_VOICE_MIN_AGREEMENT=K, BENCH_VOICE_PERTURBATIONS="0.9 1.1",
-// BENCH_VOICE_MAX_UNCOVERED_MS=MS,
+// BENCH_VOICE_MAX_UNCOVERED_MS=MS, BENCH_VOICE_MODEL_DIR=DIR (e.g. an adapted model from
+// igms-voice-adapt), BENCH_VOICE_TUNING_VOICES="0 2 5" (a subset of the
+// tuning voices, by index, e.g. the half an adaptation was not made from),
 // BENCH_VOICE_DECOY_WEIGHT=W and
 // BENCH_VOICE_LOOP_WEIGHT=W (grammar weights; the loop is off at 0).
 #include <cstdlib>
@@ -61,6 +63,7 @@ int main(int argc, char** argv) {
     std::istringstream in(extra);
     for (std::string a; in >> a;) options.decoder_args.push_back(a);
   }
+  if (const char* dir = std::getenv("BENCH_VOICE_MODEL_DIR")) options.model_dir = dir;
   if (const char* n = std::getenv("BENCH_VOICE_DECOYS"))
     options.decoys.max_per_command = std::atoi(n);
   if (const char* w = std::getenv("BENCH_VOICE_DECOY_WEIGHT"))
@@ -87,10 +90,18 @@ int main(int argc, char** argv) {
   const bool sweeps = std::getenv("BENCH_VOICE_NO_SWEEP") == nullptr;
   bool ok = true;
   // Each other word in two tuning voices: the tuning set is for choosing, so more is better.
+  std::vector<Voice> tuning = TuningVoices();
+  if (const char* list = std::getenv("BENCH_VOICE_TUNING_VOICES")) {
+    std::istringstream in(list);
+    tuning.clear();
+    for (size_t i; in >> i;) {
+      if (i < TuningVoices().size()) tuning.push_back(TuningVoices()[i]);
+    }
+  }
   if (which != "test") {
-    ok &= Run("tuning voices and words", options, TuningVoices(), TuningWords(), 2);
+    ok &= Run("tuning voices and words", options, tuning, TuningWords(), 2);
     if (sweeps)
-      ok &= Run("tuning-sweep set, threshold sweep", sweep, TuningVoices(), TuningWords(), 2, true);
+      ok &= Run("tuning-sweep set, threshold sweep", sweep, tuning, TuningWords(), 2, true);
   }
   if (which != "tuning") {
     ok &= Run("test voices and words", options, TestVoices(), TestWords(), 1);

@@ -46,7 +46,10 @@ TEST(Grammar, PronunciationsCoverTheMissingWords) {
 
 TEST(Grammar, AlternativePronunciationsNameACommand) {
   for (const Pronunciation& p : AlternativePronunciations()) {
-    ASSERT_TRUE(p.word.ends_with("(2)")) << p.word;
+    // "token(N)", N from 2 (3 where the CMU dictionary has a "(2)" of its own).
+    ASSERT_TRUE(p.word.size() > 3 && p.word.ends_with(")") && p.word[p.word.size() - 3] == '(')
+        << p.word;
+    EXPECT_GE(p.word[p.word.size() - 2], '2') << p.word;
     EXPECT_TRUE(CommandFromToken(p.word.substr(0, p.word.size() - 3))) << p.word;
     for (const std::string& phone : p.phones) {
       EXPECT_NE(std::find(ModelPhones().begin(), ModelPhones().end(), phone),

@@ -1,0 +1,52 @@
+#include "common/process/process.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <cerrno>
+#include <cstring>
+
+extern char** environ;
+
+namespace igms {
+namespace {
+
+std::string Join(const std::vector<std::string>& argv) {
+  std::string out;
+  for (const std::string& a : argv) out += (out.empty() ? "" : " ") + a;
+  return out;
+}
+
+}  // namespace
+
+std::string RunProgram(const std::vector<std::string>& argv, const std::string& output_path) {
+  if (argv.empty()) return "no program to run";
+  std::vector<char*> args;
+  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
+  args.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  if (!output_path.empty()) {
+    posix_spawn_file_actions_addopen(&actions, 1, output_path.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  }
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) return "cannot run '" + Join(argv) + "': " + std::strerror(rc);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return "cannot wait for '" + Join(argv) + "': " + std::strerror(errno);
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  const std::string where = output_path.empty() ? "" : " (its messages are in " + output_path + ")";
+  if (WIFEXITED(status)) {
+    return "'" + Join(argv) + "' exited with status " + std::to_string(WEXITSTATUS(status)) +
+           where;
+  }
+  return "'" + Join(argv) + "' was killed by signal " + std::to_string(WTERMSIG(status)) + where;
+}
+
+}  // namespace igms

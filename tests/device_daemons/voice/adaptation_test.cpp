@@ -1,0 +1,141 @@
+// Enrolment: AdaptModel's refusals in-process, and igms-voice-adapt as a process on real
+// recordings, its model then loaded by igms-voice-decode.
+#include "device_daemons/voice/adaptation.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "device_daemons/voice/speech_synth.h"
+
+namespace igms::voice {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  std::string out;
+  int status = -1;
+};
+
+// Runs a shell command; its stderr joins stdout unless `log` is false (then it is dropped).
+Result Exec(const std::string& command, bool log = true) {
+  Result run;
+  FILE* pipe = popen((command + (log ? " 2>&1" : " 2>/dev/null")).c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 256> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe)) run.out += buffer.data();
+  const int status = pclose(pipe);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+std::string Bin(const char* name) { return std::string(std::getenv("IGMS_BIN_DIR")) + "/" + name; }
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+class AdaptationTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("igms_adapt_" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::vector<AdaptationUtterance> Commands(int copies) {
+    std::vector<AdaptationUtterance> out;
+    std::string error;
+    auto audio = Synthesize({"freeze", "en-us", 175}, &error);
+    EXPECT_TRUE(audio) << error;
+    for (int i = 0; audio && i < copies; ++i) out.push_back({*audio, "freeze"});
+    return out;
+  }
+  AdaptationOptions Options() {
+    AdaptationOptions options;
+    options.out_dir = (dir_ / "adapted").string();
+    return options;
+  }
+  fs::path dir_;
+};
+
+TEST_F(AdaptationTest, RefusesWhatCannotBeAdaptedAndLeavesNoModel) {
+  auto expect_refused = [&](const std::vector<AdaptationUtterance>& utterances,
+                            const AdaptationOptions& options, const std::string& why) {
+    const AdaptationReport report = AdaptModel(utterances, options);
+    EXPECT_NE(report.error.find(why), std::string::npos) << report.error;
+    EXPECT_FALSE(fs::exists(options.out_dir)) << why;
+  };
+  expect_refused(Commands(3), Options(), "at least 10 utterances");
+  auto unknown = Commands(12);
+  unknown[4].text = "freeze qxzvbn";
+  expect_refused(unknown, Options(), "no pronunciation for 'qxzvbn'");
+  auto silent = Commands(12);
+  silent[2].text = "  ";
+  expect_refused(silent, Options(), "utterance 3 has no transcript");
+  auto rate = Commands(12);
+  rate[0].audio.sample_rate = 8000;
+  expect_refused(rate, Options(), "utterance 1 is at 8000 Hz");
+  AdaptationOptions no_tools = Options();
+  no_tools.sphinxtrain_dir = (dir_ / "nowhere").string();
+  expect_refused(Commands(12), no_tools, "sphinxtrain's bw is not in");
+  AdaptationOptions no_model = Options();
+  no_model.model_dir = (dir_ / "nowhere").string();
+  expect_refused(Commands(12), no_model, "no acoustic model folder");
+  AdaptationOptions in_place;
+  in_place.out_dir = in_place.model_dir;
+  EXPECT_NE(AdaptModel(Commands(12), in_place).error.find("must not replace"), std::string::npos);
+}
+
+TEST_F(AdaptationTest, TheToolAdaptsFromRecordingsAndTheDecoderUsesTheResult) {
+  // Recordings of the prompts in one voice, listed as an operator's would be.
+  const Result prompts = Exec(Bin("igms-voice-adapt") + " --print-prompts");
+  ASSERT_EQ(prompts.status, 0);
+  std::ofstream list(dir_ / "list.txt");
+  std::istringstream lines(prompts.out);
+  int n = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const fs::path wav = dir_ / ("p" + std::to_string(++n) + ".wav");
+    ASSERT_EQ(Exec("espeak-ng -v en-gb+m3 -s 160 -w " + wav.string() + " '" + line + "'").status,
+              0);
+    list << wav.string() << '\t' << line << '\n';
+  }
+  list.close();
+  ASSERT_GE(n, 40);
+  const fs::path out = dir_ / "model";
+  const Result adapt = Exec(Bin("igms-voice-adapt") + " --out " + out.string() + " --list " +
+                            (dir_ / "list.txt").string());
+  ASSERT_EQ(adapt.status, 0) << adapt.out;
+  EXPECT_NE(adapt.out.find("adapted to " + std::to_string(n) + " utterances"), std::string::npos);
+  // The means moved; the decoder loads the folder and hears a command with it.
+  const std::string source = "/usr/share/pocketsphinx/model/en-us";
+  ASSERT_TRUE(fs::exists(out / "en-us/means"));
+  EXPECT_NE(ReadAll(out / "en-us/means"), ReadAll(source + "/en-us/means"));
+  EXPECT_TRUE(fs::exists(out / "cmudict-en-us.dict"));
+  const fs::path freeze = dir_ / "freeze.wav";
+  ASSERT_EQ(Exec("espeak-ng -v en-gb+m3 -s 150 -w " + freeze.string() + " freeze").status, 0);
+  const Result decode =
+      Exec(Bin("igms-voice-decode") + " --model-dir " + out.string() + " " + freeze.string(),
+           false);
+  EXPECT_EQ(decode.status, 0);
+  EXPECT_EQ(decode.out, "01\n");
+  // Bad invocations: no source (2), a list naming a missing file (1), and the model the
+  // first run wrote is still there afterwards.
+  EXPECT_EQ(Exec(Bin("igms-voice-adapt") + " --out " + out.string()).status, 2);
+  std::ofstream(dir_ / "bad.txt") << "/nonexistent.wav\tfreeze\n";
+  EXPECT_EQ(Exec(Bin("igms-voice-adapt") + " --out " + out.string() + " --list " +
+                 (dir_ / "bad.txt").string())
+                .status,
+            1);
+  EXPECT_TRUE(fs::exists(out / "en-us/means"));
+}
+
+}  // namespace
+}  // namespace igms::voice
