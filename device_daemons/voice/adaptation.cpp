@@ -216,90 +216,125 @@ class WorkDir {
   std::error_code error_;
 };
 
-std::string Adapt(const std::vector<AdaptationUtterance>& utterances,
-                  const AdaptationOptions& options, const fs::path& work) {
-  const fs::path model = fs::path(options.model_dir) / "en-us";
-  const fs::path tools = options.sphinxtrain_dir;
-  const fs::path features = work / "features";
-  const fs::path counts = work / "counts";
-  fs::create_directories(features);
-  fs::create_directories(counts);
-  std::vector<std::string> ids;
-  if (std::string e = WriteFeatures(utterances, options.model_dir, features, &ids); !e.empty())
-    return e;
-  {
-    std::ofstream ctl(work / "utterances.ctl"), lsn(work / "transcripts.txt");
-    for (size_t i = 0; i < ids.size(); ++i) {
-      ctl << ids[i] << '\n';
-      lsn << "<s>";
-      for (const std::string& w : Words(utterances[i].text)) lsn << ' ' << w;
-      lsn << " </s> (" << ids[i] << ")\n";
-    }
+// The source model as sphinxtrain's programs read it: a text model definition and float
+// mixture weights, made in the working folder when the model has only the binary and
+// quantised forms pocketsphinx loads.
+struct SourceModel {
+  fs::path dir;  // <model_dir>/en-us
+  fs::path mdef, mixture_weights;
+  std::map<std::string, std::string> feat_params;
+
+  // The arguments bw and map_adapt share: the model's files and its tying.
+  std::vector<std::string> Args() const {
+    const auto kind = feat_params.find("-model");
+    const std::string tying = kind == feat_params.end() ? "cont" : kind->second;
+    return {"-moddeffn", mdef.string(), "-ts2cbfn", "." + tying + ".",
+            "-meanfn", (dir / "means").string(), "-varfn", (dir / "variances").string(),
+            "-mixwfn", mixture_weights.string(), "-tmatfn", (dir / "transition_matrices").string()};
   }
-  if (std::string e = WriteDictionary(utterances, options.model_dir, work / "words.dict");
-      !e.empty())
-    return e;
-  fs::path mdef = model / "mdef";
-  if (IsBinaryMdef(mdef)) {
-    mdef = work / "mdef.txt";
-    if (std::string e = RunProgram({"pocketsphinx_mdef_convert", "-text", (model / "mdef").string(),
-                                    mdef.string()},
+};
+
+std::string PrepareSource(const std::string& model_dir, const fs::path& work, SourceModel* model) {
+  model->dir = fs::path(model_dir) / "en-us";
+  model->feat_params = ReadFeatParams(model->dir / "feat.params");
+  if (model->feat_params.count("-lda")) return "models with an LDA transform are not supported";
+  model->mdef = model->dir / "mdef";
+  if (IsBinaryMdef(model->mdef)) {
+    model->mdef = work / "mdef.txt";
+    if (std::string e = RunProgram({"pocketsphinx_mdef_convert", "-text",
+                                    (model->dir / "mdef").string(), model->mdef.string()},
                                    (work / "mdef_convert.log").string());
         !e.empty())
       return e;
   }
-  fs::path mixw = model / "mixture_weights";
-  if (!fs::exists(mixw)) {
-    mixw = work / "mixture_weights";
-    if (std::string e = SendumpToMixtureWeights(model / "sendump", mixw); !e.empty()) return e;
-  }
-  auto params = ReadFeatParams(model / "feat.params");
-  if (params.count("-lda")) return "models with an LDA transform are not supported";
-  const std::string kind = params.count("-model") ? params["-model"] : "cont";
-  std::vector<std::string> bw = {
-      (tools / "bw").string(), "-moddeffn", mdef.string(), "-ts2cbfn",
-      kind == "ptm" ? ".ptm." : kind == "semi" ? ".semi." : ".cont.",
-      "-meanfn", (model / "means").string(), "-varfn", (model / "variances").string(),
-      "-mixwfn", mixw.string(), "-tmatfn", (model / "transition_matrices").string(),
-      "-dictfn", (work / "words.dict").string(), "-fdictfn", (model / "noisedict").string(),
-      "-ctlfn", (work / "utterances.ctl").string(), "-lsnfn", (work / "transcripts.txt").string(),
-      "-cepdir", features.string(), "-cepext", "mfc", "-accumdir", counts.string()};
-  for (const char* key : {"-feat", "-svspec", "-cmn", "-agc", "-varnorm", "-cmninit"}) {
-    if (params.count(key)) bw.insert(bw.end(), {key, params[key]});
-  }
-  if (std::string e = RunProgram(bw, (work / "bw.log").string()); !e.empty()) return e;
-  const fs::path staged = fs::path(options.out_dir).string() + ".partial";
-  std::error_code ec;
-  fs::remove_all(staged, ec);
-  fs::create_directories(staged / "en-us");
-  const fs::path adapted = staged / "en-us";
-  if (std::string e = RunProgram(
-          {(tools / "map_adapt").string(), "-moddeffn", mdef.string(), "-ts2cbfn",
-           kind == "ptm" ? ".ptm." : kind == "semi" ? ".semi." : ".cont.", "-meanfn",
-           (model / "means").string(), "-varfn", (model / "variances").string(), "-mixwfn",
-           mixw.string(), "-tmatfn", (model / "transition_matrices").string(), "-accumdir",
-           counts.string(), "-mapmeanfn", (adapted / "means").string(), "-mapvarfn",
-           (adapted / "variances").string(), "-mapmixwfn", (adapted / "mixture_weights").string(),
-           "-maptmatfn", (adapted / "transition_matrices").string()},
-          (work / "map_adapt.log").string());
-      !e.empty()) {
-    fs::remove_all(staged, ec);
+  model->mixture_weights = model->dir / "mixture_weights";
+  if (fs::exists(model->mixture_weights)) return "";
+  model->mixture_weights = work / "mixture_weights";
+  return SendumpToMixtureWeights(model->dir / "sendump", model->mixture_weights);
+}
+
+// Features, transcripts and dictionary for bw, in the working folder.
+std::string PrepareSpeech(const std::vector<AdaptationUtterance>& utterances,
+                          const std::string& model_dir, const fs::path& work) {
+  fs::create_directories(work / "features");
+  std::vector<std::string> ids;
+  if (std::string e = WriteFeatures(utterances, model_dir, work / "features", &ids); !e.empty())
     return e;
+  std::ofstream ctl(work / "utterances.ctl"), lsn(work / "transcripts.txt");
+  for (size_t i = 0; i < ids.size(); ++i) {
+    ctl << ids[i] << '\n';
+    lsn << "<s>";
+    for (const std::string& w : Words(utterances[i].text)) lsn << ' ' << w;
+    lsn << " </s> (" << ids[i] << ")\n";
   }
+  if (!ctl || !lsn) return "cannot write the transcripts in " + work.string();
+  return WriteDictionary(utterances, model_dir, work / "words.dict");
+}
+
+// Baum-Welch counts of the speech against the source model, into <work>/counts.
+std::string Count(const SourceModel& model, const fs::path& tools, const fs::path& work) {
+  fs::create_directories(work / "counts");
+  std::vector<std::string> bw = {(tools / "bw").string()};
+  for (std::string& a : model.Args()) bw.push_back(std::move(a));
+  bw.insert(bw.end(), {"-dictfn", (work / "words.dict").string(), "-fdictfn",
+                       (model.dir / "noisedict").string(), "-ctlfn",
+                       (work / "utterances.ctl").string(), "-lsnfn",
+                       (work / "transcripts.txt").string(), "-cepdir",
+                       (work / "features").string(), "-cepext", "mfc", "-accumdir",
+                       (work / "counts").string()});
+  for (const char* key : {"-feat", "-svspec", "-cmn", "-agc", "-varnorm", "-cmninit"}) {
+    const auto it = model.feat_params.find(key);
+    if (it != model.feat_params.end()) bw.insert(bw.end(), {key, it->second});
+  }
+  return RunProgram(bw, (work / "bw.log").string());
+}
+
+// map_adapt writes the adapted parameters into <folder>/en-us; the rest of the model folder
+// is copied or linked beside them.
+std::string WriteModel(const SourceModel& model, const AdaptationOptions& options,
+                       const fs::path& work, const fs::path& folder) {
+  const fs::path adapted = folder / "en-us";
+  fs::create_directories(adapted);
+  std::vector<std::string> map = {(fs::path(options.sphinxtrain_dir) / "map_adapt").string()};
+  for (std::string& a : model.Args()) map.push_back(std::move(a));
+  map.insert(map.end(), {"-accumdir", (work / "counts").string(), "-mapmeanfn",
+                         (adapted / "means").string(), "-mapvarfn", (adapted / "variances").string(),
+                         "-mapmixwfn", (adapted / "mixture_weights").string(), "-maptmatfn",
+                         (adapted / "transition_matrices").string()});
+  if (std::string e = RunProgram(map, (work / "map_adapt.log").string()); !e.empty()) return e;
+  std::error_code ec;
   for (const char* file : {"mdef", "feat.params", "noisedict"}) {
-    fs::copy_file(model / file, adapted / file, ec);
-    if (ec) return "cannot copy " + (model / file).string() + ": " + ec.message();
+    fs::copy_file(model.dir / file, adapted / file, ec);
+    if (ec) return "cannot copy " + (model.dir / file).string() + ": " + ec.message();
   }
   // The dictionary and language models are the source's, unchanged: linked, not copied.
   for (const char* file : {"cmudict-en-us.dict", "en-us-phone.lm.bin", "en-us.lm.bin"}) {
     const fs::path source = fs::path(options.model_dir) / file;
-    if (fs::exists(source)) fs::create_symlink(fs::absolute(source), staged / file, ec);
+    if (fs::exists(source)) fs::create_symlink(fs::absolute(source), folder / file, ec);
     if (ec) return "cannot link " + source.string() + ": " + ec.message();
   }
-  fs::remove_all(options.out_dir, ec);
-  fs::rename(staged, options.out_dir, ec);
-  if (ec) return "cannot move the adapted model to " + options.out_dir + ": " + ec.message();
   return "";
+}
+
+std::string Adapt(const std::vector<AdaptationUtterance>& utterances,
+                  const AdaptationOptions& options, const fs::path& work) {
+  SourceModel model;
+  if (std::string e = PrepareSource(options.model_dir, work, &model); !e.empty()) return e;
+  if (std::string e = PrepareSpeech(utterances, options.model_dir, work); !e.empty()) return e;
+  if (std::string e = Count(model, options.sphinxtrain_dir, work); !e.empty()) return e;
+  // Built beside the destination and moved into place at the end, so a failure leaves
+  // whatever model was there before.
+  const fs::path staged = options.out_dir + ".partial";
+  std::error_code ec;
+  fs::remove_all(staged, ec);
+  std::string error = WriteModel(model, options, work, staged);
+  if (error.empty()) {
+    fs::remove_all(options.out_dir, ec);
+    fs::rename(staged, options.out_dir, ec);
+    if (ec) error = "cannot move the adapted model to " + options.out_dir + ": " + ec.message();
+  }
+  fs::remove_all(staged, ec);
+  return error;
 }
 
 }  // namespace
@@ -353,7 +388,8 @@ bool AdaptationOptions::Check(std::string* error) const {
     return false;
   };
   if (out_dir.empty()) return fail("no folder given for the adapted model");
-  if (fs::exists(out_dir) && fs::equivalent(out_dir, model_dir)) {
+  std::error_code ec;
+  if (fs::exists(out_dir, ec) && fs::equivalent(out_dir, model_dir, ec)) {
     return fail("the adapted model must not replace the model it adapts (" + model_dir + ")");
   }
   if (!fs::is_directory(fs::path(model_dir) / "en-us")) {

@@ -89,6 +89,11 @@ TEST_F(AdaptationTest, RefusesWhatCannotBeAdaptedAndLeavesNoModel) {
   AdaptationOptions no_model = Options();
   no_model.model_dir = (dir_ / "nowhere").string();
   expect_refused(Commands(12), no_model, "no acoustic model folder");
+  // A model already in the destination survives a failed adaptation.
+  fs::create_directories(dir_ / "adapted");
+  std::ofstream(dir_ / "adapted/marker") << "previous model";
+  EXPECT_FALSE(AdaptModel(unknown, Options()).ok());
+  EXPECT_EQ(ReadAll(dir_ / "adapted/marker"), "previous model");
   AdaptationOptions in_place;
   in_place.out_dir = in_place.model_dir;
   EXPECT_NE(AdaptModel(Commands(12), in_place).error.find("must not replace"), std::string::npos);
