@@ -62,7 +62,10 @@ int main(int argc, char** argv) {
           f.count("wav-interval-ms") ? f["wav-interval-ms"].as<int>() : 1000);
       if (f.count("min-confidence"))
         listen.recognizer.min_confidence = f["min-confidence"].as<double>();
-      if (f.count("model-dir")) listen.recognizer.model_dir = f["model-dir"].as<std::string>();
+      // An operator's adapted model (igms-voice-adapt) is named here or in the lab file.
+      listen.recognizer.model_dir =
+          f.count("model-dir") ? f["model-dir"].as<std::string>()
+                               : process->Get<std::string>("model_dir", listen.recognizer.model_dir);
       if (!listen.Check(&error)) {
         spdlog::error("{}", error);
         return 2;

@@ -12,6 +12,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <fstream>
 #include <thread>
 #include <vector>
 
@@ -23,6 +24,10 @@ inline std::string TempPath(const std::string& name) {
           ("igms-test-" + name + "-" + std::to_string(::getpid()) + "-" +
            std::to_string(++counter)))
       .string();
+}
+
+inline void WriteFile(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
 }
 
 // Polls `done` every 2 ms until it holds or `timeout` passes; returns its last value.

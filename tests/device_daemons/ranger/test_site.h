@@ -64,8 +64,4 @@ inline std::string TestSceneYaml() {
   return y.str();
 }
 
-inline void WriteFile(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
-}
-
 }  // namespace igms::devices::testing

@@ -175,6 +175,15 @@ TEST(VoiceDaemon, RecogniserGrammarFollowsTheStateRequest) {
   // The recogniser with no input of its own: spoken phrases come from the sim service.
   const std::string wav = testing::TempPath("freeze.wav");
   ASSERT_EQ(std::system(("espeak-ng -v en-us -w " + wav + " freeze").c_str()), 0);
+  // The lab file's model_dir (an operator's adapted model) reaches the recogniser: a folder
+  // that holds no model is named in the error.
+  const std::string lab = testing::TempPath("voice-lab.yaml");
+  testing::WriteFile(lab, "processes:\n"
+                          "  voice: {program: igms-voiced, host: 127.0.0.1, port: 0,\n"
+                          "          model_dir: /nonexistent/igms-model}\n");
+  DaemonProcess no_model("igms-voiced", {"--config", lab, "--name", "voice", "--wav", wav});
+  EXPECT_NE(no_model.WaitExit(), 0);
+  EXPECT_NE(no_model.Log().find("/nonexistent/igms-model"), std::string::npos) << no_model.Log();
   DaemonProcess recogniser("igms-voiced", {"--wav", wav, "--wav-interval-ms", "0", "--port", "0"});
   const uint16_t port = recogniser.WaitForPort(60s);
   ASSERT_NE(port, 0) << recogniser.Log();
