@@ -25,13 +25,17 @@ namespace {
 
 constexpr int kMinUtterances = 10;
 
+// The words of a transcript, lower case; punctuation other than apostrophes separates them
+// ("Move the pointer, please." is what an operator's list may well say).
 std::vector<std::string> Words(const std::string& text) {
-  std::istringstream in(text);
-  std::vector<std::string> out;
-  for (std::string w; in >> w;) {
-    std::transform(w.begin(), w.end(), w.begin(), [](unsigned char c) { return std::tolower(c); });
-    out.push_back(w);
+  std::string cleaned = text;
+  for (char& c : cleaned) {
+    const auto u = static_cast<unsigned char>(c);
+    c = std::isalpha(u) || c == '\'' ? static_cast<char>(std::tolower(u)) : ' ';
   }
+  std::istringstream in(cleaned);
+  std::vector<std::string> out;
+  for (std::string w; in >> w;) out.push_back(w);
   return out;
 }
 

@@ -77,6 +77,10 @@ TEST_F(AdaptationTest, RefusesWhatCannotBeAdaptedAndLeavesNoModel) {
   auto unknown = Commands(12);
   unknown[4].text = "freeze qxzvbn";
   expect_refused(unknown, Options(), "no pronunciation for 'qxzvbn'");
+  // Capitals and punctuation are not words; an unknown word still is.
+  auto punctuated = Commands(12);
+  punctuated[5].text = "Freeze, qxzvbn!";
+  expect_refused(punctuated, Options(), "no pronunciation for 'qxzvbn'");
   auto silent = Commands(12);
   silent[2].text = "  ";
   expect_refused(silent, Options(), "utterance 3 has no transcript");
@@ -139,6 +143,11 @@ TEST_F(AdaptationTest, TheToolAdaptsFromRecordingsAndTheDecoderUsesTheResult) {
                  (dir_ / "bad.txt").string())
                 .status,
             1);
+  EXPECT_TRUE(fs::exists(out / "en-us/means"));
+  // No capture device: a clear error and status 1, no hang.
+  const Result no_microphone = Exec("ALSOFT_DRIVERS=null " + Bin("igms-voice-adapt") + " --out " +
+                                    out.string() + " --record");
+  EXPECT_EQ(no_microphone.status, 1) << no_microphone.out;
   EXPECT_TRUE(fs::exists(out / "en-us/means"));
 }
 
