@@ -6,6 +6,7 @@
 //   igms-voice-adapt --out DIR --list FILE                 recordings: "FILE<TAB>what was said"
 //   igms-voice-adapt --out DIR --espeak VOICE:WPM ...      espeak-ng says the prompts
 //   igms-voice-adapt --print-prompts                       the prompts, one a line
+// --prompts FILE (one a line) replaces the built-in prompts for --record and --espeak.
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -57,7 +58,8 @@ std::optional<std::vector<AdaptationUtterance>> ReadList(const std::string& path
 }
 
 // Prompts each sentence and keeps the first utterance heard after it (up to 15 s each).
-std::optional<std::vector<AdaptationUtterance>> Record(const std::string& device) {
+std::optional<std::vector<AdaptationUtterance>> Record(const std::string& device,
+                                                       const std::vector<std::string>& prompts) {
   std::string error;
   auto mic = Microphone::Open(device, &error);
   if (!mic) {
@@ -65,7 +67,6 @@ std::optional<std::vector<AdaptationUtterance>> Record(const std::string& device
     return std::nullopt;
   }
   std::vector<AdaptationUtterance> out;
-  const auto& prompts = EnrolmentPrompts();
   for (size_t i = 0; i < prompts.size() && !g_stop; ++i) {
     std::cout << "[" << i + 1 << "/" << prompts.size() << "] say: " << prompts[i] << std::endl;
     Endpointer endpointer;
@@ -92,7 +93,8 @@ std::optional<std::vector<AdaptationUtterance>> Record(const std::string& device
   return out;
 }
 
-std::optional<std::vector<AdaptationUtterance>> Espeak(const std::vector<std::string>& specs) {
+std::optional<std::vector<AdaptationUtterance>> Espeak(const std::vector<std::string>& specs,
+                                                       const std::vector<std::string>& prompts) {
   std::vector<Voice> voices;
   for (const std::string& spec : specs) {
     const size_t colon = spec.rfind(':');
@@ -108,7 +110,7 @@ std::optional<std::vector<AdaptationUtterance>> Espeak(const std::vector<std::st
     voices.push_back(voice);
   }
   std::string error;
-  auto out = SynthesizeEnrolment(voices, &error);
+  auto out = SynthesizeEnrolment(voices, &error, prompts);
   if (!out) spdlog::error("{}", error);
   return out;
 }
@@ -118,7 +120,7 @@ std::optional<std::vector<AdaptationUtterance>> Espeak(const std::vector<std::st
 int main(int argc, char** argv) try {
   spdlog::set_default_logger(spdlog::stderr_color_mt("igms-voice-adapt"));
   AdaptationOptions options;
-  std::string list, device;
+  std::string list, device, prompts_file;
   std::vector<std::string> espeak;
   po::options_description desc("igms-voice-adapt: adapt the recogniser to a speaker");
   desc.add_options()("help,h", "this help")(
@@ -133,6 +135,7 @@ int main(int argc, char** argv) try {
       po::value(&options.sphinxtrain_dir)->default_value(options.sphinxtrain_dir),
       "where sphinxtrain's bw and map_adapt are")(
       "keep-work", po::value(&options.work_dir), "keep features, counts and logs here")(
+      "prompts", po::value(&prompts_file), "prompts to read, one a line, instead of the built-in")(
       "print-prompts", "print the enrolment prompts and exit");
   po::variables_map vm;
   po::store(po::parse_command_line(argc, argv, desc), vm);
@@ -141,8 +144,20 @@ int main(int argc, char** argv) try {
     std::cout << desc << "\n";
     return 0;
   }
+  std::vector<std::string> prompts = EnrolmentPrompts();
+  if (!prompts_file.empty()) {
+    std::ifstream in(prompts_file);
+    prompts.clear();
+    for (std::string line; std::getline(in, line);) {
+      if (line.find_first_not_of(" \t") != std::string::npos) prompts.push_back(line);
+    }
+    if (prompts.empty()) {
+      spdlog::error("no prompts in {}", prompts_file);
+      return 2;
+    }
+  }
   if (vm.count("print-prompts")) {
-    for (const std::string& p : EnrolmentPrompts()) std::cout << p << "\n";
+    for (const std::string& p : prompts) std::cout << p << "\n";
     return 0;
   }
   const int sources = int(vm.count("record")) + int(!list.empty()) + int(!espeak.empty());
@@ -158,8 +173,8 @@ int main(int argc, char** argv) try {
   std::signal(SIGINT, [](int) { g_stop = 1; });
   std::signal(SIGTERM, [](int) { g_stop = 1; });
   const auto utterances = !list.empty()      ? ReadList(list)
-                          : !espeak.empty() ? Espeak(espeak)
-                                            : Record(device);
+                          : !espeak.empty() ? Espeak(espeak, prompts)
+                                            : Record(device, prompts);
   if (!utterances) return 1;
   const AdaptationReport report = AdaptModel(*utterances, options);
   if (!report.ok()) {

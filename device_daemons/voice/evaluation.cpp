@@ -209,10 +209,11 @@ std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
 }
 
 std::optional<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
-    const std::vector<Voice>& voices, std::string* error) {
+    const std::vector<Voice>& voices, std::string* error,
+    const std::vector<std::string>& prompts) {
   std::vector<AdaptationUtterance> out;
   for (const Voice& voice : voices) {
-    for (const std::string& prompt : EnrolmentPrompts()) {
+    for (const std::string& prompt : prompts) {
       auto audio = Synthesize({prompt, voice.name, voice.words_per_minute}, error);
       if (!audio) return std::nullopt;
       out.push_back({std::move(*audio), prompt});

@@ -78,10 +78,11 @@ struct EvaluationReport {
 std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
                                          const std::vector<CorpusItem>& corpus, std::string* error);
 
-// Synthetic enrolment: every enrolment prompt (adaptation.h) said in each of `voices`, for
-// adapting the model to espeak-ng's speech as an operator's enrolment adapts it to theirs.
-// nullopt, with *error set, when espeak-ng fails.
+// Synthetic enrolment: every prompt (by default the enrolment prompts, adaptation.h) said in
+// each of `voices`, for adapting the model to espeak-ng's speech as an operator's enrolment
+// adapts it to theirs. nullopt, with *error set, when espeak-ng fails.
 std::optional<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
-    const std::vector<Voice>& voices, std::string* error);
+    const std::vector<Voice>& voices, std::string* error,
+    const std::vector<std::string>& prompts = EnrolmentPrompts());
 
 }  // namespace igms::voice

@@ -11,8 +11,12 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <thread>
 
+#include "device_daemons/voice/command_language.h"
 #include "device_daemons/voice/speech_synth.h"
+#include "tests/device_daemons/voice/pulse_sink.h"
+#include "tests/support/child_process.h"
 
 namespace igms::voice {
 namespace {
@@ -148,6 +152,44 @@ TEST_F(AdaptationTest, TheToolAdaptsFromRecordingsAndTheDecoderUsesTheResult) {
   const Result no_microphone = Exec("ALSOFT_DRIVERS=null " + Bin("igms-voice-adapt") + " --out " +
                                     out.string() + " --record");
   EXPECT_EQ(no_microphone.status, 1) << no_microphone.out;
+  EXPECT_TRUE(fs::exists(out / "en-us/means"));
+}
+
+// --record for real: the prompts (here the eleven commands, from --prompts) are said one
+// after another into a PulseAudio null sink whose monitor is the capture device.
+TEST_F(AdaptationTest, RecordsEachPromptFromTheMicrophone) {
+  ASSERT_TRUE(testing::PulseSink::ToolsPresent()) << "deploy/install-deps.sh installs them";
+  testing::PulseSink sink;
+  ASSERT_TRUE(sink.WaitReady()) << sink.Log();
+  std::vector<std::string> phrases;
+  std::ofstream prompts(dir_ / "prompts.txt");
+  for (const CommandInfo& info : AllCommands()) {
+    phrases.emplace_back(info.phrase);
+    prompts << info.phrase << '\n';
+    const fs::path wav = dir_ / (std::to_string(phrases.size()) + ".wav");
+    ASSERT_EQ(Exec("espeak-ng -v en-us+m3 -s 170 -w " + wav.string() + " '" +
+                   std::string(info.phrase) + "'")
+                  .status,
+              0);
+  }
+  prompts.close();
+  const fs::path out = dir_ / "recorded";
+  testing::ChildProcess adapt("igms-voice-adapt", {"--out", out.string(), "--record", "--prompts",
+                                                   (dir_ / "prompts.txt").string()});
+  for (size_t i = 0; i < phrases.size(); ++i) {
+    const std::string prompt = "[" + std::to_string(i + 1) + "/" + std::to_string(phrases.size()) +
+                               "] say: " + phrases[i];
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (adapt.Output().find(prompt) == std::string::npos && !adapt.Exited() &&
+           std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ASSERT_NE(adapt.Output().find(prompt), std::string::npos) << adapt.Output() << adapt.Log();
+    ASSERT_TRUE(sink.Play((dir_ / (std::to_string(i + 1) + ".wav")).string())) << sink.Log();
+  }
+  ASSERT_EQ(adapt.Wait(std::chrono::seconds(120)), 0) << adapt.Output() << adapt.Log();
+  EXPECT_NE(adapt.Log().find("adapted to 11 utterances"), std::string::npos) << adapt.Log();
+  EXPECT_EQ(adapt.Output().find("nothing heard"), std::string::npos) << adapt.Output();
   EXPECT_TRUE(fs::exists(out / "en-us/means"));
 }
 

@@ -9,6 +9,7 @@
 #include "igms/devices.pb.h"
 #include "tests/device_daemons/daemons/daemon_process.h"
 #include "tests/device_daemons/test_util.h"
+#include "tests/device_daemons/voice/pulse_sink.h"
 
 namespace igms::devices {
 namespace {
@@ -222,36 +223,21 @@ TEST(VoiceDaemon, RecogniserGrammarFollowsTheStateRequest) {
   std::filesystem::remove(wav);
 }
 
-// The microphone path for real. A private PulseAudio server with a null sink stands in for
-// the sound card: the sink's monitor is the capture device OpenAL opens, and paplay speaks
-// espeak-ng's words into the sink, as a person would speak into a microphone.
+// The microphone path for real (pulse_sink.h): espeak-ng's words played into a private
+// PulseAudio server's null sink, whose monitor the daemon captures.
 TEST(VoiceDaemon, HearsCommandsThroughAMicrophone) {
-  for (const char* tool : {"/usr/bin/pulseaudio", "/usr/bin/paplay"})
-    ASSERT_TRUE(std::filesystem::exists(tool))
-        << tool << " is missing: deploy/install-deps.sh installs pulseaudio and pulseaudio-utils";
-  igms::testing::ScratchDir scratch;
-  std::filesystem::permissions(scratch.path(), std::filesystem::perms::owner_all,
-                               std::filesystem::perm_options::replace);
-  const std::string socket = scratch.File("pulse.socket");
-  // The server and every client of it (the daemon, paplay) find each other here, and
-  // nothing of the machine's own sound setup is used.
-  setenv("PULSE_SERVER", ("unix:" + socket).c_str(), 1);
-  setenv("PULSE_RUNTIME_PATH", scratch.path().c_str(), 1);
-  setenv("XDG_RUNTIME_DIR", scratch.path().c_str(), 1);
-  setenv("ALSOFT_DRIVERS", "pulse", 1);
-  igms::testing::ChildProcess pulse(
-      "/usr/bin/pulseaudio",
-      {"-n", "--daemonize=no", "--exit-idle-time=-1", "--disallow-exit", "--log-target=stderr",
-       "-L", "module-native-protocol-unix socket=" + socket + " auth-anonymous=1", "-L",
-       "module-null-sink sink_name=igms_lab rate=16000 channels=1"});
-  ASSERT_TRUE(WaitFor([&] { return std::filesystem::exists(socket); }, 20s)) << pulse.Log();
+  ASSERT_TRUE(igms::testing::PulseSink::ToolsPresent())
+      << "pulseaudio or paplay is missing: deploy/install-deps.sh installs pulseaudio and "
+         "pulseaudio-utils";
+  igms::testing::PulseSink sink;
+  ASSERT_TRUE(sink.WaitReady()) << sink.Log();
 
-  const std::string freeze = scratch.File("freeze.wav"), range = scratch.File("range.wav");
+  const std::string freeze = sink.File("freeze.wav"), range = sink.File("range.wav");
   ASSERT_EQ(std::system(("espeak-ng -v en-us -w " + freeze + " freeze").c_str()), 0);
   ASSERT_EQ(std::system(("espeak-ng -v en-us -w " + range + " range").c_str()), 0);
   DaemonProcess daemon("igms-voiced", {"--microphone", "--port", "0"});
   const uint16_t port = daemon.WaitForPort(60s);
-  ASSERT_NE(port, 0) << daemon.Log() << pulse.Log();
+  ASSERT_NE(port, 0) << daemon.Log() << sink.Log();
   Connected client(port);
   testing::Collected<VoiceState> got;
   client->Subscribe<VoiceState>("igms.devices.VoiceService.Live", SubscribeRequest(),
@@ -265,7 +251,7 @@ TEST(VoiceDaemon, HearsCommandsThroughAMicrophone) {
   auto hear = [&](const std::string& wav, VoiceCommand want) {
     const size_t before = got.size();
     for (int attempt = 0; attempt < 3; ++attempt) {
-      if (std::system(("/usr/bin/paplay --device=igms_lab " + wav).c_str()) != 0) return false;
+      if (!sink.Play(wav)) return false;
       if (WaitFor([&] { return got.size() > before; }, 5s))
         return got.size() == before + 1 && got.last().command() == want;
     }
@@ -278,14 +264,11 @@ TEST(VoiceDaemon, HearsCommandsThroughAMicrophone) {
 
   // The sound server going away is the microphone unplugged: the daemon says so and keeps
   // serving, and no command is made up.
-  pulse.Terminate();
+  sink.Stop();
   EXPECT_TRUE(WaitFor([&] { return StatusOf(client).state() == REOPENING; }, 30s))
       << StatusOf(client).message() << daemon.Log();
   EXPECT_EQ(got.size(), 2u);
   EXPECT_FALSE(daemon.Exited()) << daemon.Log();
-  for (const char* name : {"PULSE_SERVER", "PULSE_RUNTIME_PATH", "XDG_RUNTIME_DIR",
-                           "ALSOFT_DRIVERS"})
-    unsetenv(name);
 }
 
 }  // namespace
