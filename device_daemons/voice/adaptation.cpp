@@ -328,14 +328,16 @@ std::string Adapt(const std::vector<AdaptationUtterance>& utterances,
   if (std::string e = Count(model, options.sphinxtrain_dir, work); !e.empty()) return e;
   // Built beside the destination and moved into place at the end, so a failure leaves
   // whatever model was there before.
-  const fs::path staged = options.out_dir + ".partial";
+  fs::path out = fs::absolute(options.out_dir).lexically_normal();
+  if (!out.has_filename()) out = out.parent_path();  // "DIR/": the staging folder beside DIR
+  const fs::path staged = out.string() + ".partial";
   std::error_code ec;
   fs::remove_all(staged, ec);
   std::string error = WriteModel(model, options, work, staged);
   if (error.empty()) {
-    fs::remove_all(options.out_dir, ec);
-    fs::rename(staged, options.out_dir, ec);
-    if (ec) error = "cannot move the adapted model to " + options.out_dir + ": " + ec.message();
+    fs::remove_all(out, ec);
+    fs::rename(staged, out, ec);
+    if (ec) error = "cannot move the adapted model to " + out.string() + ": " + ec.message();
   }
   fs::remove_all(staged, ec);
   return error;
