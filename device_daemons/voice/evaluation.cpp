@@ -138,7 +138,6 @@ std::string EvaluationReport::Lines(bool all) const {
         << " (heard \"" << r.recognition.hypothesis << "\", confidence " << r.recognition.confidence
         << ", score " << r.recognition.score_per_frame << ", uncovered "
         << r.recognition.uncovered_speech_ms << " ms, agreement " << r.recognition.agreement
-        << (r.recognition.english.empty() ? "" : ", English \"" + r.recognition.english + "\"")
         << ")\n";
   }
   return out.str();

@@ -140,18 +140,11 @@ struct Recognizer::Impl {
       if (error) *error = "cannot load the pocketsphinx acoustic model from " + hmm;
       return false;
     }
-    // Phone tokens go into the dictionary only; with the English check on, the command
-    // words the dictionary lacks also become unigrams of the English model, which must
-    // then be the current search when they are added.
+    // Phone tokens and the command words go into the dictionary only.
     std::vector<Pronunciation> phones;
     for (const std::string& phone : ModelPhones()) phones.push_back({PhoneToken(phone), {phone}});
     if (!AddWords(phones, FALSE, error)) return false;
     const std::string lm_path = options.model_dir + "/en-us.lm.bin";
-    if (options.english_check && (ps_set_lm_file(decoder, "english", lm_path.c_str()) < 0 ||
-                                  ps_set_search(decoder, "english") < 0)) {
-      if (error) *error = "cannot load the language model " + lm_path;
-      return false;
-    }
     if (!AddWords(CommandPronunciations(), TRUE, error)) return false;
     if (!AddWords(AlternativePronunciations(), TRUE, error)) return false;
     // The general English model ranks dictionary words by how common they are.
@@ -184,7 +177,6 @@ struct Recognizer::Impl {
       if (error) *error = "cannot load the phone language model " + phone_lm;
       return false;
     }
-    if (options.english_check) English(warm_up_samples());
     // The first decode of each search builds its tables (about two seconds); do it now so
     // the operator's first command is not the slow one.
     const std::vector<int16_t> warm_up(kModelSampleRate / 2, 0);
@@ -226,24 +218,6 @@ struct Recognizer::Impl {
       if (db[f] > floor && (f < first - 2 || f > last + 2)) ++uncovered;
     }
     return uncovered * 10.0;
-  }
-
-  static std::vector<int16_t> warm_up_samples() {
-    return std::vector<int16_t>(kModelSampleRate / 2, 0);
-  }
-
-  // The general English decoding of the utterance: its words, fillers left out.
-  std::string English(std::span<const int16_t> samples) {
-    ps_set_search(decoder, "english");
-    ps_start_utt(decoder);
-    ps_process_raw(decoder, samples.data(), samples.size(), FALSE, TRUE);
-    ps_end_utt(decoder);
-    std::vector<std::string> words;
-    for (ps_seg_t* seg = ps_seg_iter(decoder); seg; seg = ps_seg_next(seg)) {
-      const std::string word = BaseWord(ps_seg_word(seg));
-      if (!IsFiller(word)) words.push_back(word);
-    }
-    return Join(words);
   }
 
   struct Span {
@@ -323,12 +297,6 @@ struct Recognizer::Impl {
             (1.0 + std::exp(-(r.score_per_frame - options.score_offset) / options.score_scale));
       }
     }
-    if (options.english_check && tokens.size() == 1 && CommandFromToken(tokens[0])) {
-      r.english = English(samples);
-      std::string phrase = tokens[0];
-      std::replace(phrase.begin(), phrase.end(), '_', ' ');
-      r.english_match = r.english == phrase;
-    }
     r.hypothesis = Join(tokens);
     Classify(tokens, r);
     // Only a command that passed every other test is decoded again (it costs a decode each).
@@ -371,9 +339,6 @@ struct Recognizer::Impl {
       r.reason = RejectReason::kUnexplainedSpeech;
       why << "\"" << Phrase(*command) << "\" leaves " << r.uncovered_speech_ms
           << " ms of speech unexplained";
-    } else if (options.english_check && !r.english_match) {
-      r.reason = RejectReason::kLowConfidence;
-      why << "\"" << Phrase(*command) << "\" heard as \"" << r.english << "\" in English";
     } else if (r.confidence < options.min_confidence) {
       r.reason = RejectReason::kLowConfidence;
       why << "\"" << Phrase(*command) << "\" confidence " << r.confidence << " is below "

@@ -56,10 +56,6 @@ struct RecognizerOptions {
   // and silence. Tuned on the tuning voices.
   double max_uncovered_speech_ms = 100.0;
   double speech_floor_db = 35.0;  // "speech" for the above: within this of the loudest frame
-  // Second opinion from general English: the utterance is also decoded with the en-us
-  // n-gram language model (the three commands missing from it added), and a command is
-  // accepted only when that decoding is the command's words too (english_match).
-  bool english_check = false;
   // More pocketsphinx arguments, in pairs ("-beam", "1e-40"); one the recogniser also sets
   // replaces the built-in value.
   std::vector<std::string> decoder_args;
@@ -94,11 +90,9 @@ struct Recognition {
   double score_per_frame = 0.0;  // command minus phone loop, pocketsphinx's scaled log units
   double audio_seconds = 0.0;
   double decode_ms = 0.0;  // wall time spent decoding
-  std::string english;     // the general English decoding, when english_check is on
   // Speech (10 ms frames within 35 dB of the loudest) outside the command word's frames:
   // what the decoder had to explain as silence or noise.
   double uncovered_speech_ms = 0.0;
-  bool english_match = false;
   // Length of the command word's frames; 0 unless the best path is one word.
   double command_ms = 0.0;
   // How many of the perturbed decodings gave the same command (step 5); -1 when not tried.
