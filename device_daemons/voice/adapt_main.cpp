@@ -67,7 +67,9 @@ std::optional<std::vector<AdaptationUtterance>> Record(const std::string& device
     return std::nullopt;
   }
   std::vector<AdaptationUtterance> out;
-  for (size_t i = 0; i < prompts.size() && !g_stop; ++i) {
+  // A prompt is asked again until something is heard after it.
+  while (out.size() < prompts.size() && !g_stop) {
+    const size_t i = out.size();
     std::cout << "[" << i + 1 << "/" << prompts.size() << "] say: " << prompts[i] << std::endl;
     Endpointer endpointer;
     std::vector<int16_t> samples;
@@ -82,12 +84,11 @@ std::optional<std::vector<AdaptationUtterance>> Record(const std::string& device
       for (auto& utterance : endpointer.Feed(samples)) heard = std::move(utterance);
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    if (!heard) {
-      if (!g_stop) std::cout << "  nothing heard; again" << std::endl;
-      --i;
-      continue;
+    if (heard) {
+      out.push_back({Audio{std::move(*heard)}, prompts[i]});
+    } else if (!g_stop) {
+      std::cout << "  nothing heard; again" << std::endl;
     }
-    out.push_back({Audio{std::move(*heard)}, prompts[i]});
   }
   if (g_stop) return std::nullopt;
   return out;

@@ -39,6 +39,14 @@ bool WaitUntil(Done done, std::chrono::milliseconds limit = std::chrono::seconds
   return done();
 }
 
+// A shell command line run to its end: its exit status (-1 when it could not run or was
+// killed) and its stdout. Add " 2>&1" to the line to capture stderr as well.
+struct ShellRun {
+  int status = -1;
+  std::string out;
+};
+ShellRun RunShell(const std::string& command);
+
 // A folder of its own under the system's temporary folder, removed with everything in it
 // when destroyed.
 class ScratchDir {

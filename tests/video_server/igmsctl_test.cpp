@@ -1,8 +1,6 @@
 // The video server driven by igmsctl, the lab's generic fake client, as an operator would.
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
 #include <regex>
 
 #include "tests/video_server/server_process.h"
@@ -22,15 +20,8 @@ struct CtlRun {
 CtlRun Igmsctl(uint16_t port, const std::string& args) {
   const std::string command = testing::BinDir() + "/igmsctl -p " + std::to_string(port) + " " +
                               args + " 2>&1";
-  CtlRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 4096> buffer{};
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  const igms::testing::ShellRun run = igms::testing::RunShell(command);
+  return {run.status, run.out};
 }
 
 TEST(VideoServerWithIgmsctl, GrabEdgesOverlayAndLive) {

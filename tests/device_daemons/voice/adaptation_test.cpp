@@ -5,8 +5,6 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -23,24 +21,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  std::string out;
-  int status = -1;
-};
+using Result = testing::ShellRun;
 
 // Runs a shell command; its stderr joins stdout unless `log` is false (then it is dropped).
 Result Exec(const std::string& command, bool log = true) {
-  Result run;
-  FILE* pipe = popen((command + (log ? " 2>&1" : " 2>/dev/null")).c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 256> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe)) run.out += buffer.data();
-  const int status = pclose(pipe);
-  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  return testing::RunShell(command + (log ? " 2>&1" : " 2>/dev/null"));
 }
 
-std::string Bin(const char* name) { return std::string(std::getenv("IGMS_BIN_DIR")) + "/" + name; }
+std::string Bin(const char* name) { return testing::BinDir() + "/" + name; }
 
 std::string ReadAll(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -1,31 +1,20 @@
 // igms-voice-decode as a process: sound files and state switches in, two-digit codes out.
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
 
+#include "tests/support/child_process.h"
+
 namespace {
 
-std::string Bin() { return std::string(std::getenv("IGMS_BIN_DIR")) + "/igms-voice-decode"; }
+std::string Bin() { return igms::testing::BinDir() + "/igms-voice-decode"; }
 
-struct Result {
-  std::string out;
-  int status = -1;
-};
+using Result = igms::testing::ShellRun;
 
-Result Exec(const std::string& command) {
-  Result run;
-  FILE* pipe = popen((command + " 2>/dev/null").c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 256> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe)) run.out += buffer.data();
-  const int status = pclose(pipe);
-  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
+// The program's log (stderr) is dropped: stdout carries the codes alone.
+Result Exec(const std::string& command) { return igms::testing::RunShell(command + " 2>/dev/null"); }
 
 class VoicedTest : public ::testing::Test {
  protected:
