@@ -15,6 +15,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev clang-14 libclang-rt-14-dev
   # run time: headless windows, sound, speech, serial ports, namespaces, real test images
   xvfb xauth libgl1-mesa-dri espeak-ng sox socat iproute2 procps opencv-doc python3
+  # a second speech synthesiser: the recogniser's test voices that were never tuned on
+  flite
   # a sound server with a null sink: the microphone tests' capture device
   pulseaudio pulseaudio-utils
 )

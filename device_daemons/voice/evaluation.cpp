@@ -2,10 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 
 namespace igms::voice {
+namespace {
+
+std::string VoiceLabel(const SpeechRequest& speech) {
+  return speech.synthesizer == Synthesizer::kEspeakNg ? speech.voice : "flite:" + speech.voice;
+}
+
+}  // namespace
 
 const std::vector<Voice>& TuningVoices() {
   // Two accents and two variants at two speeds were the first tuning set; the other eight
@@ -53,16 +61,27 @@ const std::vector<Voice>& TestVoices() {
   return voices;
 }
 
+const std::vector<Voice>& FliteTestVoices() {
+  // flite's 16 kHz voices: a US female (slt), a Scottish male (awb), a US male (rms) and a
+  // US male diphone voice (kal16), at speeds other than the enrolment's 175 wpm.
+  static const std::vector<Voice> voices = {{"slt", 150, Synthesizer::kFlite},
+                                            {"awb", 190, Synthesizer::kFlite},
+                                            {"rms", 160, Synthesizer::kFlite},
+                                            {"kal16", 210, Synthesizer::kFlite}};
+  return voices;
+}
+
 const std::vector<std::string>& TestWords() {
-  // 25 near misses (sound like a command) and 27 unrelated words and phrases.
+  // 24 near misses (sound like a command) and 28 unrelated words and phrases. No homophone
+  // of a command: "frees" (F R IY Z, as "freeze") was one until it was replaced by "pencil".
   static const std::vector<std::string> words = {
-      "frees",    "fries",     "freed",     "three",    "cheese",    "strange",   "change",
-      "arrange",  "rain",      "refreeze",  "park",     "dark",      "marker",    "marking",
-      "unpack",   "fox",       "socks",     "calendar", "slender",   "salad",     "valid",
-      "fireman",  "removal",   "pointer",   "modeling", "computer",  "camera",    "video",
-      "joystick", "banana",    "elephant",  "window",   "seventeen", "eleven",    "forty",
-      "green",    "orange",    "water",     "coffee",   "morning",   "station",   "robot",
-      "system",   "again",     "okay",      "maybe",    "never",     "ready",     "finish",
+      "pencil",    "fries",      "freed",          "three",    "cheese",    "strange", "change",
+      "arrange",   "rain",       "refreeze",       "park",     "dark",      "marker",  "marking",
+      "unpack",    "fox",        "socks",          "calendar", "slender",   "salad",   "valid",
+      "fireman",   "removal",    "pointer",        "modeling", "computer",  "camera",  "video",
+      "joystick",  "banana",     "elephant",       "window",   "seventeen", "eleven",  "forty",
+      "green",     "orange",     "water",          "coffee",   "morning",   "station", "robot",
+      "system",    "again",      "okay",           "maybe",    "never",     "ready",   "finish",
       "thank you", "good night", "what time is it"};
   return words;
 }
@@ -74,7 +93,7 @@ std::vector<CorpusItem> BuildCorpus(const std::vector<Voice>& voices,
   for (const Voice& voice : voices) {
     for (const CommandInfo& info : AllCommands()) {
       CorpusItem item;
-      item.speech = {std::string(info.phrase), voice.name, voice.words_per_minute};
+      item.speech = voice.Say(std::string(info.phrase));
       item.expected = info.command;
       for (OperatorState s : AllStates()) {
         if (IsValid(s, info.command)) {
@@ -91,11 +110,20 @@ std::vector<CorpusItem> BuildCorpus(const std::vector<Voice>& voices,
     for (int i = 0; i < oov_voices_per_word; ++i) {
       const Voice& voice = voices[next_voice++ % voices.size()];
       CorpusItem item;
-      item.speech = {word, voice.name, voice.words_per_minute};
+      item.speech = voice.Say(word);
       corpus.push_back(item);
     }
   }
   return corpus;
+}
+
+void EvaluationReport::Append(const EvaluationReport& other) {
+  commands += other.commands;
+  recognised += other.recognised;
+  out_of_vocabulary += other.out_of_vocabulary;
+  false_accepts += other.false_accepts;
+  decode_ms.insert(decode_ms.end(), other.decode_ms.begin(), other.decode_ms.end());
+  results.insert(results.end(), other.results.begin(), other.results.end());
 }
 
 double EvaluationReport::decode_ms_quantile(double q) const {
@@ -130,7 +158,7 @@ std::string EvaluationReport::Lines(bool all) const {
   for (const ItemResult& r : results) {
     if (r.correct && !all) continue;
     out << (r.correct ? "  ok " : "  WRONG ");
-    out << "  \"" << r.item.speech.text << "\" " << r.item.speech.voice << " "
+    out << "  \"" << r.item.speech.text << "\" " << VoiceLabel(r.item.speech) << " "
         << r.item.speech.words_per_minute << " wpm in " << StateName(r.item.state) << ": "
         << (r.recognition.accepted
                 ? "accepted as \"" + std::string(Phrase(*r.recognition.command)) + "\""
@@ -149,12 +177,12 @@ std::string EvaluationReport::Csv() const {
          "uncovered_ms,command_ms,agreement,audio_s,decode_ms\n";
   for (const ItemResult& r : results) {
     const Recognition& g = r.recognition;
-    out << r.item.speech.text << "," << r.item.speech.voice << "," << r.item.speech.words_per_minute
-        << "," << StateName(r.item.state) << ","
-        << (r.item.expected ? CommandToken(*r.item.expected) : std::string()) << ","
-        << g.hypothesis << "," << g.accepted << "," << RejectReasonName(g.reason) << ","
-        << g.confidence << "," << g.score_per_frame << "," << g.uncovered_speech_ms << ","
-        << g.command_ms << "," << g.agreement << "," << g.audio_seconds << "," << g.decode_ms << "\n";
+    out << r.item.speech.text << "," << VoiceLabel(r.item.speech) << ","
+        << r.item.speech.words_per_minute << "," << StateName(r.item.state) << ","
+        << (r.item.expected ? CommandToken(*r.item.expected) : std::string()) << "," << g.hypothesis
+        << "," << g.accepted << "," << RejectReasonName(g.reason) << "," << g.confidence << ","
+        << g.score_per_frame << "," << g.uncovered_speech_ms << "," << g.command_ms << ","
+        << g.agreement << "," << g.audio_seconds << "," << g.decode_ms << "\n";
   }
   return out.str();
 }
@@ -213,12 +241,44 @@ std::optional<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
   std::vector<AdaptationUtterance> out;
   for (const Voice& voice : voices) {
     for (const std::string& prompt : prompts) {
-      auto audio = Synthesize({prompt, voice.name, voice.words_per_minute}, error);
+      auto audio = Synthesize(voice.Say(prompt), error);
       if (!audio) return std::nullopt;
       out.push_back({std::move(*audio), prompt});
     }
   }
   return out;
+}
+
+std::optional<EvaluationReport> EvaluateEnrolled(const std::vector<Voice>& voices,
+                                                 const std::vector<std::string>& out_of_vocabulary,
+                                                 int enrolment_wpm,
+                                                 const RecognizerOptions& options,
+                                                 const std::string& work_dir, std::string* error) {
+  EvaluationReport all;
+  for (const Voice& voice : voices) {
+    Voice enrolling = voice;
+    enrolling.words_per_minute = enrolment_wpm;
+    auto enrolment = SynthesizeEnrolment({enrolling}, error);
+    if (!enrolment) return std::nullopt;
+    AdaptationOptions adaptation;
+    adaptation.model_dir = options.model_dir;
+    adaptation.out_dir = (std::filesystem::path(work_dir) / ("enrolled-" + voice.name)).string();
+    const AdaptationReport adapted = AdaptModel(*enrolment, adaptation);
+    if (!adapted.ok()) {
+      if (error) *error = "adapting to " + voice.name + ": " + adapted.error;
+      return std::nullopt;
+    }
+    RecognizerOptions enrolled = options;
+    enrolled.model_dir = adaptation.out_dir;
+    auto recognizer = Recognizer::Create(enrolled, error);
+    std::optional<EvaluationReport> report;
+    if (recognizer)
+      report = Evaluate(*recognizer, BuildCorpus({voice}, out_of_vocabulary, 1), error);
+    std::filesystem::remove_all(adaptation.out_dir);
+    if (!report) return std::nullopt;
+    all.Append(*report);
+  }
+  return all;
 }
 
 }  // namespace igms::voice

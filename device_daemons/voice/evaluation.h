@@ -18,8 +18,14 @@
 namespace igms::voice {
 
 struct Voice {
-  std::string name;  // espeak-ng voice with variant, "en-gb+f3"
+  std::string name;  // espeak-ng voice with variant, "en-gb+f3", or a flite voice, "slt"
   int words_per_minute = 175;
+  Synthesizer synthesizer = Synthesizer::kEspeakNg;
+  SpeechRequest Say(const std::string& text) const {
+    SpeechRequest request{text, name, words_per_minute};
+    request.synthesizer = synthesizer;
+    return request;
+  }
 };
 
 struct CorpusItem {
@@ -30,11 +36,13 @@ struct CorpusItem {
 
 // The tuning set: the voices, speeds and other words the recogniser's settings are chosen
 // on. The test set: voices (accent and variant) and speeds not in the tuning set, and other
-// words not in its list; measured, never tuned on (docs/voice.md).
+// words not in its list; measured, never tuned on (docs/voice.md). The flite test voices are
+// a second synthesiser's, never used for tuning or adaptation: speech unlike espeak-ng's.
 const std::vector<Voice>& TuningVoices();
 const std::vector<std::string>& TuningWords();
 const std::vector<Voice>& TestVoices();
 const std::vector<std::string>& TestWords();
+const std::vector<Voice>& FliteTestVoices();
 
 // Every command in every voice (in the first state where it is valid), then every
 // out-of-vocabulary word in the voices taken in turn, `oov_voices_per_word` of them each.
@@ -68,6 +76,8 @@ struct EvaluationReport {
   // (meaningful for thresholds at or above the one the corpus was decoded with), one line
   // each: how the confidence trades misses against false accepts.
   std::string Sweep(const std::vector<double>& thresholds) const;
+  // Adds another report's utterances and counts to this one.
+  void Append(const EvaluationReport& other);
 
  private:
   std::string Lines(bool all) const;
@@ -84,5 +94,16 @@ std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
 std::optional<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
     const std::vector<Voice>& voices, std::string* error,
     const std::vector<std::string>& prompts = EnrolmentPrompts());
+
+// Each voice as an enrolled operator: the enrolment prompts said in that voice at
+// `enrolment_wpm` adapt the model (AdaptModel, into a folder under `work_dir`), then that
+// voice's commands and out-of-vocabulary words (BuildCorpus with every word) are decoded
+// with `options` and the adapted model. One report for all the voices; nullopt, with *error
+// set, when synthesis or adaptation fails.
+std::optional<EvaluationReport> EvaluateEnrolled(const std::vector<Voice>& voices,
+                                                 const std::vector<std::string>& out_of_vocabulary,
+                                                 int enrolment_wpm,
+                                                 const RecognizerOptions& options,
+                                                 const std::string& work_dir, std::string* error);
 
 }  // namespace igms::voice

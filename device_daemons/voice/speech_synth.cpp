@@ -3,13 +3,74 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <mutex>
+#include <set>
+#include <sstream>
 #include <vector>
 
 #include "common/process/process.h"
 
 namespace igms::voice {
+namespace {
+
+std::vector<std::string> SynthesizerCommand(const SpeechRequest& request, const std::string& wav) {
+  if (request.synthesizer == Synthesizer::kFlite) {
+    // flite has no words-a-minute setting; its duration stretch scales its own pace.
+    std::ostringstream stretch;
+    stretch << "duration_stretch=" << 175.0 / request.words_per_minute;
+    return {"flite", "-voice",     request.voice, "--setf", stretch.str(),
+            "-t",    request.text, "-o",          wav};
+  }
+  return {"espeak-ng",
+          "-v",
+          request.voice,
+          "-s",
+          std::to_string(request.words_per_minute),
+          "-p",
+          std::to_string(request.pitch),
+          "-w",
+          wav,
+          "--",
+          request.text};
+}
+
+// flite speaks an unknown voice's name in its default 8 kHz voice without a word, so the
+// name is checked against its own list ("Voices available: kal awb ...") first.
+bool FliteHasVoice(const std::string& voice, const std::string& scratch, std::string* error) {
+  static std::mutex mutex;
+  static std::set<std::string> known;  // voices already found: one listing each
+  std::lock_guard<std::mutex> lock(mutex);
+  if (known.count(voice)) return true;
+  const std::string failure = RunProgram({"flite", "-lv"}, scratch);
+  std::ifstream in(scratch);
+  std::string listed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!failure.empty()) {
+    if (error) *error = "flite failed to list its voices: " + failure;
+    return false;
+  }
+  while (!listed.empty() && std::isspace(static_cast<unsigned char>(listed.back())))
+    listed.pop_back();
+  std::istringstream words(listed.substr(std::min(listed.find(':'), listed.size())));
+  for (std::string w; words >> w;) {
+    if (w == voice) {
+      known.insert(voice);
+      return true;
+    }
+  }
+  if (error) *error = "flite failed: it has no voice '" + voice + "' (" + listed + ")";
+  return false;
+}
+
+}  // namespace
+
+std::string_view SynthesizerName(Synthesizer synthesizer) {
+  return synthesizer == Synthesizer::kFlite ? "flite" : "espeak-ng";
+}
 
 bool SpeechRequest::Check(std::string* error) const {
   auto fail = [&](const std::string& why) {
@@ -18,6 +79,11 @@ bool SpeechRequest::Check(std::string* error) const {
   };
   if (text.empty()) return fail("speech text is empty");
   if (voice.empty() || voice.front() == '-') return fail("bad espeak-ng voice '" + voice + "'");
+  if (synthesizer == Synthesizer::kFlite && !std::all_of(voice.begin(), voice.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+      })) {
+    return fail("bad flite voice '" + voice + "' (a built-in voice's name)");
+  }
   if (words_per_minute < 80 || words_per_minute > 450) return fail("speed must be 80..450 wpm");
   if (pitch < 0 || pitch > 99) return fail("pitch must be 0..99");
   if (leading_silence_s < 0 || trailing_silence_s < 0 || leading_silence_s > 10 ||
@@ -36,15 +102,17 @@ std::optional<Audio> Synthesize(const SpeechRequest& request, std::string* error
     return std::nullopt;
   }
   close(fd);
-  const std::string failure = RunProgram({"espeak-ng", "-v", request.voice, "-s",
-                                           std::to_string(request.words_per_minute), "-p",
-                                           std::to_string(request.pitch), "-w", path, "--",
-                                           request.text});
+  if (request.synthesizer == Synthesizer::kFlite && !FliteHasVoice(request.voice, path, error)) {
+    std::filesystem::remove(path);
+    return std::nullopt;
+  }
+  const std::string failure = RunProgram(SynthesizerCommand(request, path));
   std::optional<Audio> audio;
   if (failure.empty()) {
     audio = LoadSoundFile(path, error);
   } else if (error) {
-    *error = "espeak-ng failed for voice " + request.voice + ": " + failure;
+    *error = std::string(SynthesizerName(request.synthesizer)) + " failed for voice " +
+             request.voice + ": " + failure;
   }
   std::filesystem::remove(path);
   if (!audio) return std::nullopt;

@@ -1,7 +1,8 @@
 // Prints the recogniser's figures: recognition and false-accept rates and decode time per
-// utterance, on the tuning set and on the held-out test set (evaluation.h), the test set
-// with the grammar alone, and confidence-threshold sweeps.
-//   build/bench/bench_voice [tuning|test|all]    (default all)
+// utterance, on the tuning set and on the held-out test sets (evaluation.h: espeak-ng's test
+// voices and flite's, every other word in every voice), the test set with the grammar alone,
+// confidence-threshold sweeps, and each test voice as an enrolled operator.
+//   build/bench/bench_voice [tuning|test|flite|enrolled|all]    (default all)
 // BENCH_VOICE_ALL=1 adds one line per utterance; BENCH_VOICE_CSV=prefix writes each set's
 // features per utterance to prefix-<set>.csv (tune on the tuning set's only);
 // BENCH_VOICE_NO_SWEEP=1 leaves out the sweeps and the grammar-alone run. Settings to try,
@@ -13,7 +14,10 @@
 // tuning voices, by index, e.g. the half an adaptation was not made from),
 // BENCH_VOICE_DECOY_WEIGHT=W and
 // BENCH_VOICE_LOOP_WEIGHT=W (grammar weights; the loop is off at 0).
+#include <unistd.h>
+
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -50,12 +54,34 @@ bool Run(const std::string& title, const RecognizerOptions& options,
   return true;
 }
 
+// Each test voice of both synthesisers enrolled on its own (175 wpm prompts), then measured.
+bool RunEnrolled(const RecognizerOptions& options) {
+  const std::string work =
+      std::filesystem::temp_directory_path() / ("bench_voice_enrolled_" + std::to_string(getpid()));
+  bool ok = true;
+  for (const auto& [title, voices] : {std::pair{"enrolled espeak-ng test voices", TestVoices()},
+                                      std::pair{"enrolled flite test voices", FliteTestVoices()}}) {
+    std::string error;
+    const auto report = EvaluateEnrolled(voices, TestWords(), 175, options, work, &error);
+    if (!report) {
+      std::cerr << error << "\n";
+      ok = false;
+      continue;
+    }
+    std::cout << "== " << title << "\n" << report->Summary();
+    if (std::getenv("BENCH_VOICE_ALL")) std::cout << report->All();
+  }
+  std::filesystem::remove_all(work);
+  return ok;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string which = argc > 1 ? argv[1] : "all";
-  if (which != "tuning" && which != "test" && which != "all") {
-    std::cerr << "usage: bench_voice [tuning|test|all]\n";
+  if (which != "tuning" && which != "test" && which != "flite" && which != "enrolled" &&
+      which != "all") {
+    std::cerr << "usage: bench_voice [tuning|test|flite|enrolled|all]\n";
     return 2;
   }
   RecognizerOptions options;
@@ -98,18 +124,25 @@ int main(int argc, char** argv) {
       if (i < TuningVoices().size()) tuning.push_back(TuningVoices()[i]);
     }
   }
-  if (which != "test") {
+  const auto wanted = [&](const char* set) { return which == "all" || which == set; };
+  if (wanted("tuning")) {
     ok &= Run("tuning voices and words", options, tuning, TuningWords(), 2);
     if (sweeps)
       ok &= Run("tuning-sweep set, threshold sweep", sweep, tuning, TuningWords(), 2, true);
   }
-  if (which != "tuning") {
-    ok &= Run("test voices and words", options, TestVoices(), TestWords(), 1);
+  const int every = static_cast<int>(TestVoices().size());  // every test word in every voice
+  if (wanted("test")) {
+    ok &= Run("test voices and words", options, TestVoices(), TestWords(), every);
     if (sweeps) {
       ok &= Run("test-grammar set, grammar alone (min_confidence 0)", grammar_only, TestVoices(),
-                TestWords(), 1);
-      ok &= Run("test-sweep set, threshold sweep", sweep, TestVoices(), TestWords(), 1, true);
+                TestWords(), every);
+      ok &= Run("test-sweep set, threshold sweep", sweep, TestVoices(), TestWords(), every, true);
     }
   }
+  if (wanted("flite")) {
+    ok &= Run("flite test voices and words", options, FliteTestVoices(), TestWords(),
+              static_cast<int>(FliteTestVoices().size()));
+  }
+  if (wanted("enrolled")) ok &= RunEnrolled(options);
   return ok ? 0 : 1;
 }

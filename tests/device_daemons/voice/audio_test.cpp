@@ -130,6 +130,31 @@ TEST(SpeechSynth, RejectsBadRequests) {
   EXPECT_FALSE(Synthesize({"box", "-w", 175}, &error));
   EXPECT_FALSE(Synthesize({"box", "en-us", 10}, &error));
   EXPECT_FALSE(error.empty());
+  SpeechRequest flite{"box", "http://example.com/voice.flitevox", 175};
+  flite.synthesizer = Synthesizer::kFlite;
+  error.clear();
+  EXPECT_FALSE(Synthesize(flite, &error));  // a voice's name only: flite would fetch a URL
+  EXPECT_NE(error.find("flite voice"), std::string::npos) << error;
+  flite.voice = "no_such_voice";
+  error.clear();
+  EXPECT_FALSE(Synthesize(flite, &error));
+  EXPECT_NE(error.find("flite failed"), std::string::npos) << error;
+}
+
+// flite's voices at 16 kHz, its pace set through words a minute: a slower request is longer.
+TEST(SpeechSynth, FliteSpeaksAtTheRequestedPace) {
+  std::string error;
+  SpeechRequest request{"remove points", "slt", 175};
+  request.synthesizer = Synthesizer::kFlite;
+  const auto normal = Synthesize(request, &error);
+  ASSERT_TRUE(normal) << error;
+  request.words_per_minute = 120;
+  const auto slow = Synthesize(request, &error);
+  ASSERT_TRUE(slow) << error;
+  EXPECT_EQ(normal->sample_rate, 16000);
+  EXPECT_GT(normal->samples.size(), 8000u);  // more than half a second of speech
+  EXPECT_GT(slow->samples.size(), normal->samples.size() * 1.25);
+  EXPECT_GT(RmsDbfs(normal->samples), -40.0);  // speech, not silence
 }
 
 }  // namespace
