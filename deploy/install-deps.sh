@@ -11,6 +11,8 @@ PACKAGES=(
   libprotobuf-dev protobuf-compiler libyaml-cpp-dev libspdlog-dev
   libglfw3-dev libopenal-dev libsndfile1-dev libsqlite3-dev
   libpocketsphinx-dev pocketsphinx pocketsphinx-en-us sphinxtrain
+  # real recorded speech (none of it a command): the recogniser's rejection test
+  pocketsphinx-testdata
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev clang-14 libclang-rt-14-dev
   # run time: headless windows, sound, speech, serial ports, namespaces, real test images
