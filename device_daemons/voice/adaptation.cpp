@@ -320,6 +320,17 @@ std::string WriteModel(const SourceModel& model, const AdaptationOptions& option
   return "";
 }
 
+std::string WriteRecord(const std::vector<AdaptationUtterance>& utterances,
+                        const AdaptationOptions& options, const fs::path& folder) {
+  double seconds = 0.0;
+  for (const AdaptationUtterance& u : utterances) seconds += u.audio.seconds();
+  std::ofstream record(folder / kAdaptationRecord);
+  record << "adapted from: " << fs::absolute(options.model_dir).string() << "\n"
+         << "utterances: " << utterances.size() << "\n"
+         << "speech seconds: " << seconds << "\n";
+  return record ? "" : "cannot write " + (folder / kAdaptationRecord).string();
+}
+
 std::string Adapt(const std::vector<AdaptationUtterance>& utterances,
                   const AdaptationOptions& options, const fs::path& work) {
   SourceModel model;
@@ -334,6 +345,7 @@ std::string Adapt(const std::vector<AdaptationUtterance>& utterances,
   std::error_code ec;
   fs::remove_all(staged, ec);
   std::string error = WriteModel(model, options, work, staged);
+  if (error.empty()) error = WriteRecord(utterances, options, staged);
   if (error.empty()) {
     fs::remove_all(out, ec);
     fs::rename(staged, out, ec);
@@ -445,6 +457,26 @@ AdaptationReport AdaptModel(const std::vector<AdaptationUtterance>& utterances,
     report.error = e.what();
   }
   return report;
+}
+
+bool IsAdaptedModel(const std::string& model_dir) {
+  return fs::is_regular_file(fs::path(model_dir) / kAdaptationRecord);
+}
+
+RecognizerOptions EnrolledRecognizerOptions(const std::string& model_dir) {
+  RecognizerOptions options;
+  options.model_dir = model_dir;
+  options.decoys.max_per_command = 15;
+  options.grammar.decoy_weight = 1e-10;
+  options.min_confidence = 0.05;
+  return options;
+}
+
+RecognizerOptions RecognizerOptionsFor(const std::string& model_dir) {
+  if (IsAdaptedModel(model_dir)) return EnrolledRecognizerOptions(model_dir);
+  RecognizerOptions options;
+  options.model_dir = model_dir;
+  return options;
 }
 
 }  // namespace igms::voice

@@ -16,6 +16,7 @@
 #include <iostream>
 #include <thread>
 
+#include "device_daemons/voice/adaptation.h"
 #include "device_daemons/voice/audio.h"
 #include "device_daemons/voice/endpointer.h"
 #include "device_daemons/voice/microphone.h"
@@ -96,6 +97,8 @@ int main(int argc, char** argv) try {
   // stdout carries the codes alone; the log goes to stderr.
   spdlog::set_default_logger(spdlog::stderr_color_mt("igms-voice-decode"));
   RecognizerOptions options;
+  double min_confidence = options.min_confidence;
+  int decoys = 0;
   std::string state = "verification", device;
   std::vector<std::string> items;
   po::options_description desc("igms-voice-decode: spoken commands to two-digit codes");
@@ -104,8 +107,10 @@ int main(int argc, char** argv) try {
       "initial state: verification, model_building, awaiting_type")(
       "model-dir", po::value(&options.model_dir)->default_value(options.model_dir),
       "pocketsphinx en-us model folder")(
-      "min-confidence", po::value(&options.min_confidence)->default_value(options.min_confidence),
-      "reject commands below this confidence (0..1)")(
+      "min-confidence", po::value(&min_confidence),
+      "reject commands below this confidence (0..1; default 0.2, 0.05 with an adapted model)")(
+      "decoys", po::value(&decoys),
+      "near words per command that compete with it (default 0, 15 with an adapted model)")(
       "no-predict", "keep the state until told (no prediction after own commands)")(
       "mic", "listen to a microphone (OpenAL capture) instead of files")(
       "device", po::value(&device), "capture device name (default: the system's)")(
@@ -129,6 +134,15 @@ int main(int argc, char** argv) try {
   if (!initial) {
     spdlog::error("unknown state '{}'", state);
     return 2;
+  }
+  // An adapted model (igms-voice-adapt) brings the settings chosen for enrolled operators.
+  const std::string model_dir = options.model_dir;
+  options = RecognizerOptionsFor(model_dir);
+  if (vm.count("min-confidence")) options.min_confidence = min_confidence;
+  if (vm.count("decoys")) options.decoys.max_per_command = decoys;
+  if (IsAdaptedModel(model_dir)) {
+    spdlog::info("adapted model {}: {} decoys per command, min_confidence {}", model_dir,
+                 options.decoys.max_per_command, options.min_confidence);
   }
   options.initial_state = *initial;
   options.predict_state = !vm.count("no-predict");

@@ -96,10 +96,10 @@ std::optional<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
     const std::vector<std::string>& prompts = EnrolmentPrompts());
 
 // Each voice as an enrolled operator: the enrolment prompts said in that voice at
-// `enrolment_wpm` adapt the model (AdaptModel, into a folder under `work_dir`), then that
-// voice's commands and out-of-vocabulary words (BuildCorpus with every word) are decoded
-// with `options` and the adapted model. One report for all the voices; nullopt, with *error
-// set, when synthesis or adaptation fails.
+// `enrolment_wpm` adapt options.model_dir (AdaptModel, into a folder under `work_dir`), then
+// that voice's commands and out-of-vocabulary words (BuildCorpus with every word) are
+// decoded with `options` and the adapted model in place of options.model_dir. One report
+// for all the voices; nullopt, with *error set, when synthesis or adaptation fails.
 std::optional<EvaluationReport> EvaluateEnrolled(const std::vector<Voice>& voices,
                                                  const std::vector<std::string>& out_of_vocabulary,
                                                  int enrolment_wpm,

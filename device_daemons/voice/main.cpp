@@ -7,6 +7,7 @@
 #include <boost/asio/io_context.hpp>
 
 #include "common/config/process_options.h"
+#include "device_daemons/voice/adaptation.h"
 #include "device_daemons/voice/voice_daemon.h"
 
 int main(int argc, char** argv) {
@@ -24,8 +25,9 @@ int main(int argc, char** argv) {
       "state", po::value<std::string>(),
       "initial operator state: verification, model_building, awaiting_type")(
       "min-confidence", po::value<double>(),
-      "recogniser: reject commands below this confidence (0..1)")(
-      "model-dir", po::value<std::string>(), "recogniser: pocketsphinx en-us model folder");
+      "recogniser: reject commands below this confidence (0..1; default 0.2, 0.05 with an "
+      "adapted model)")("model-dir", po::value<std::string>(),
+                        "recogniser: pocketsphinx en-us model folder");
   int exit_code = 0;
   const auto process = config::ParseProcessOptions(
       argc, argv, "voice", "The voice daemon: spoken commands as two-digit codes over TCP.", flags,
@@ -60,12 +62,19 @@ int main(int argc, char** argv) {
       listen.files = wav;
       listen.file_interval = std::chrono::milliseconds(
           f.count("wav-interval-ms") ? f["wav-interval-ms"].as<int>() : 1000);
+      // An operator's adapted model (igms-voice-adapt) is named here or in the lab file, and
+      // brings the settings chosen for enrolled operators (adaptation.h).
+      listen.recognizer = voice::RecognizerOptionsFor(
+          f.count("model-dir")
+              ? f["model-dir"].as<std::string>()
+              : process->Get<std::string>("model_dir", listen.recognizer.model_dir));
+      if (voice::IsAdaptedModel(listen.recognizer.model_dir)) {
+        spdlog::info("adapted model {}: {} decoys per command, min_confidence {}",
+                     listen.recognizer.model_dir, listen.recognizer.decoys.max_per_command,
+                     listen.recognizer.min_confidence);
+      }
       if (f.count("min-confidence"))
         listen.recognizer.min_confidence = f["min-confidence"].as<double>();
-      // An operator's adapted model (igms-voice-adapt) is named here or in the lab file.
-      listen.recognizer.model_dir =
-          f.count("model-dir") ? f["model-dir"].as<std::string>()
-                               : process->Get<std::string>("model_dir", listen.recognizer.model_dir);
       if (!listen.Check(&error)) {
         spdlog::error("{}", error);
         return 2;

@@ -2,7 +2,8 @@
 // utterance, on the tuning set and on the held-out test sets (evaluation.h: espeak-ng's test
 // voices and flite's, every other word in every voice), the test set with the grammar alone,
 // confidence-threshold sweeps, and each test voice as an enrolled operator.
-//   build/bench/bench_voice [tuning|test|flite|enrolled|all]    (default all)
+//   build/bench/bench_voice [tuning|test|flite|enrolled|enrolled-tuning|all]  (default all)
+// (enrolled-tuning: each tuning voice enrolled on its own, with every tuning word; not in all)
 // BENCH_VOICE_ALL=1 adds one line per utterance; BENCH_VOICE_CSV=prefix writes each set's
 // features per utterance to prefix-<set>.csv (tune on the tuning set's only);
 // BENCH_VOICE_NO_SWEEP=1 leaves out the sweeps and the grammar-alone run. Settings to try,
@@ -10,10 +11,11 @@
 // BENCH_VOICE_DECOYS=N (decoys per command), BENCH_VOICE_MIN_CONFIDENCE=C,
 // BENCH_VOICE_MIN_AGREEMENT=K, BENCH_VOICE_PERTURBATIONS="0.9 1.1",
 // BENCH_VOICE_MAX_UNCOVERED_MS=MS, BENCH_VOICE_MODEL_DIR=DIR (e.g. an adapted model from
-// igms-voice-adapt), BENCH_VOICE_TUNING_VOICES="0 2 5" (a subset of the
-// tuning voices, by index, e.g. the half an adaptation was not made from),
-// BENCH_VOICE_DECOY_WEIGHT=W and
-// BENCH_VOICE_LOOP_WEIGHT=W (grammar weights; the loop is off at 0).
+// igms-voice-adapt, decoded with the settings for an adapted model unless the variables here
+// say otherwise; the enrolled sets always start from those), BENCH_VOICE_TUNING_VOICES="0 2 5"
+// (a subset of the tuning voices, by index, e.g. the half an adaptation was not made from),
+// BENCH_VOICE_DECOY_WEIGHT=W and BENCH_VOICE_LOOP_WEIGHT=W (grammar weights; the loop is off
+// at 0).
 #include <unistd.h>
 
 #include <cstdlib>
@@ -54,42 +56,38 @@ bool Run(const std::string& title, const RecognizerOptions& options,
   return true;
 }
 
-// Each test voice of both synthesisers enrolled on its own (175 wpm prompts), then measured.
-bool RunEnrolled(const RecognizerOptions& options) {
+struct EnrolledSet {
+  const char* title;
+  const std::vector<Voice>& voices;
+  const std::vector<std::string>& words;
+};
+
+// Each voice enrolled on its own (175 wpm prompts), then measured on its commands and words.
+bool RunEnrolled(const RecognizerOptions& options, const std::vector<EnrolledSet>& sets) {
   const std::string work =
       std::filesystem::temp_directory_path() / ("bench_voice_enrolled_" + std::to_string(getpid()));
   bool ok = true;
-  for (const auto& [title, voices] : {std::pair{"enrolled espeak-ng test voices", TestVoices()},
-                                      std::pair{"enrolled flite test voices", FliteTestVoices()}}) {
+  for (const EnrolledSet& set : sets) {
     std::string error;
-    const auto report = EvaluateEnrolled(voices, TestWords(), 175, options, work, &error);
+    const auto report = EvaluateEnrolled(set.voices, set.words, 175, options, work, &error);
     if (!report) {
       std::cerr << error << "\n";
       ok = false;
       continue;
     }
-    std::cout << "== " << title << "\n" << report->Summary();
+    std::cout << "== " << set.title << "\n" << report->Summary();
     if (std::getenv("BENCH_VOICE_ALL")) std::cout << report->All();
   }
   std::filesystem::remove_all(work);
   return ok;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const std::string which = argc > 1 ? argv[1] : "all";
-  if (which != "tuning" && which != "test" && which != "flite" && which != "enrolled" &&
-      which != "all") {
-    std::cerr << "usage: bench_voice [tuning|test|flite|enrolled|all]\n";
-    return 2;
-  }
-  RecognizerOptions options;
+// The settings to try, from the environment, over `options`.
+RecognizerOptions WithEnvironment(RecognizerOptions options) {
   if (const char* extra = std::getenv("BENCH_VOICE_ARGS")) {
     std::istringstream in(extra);
     for (std::string a; in >> a;) options.decoder_args.push_back(a);
   }
-  if (const char* dir = std::getenv("BENCH_VOICE_MODEL_DIR")) options.model_dir = dir;
   if (const char* n = std::getenv("BENCH_VOICE_DECOYS"))
     options.decoys.max_per_command = std::atoi(n);
   if (const char* w = std::getenv("BENCH_VOICE_DECOY_WEIGHT"))
@@ -107,6 +105,22 @@ int main(int argc, char** argv) {
     options.min_agreement = std::atoi(k);
   if (const char* w = std::getenv("BENCH_VOICE_LOOP_WEIGHT"))
     options.grammar.phone_loop_weight = std::atof(w);
+  return options;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string which = argc > 1 ? argv[1] : "all";
+  if (which != "tuning" && which != "test" && which != "flite" && which != "enrolled" &&
+      which != "enrolled-tuning" && which != "all") {
+    std::cerr << "usage: bench_voice [tuning|test|flite|enrolled|enrolled-tuning|all]\n";
+    return 2;
+  }
+  // An adapted model gets the settings igms-voiced gives it (adaptation.h).
+  const char* dir = std::getenv("BENCH_VOICE_MODEL_DIR");
+  const RecognizerOptions options =
+      WithEnvironment(RecognizerOptionsFor(dir ? dir : RecognizerOptions{}.model_dir));
   RecognizerOptions grammar_only = options;  // accepts whatever the grammar decodes: no confidence
   grammar_only.min_confidence = 0.0;
   grammar_only.max_uncovered_speech_ms = 1e9;
@@ -143,6 +157,12 @@ int main(int argc, char** argv) {
     ok &= Run("flite test voices and words", options, FliteTestVoices(), TestWords(),
               static_cast<int>(FliteTestVoices().size()));
   }
-  if (wanted("enrolled")) ok &= RunEnrolled(options);
+  const RecognizerOptions enrolled = WithEnvironment(EnrolledRecognizerOptions(options.model_dir));
+  if (wanted("enrolled")) {
+    ok &= RunEnrolled(enrolled, {{"enrolled espeak-ng test voices", TestVoices(), TestWords()},
+                                 {"enrolled flite test voices", FliteTestVoices(), TestWords()}});
+  }
+  if (which == "enrolled-tuning")  // for choosing settings for enrolled operators
+    ok &= RunEnrolled(enrolled, {{"enrolled tuning voices", tuning, TuningWords()}});
   return ok ? 0 : 1;
 }

@@ -121,6 +121,14 @@ TEST_F(AdaptationTest, TheToolAdaptsFromRecordingsAndTheDecoderUsesTheResult) {
   ASSERT_TRUE(fs::exists(out / "en-us/means"));
   EXPECT_NE(ReadAll(out / "en-us/means"), ReadAll(source + "/en-us/means"));
   EXPECT_TRUE(fs::exists(out / "cmudict-en-us.dict"));
+  // Its record makes it an adapted model, which brings the settings for enrolled operators;
+  // the stock model is not one.
+  EXPECT_NE(ReadAll(out / kAdaptationRecord).find("utterances: " + std::to_string(n)),
+            std::string::npos);
+  EXPECT_TRUE(IsAdaptedModel(out.string()));
+  EXPECT_FALSE(IsAdaptedModel(source));
+  EXPECT_EQ(RecognizerOptionsFor(out.string()).decoys.max_per_command, 15);
+  EXPECT_EQ(RecognizerOptionsFor(source).decoys.max_per_command, 0);
   const fs::path freeze = dir_ / "freeze.wav";
   ASSERT_EQ(Exec("espeak-ng -v en-gb+m3 -s 150 -w " + freeze.string() + " freeze").status, 0);
   const Result decode =
@@ -128,6 +136,9 @@ TEST_F(AdaptationTest, TheToolAdaptsFromRecordingsAndTheDecoderUsesTheResult) {
            false);
   EXPECT_EQ(decode.status, 0);
   EXPECT_EQ(decode.out, "01\n");
+  const Result logged =
+      Exec(Bin("igms-voice-decode") + " --model-dir " + out.string() + " " + freeze.string());
+  EXPECT_NE(logged.out.find("15 decoys per command"), std::string::npos) << logged.out;
   // Bad invocations: no source (2), a list naming a missing file (1), and the model the
   // first run wrote is still there afterwards.
   EXPECT_EQ(Exec(Bin("igms-voice-adapt") + " --out " + out.string()).status, 2);
