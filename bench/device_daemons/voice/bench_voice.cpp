@@ -4,7 +4,8 @@
 // confidence-threshold sweeps, and each test voice as an enrolled operator.
 //   build/bench/bench_voice [tuning|test|flite|enrolled|enrolled-tuning|all]  (default all)
 // (enrolled-tuning: each tuning voice enrolled on its own, with every tuning word; not in all)
-// BENCH_VOICE_ALL=1 adds one line per utterance; BENCH_VOICE_CSV=prefix writes each set's
+// BENCH_VOICE_ALL=1 adds one line per utterance; BENCH_VOICE_GRAMMAR=1 prints the
+// model-building state's grammar (with its decoys); BENCH_VOICE_CSV=prefix writes each set's
 // features per utterance to prefix-<set>.csv (tune on the tuning set's only);
 // BENCH_VOICE_NO_SWEEP=1 leaves out the sweeps and the grammar-alone run. Settings to try,
 // applied to every run: BENCH_VOICE_ARGS="-beam 1e-30 ..." (pocketsphinx arguments),
@@ -15,7 +16,8 @@
 // say otherwise; the enrolled sets always start from those), BENCH_VOICE_TUNING_VOICES="0 2 5"
 // (a subset of the tuning voices, by index, e.g. the half an adaptation was not made from),
 // BENCH_VOICE_DECOY_WEIGHT=W and BENCH_VOICE_LOOP_WEIGHT=W (grammar weights; the loop is off
-// at 0).
+// at 0), BENCH_VOICE_DECOY_MIN_UNIGRAM=L and BENCH_VOICE_DECOY_DISTANCE=F (which dictionary
+// words may be decoys: DecoyOptions).
 #include <unistd.h>
 
 #include <cstdlib>
@@ -40,6 +42,8 @@ bool Run(const std::string& title, const RecognizerOptions& options,
     std::cerr << error << "\n";
     return false;
   }
+  if (std::getenv("BENCH_VOICE_GRAMMAR"))
+    std::cout << recognizer->GrammarText(OperatorState::kModelBuilding) << "\n";
   const auto report = Evaluate(*recognizer, BuildCorpus(voices, words, per_word), &error);
   if (!report) {
     std::cerr << error << "\n";
@@ -90,6 +94,10 @@ RecognizerOptions WithEnvironment(RecognizerOptions options) {
   }
   if (const char* n = std::getenv("BENCH_VOICE_DECOYS"))
     options.decoys.max_per_command = std::atoi(n);
+  if (const char* u = std::getenv("BENCH_VOICE_DECOY_MIN_UNIGRAM"))
+    options.decoys.min_log10_unigram = std::atof(u);
+  if (const char* d = std::getenv("BENCH_VOICE_DECOY_DISTANCE"))
+    options.decoys.max_distance_fraction = std::atof(d);
   if (const char* w = std::getenv("BENCH_VOICE_DECOY_WEIGHT"))
     options.grammar.decoy_weight = std::atof(w);
   if (const char* c = std::getenv("BENCH_VOICE_MIN_CONFIDENCE"))
