@@ -45,13 +45,18 @@ std::vector<std::vector<int16_t>> Endpointer::Flush() {
   current_.clear();
   partial_.clear();
   history_.clear();
-  in_speech_ = false;
+  in_speech_ = discarding_ = false;
   loud_run_ = quiet_run_ = 0;
   return done;
 }
 
 void Endpointer::Frame(std::span<const int16_t> frame, std::vector<std::vector<int16_t>>& done) {
   const bool loud = RmsDbfs(frame) > options_.threshold_dbfs;
+  if (discarding_) {
+    quiet_run_ = loud ? 0 : quiet_run_ + 1;
+    if (quiet_run_ * 10 >= options_.end_silence_ms) discarding_ = false;
+    return;
+  }
   if (!in_speech_) {
     history_.insert(history_.end(), frame.begin(), frame.end());
     // Keep the pre-roll plus the loud frames that may start the utterance.
@@ -73,7 +78,8 @@ void Endpointer::Frame(std::span<const int16_t> frame, std::vector<std::vector<i
   const bool too_long =
       current_.size() >= static_cast<size_t>(options_.max_utterance_s * options_.sample_rate);
   if (ended || too_long) {
-    done.push_back(std::move(current_));
+    if (ended || !options_.discard_overlong) done.push_back(std::move(current_));
+    discarding_ = !ended && options_.discard_overlong;
     current_.clear();
     in_speech_ = false;
     loud_run_ = 0;

@@ -4,7 +4,9 @@
 // 10 ms frames: speech starts after `start_frames` consecutive frames louder than
 // `threshold_dbfs`, and ends after `end_silence_ms` of quieter frames. Each utterance keeps
 // `pre_roll_ms` of audio before its start and the trailing silence, so word edges are not
-// clipped. An utterance longer than `max_utterance_s` is cut there.
+// clipped. Speech longer than `max_utterance_s` is no command (commands last a second or
+// two): it is dropped whole, up to its end of speech, unless `discard_overlong` is off, when
+// it is cut there instead (and the rest starts a new utterance mid-word).
 #pragma once
 
 #include <cstdint>
@@ -20,6 +22,7 @@ struct EndpointerOptions {
   int end_silence_ms = 400;
   int pre_roll_ms = 200;
   double max_utterance_s = 5.0;
+  bool discard_overlong = true;
   int sample_rate = 16000;
   bool Check(std::string* error) const;
 };
@@ -42,6 +45,7 @@ class Endpointer {
   std::vector<int16_t> history_;   // recent frames before speech (pre-roll)
   std::vector<int16_t> current_;   // the utterance in progress
   bool in_speech_ = false;
+  bool discarding_ = false;  // inside overlong speech, waiting for its end
   int loud_run_ = 0;
   int quiet_run_ = 0;
 };

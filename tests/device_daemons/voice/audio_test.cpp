@@ -115,6 +115,38 @@ TEST(Endpointer, CutsAStreamIntoItsUtterances) {
   }
 }
 
+// Six seconds of talk without a pause (a tone stands in) are no command: dropped whole, not
+// cut at the 5 s limit into a piece and a tail that starts mid-word. The word after the
+// pause still comes through.
+TEST(Endpointer, DropsSpeechLongerThanAnyCommand) {
+  std::string error;
+  const auto word = Synthesize({"freeze", "en-us", 175}, &error);
+  ASSERT_TRUE(word) << error;
+  std::vector<int16_t> stream(8000, 0);
+  for (int i = 0; i < 6 * 16000; ++i) {
+    const double t = i / 16000.0;
+    stream.push_back(static_cast<int16_t>(8000 * std::sin(2 * std::numbers::pi * 440 * t)));
+  }
+  stream.insert(stream.end(), 16000, 0);
+  stream.insert(stream.end(), word->samples.begin(), word->samples.end());
+  stream.insert(stream.end(), 16000, 0);
+  auto cut = [&](bool discard) {
+    EndpointerOptions options;
+    options.discard_overlong = discard;
+    Endpointer endpointer(options);
+    auto utterances = endpointer.Feed(stream);
+    for (auto& u : endpointer.Flush()) utterances.push_back(std::move(u));
+    return utterances;
+  };
+  const auto dropped = cut(true);
+  ASSERT_EQ(dropped.size(), 1u);
+  EXPECT_GT(dropped[0].size(), word->samples.size() * 0.6);
+  EXPECT_LT(dropped[0].size(), word->samples.size() + 16000);
+  const auto kept = cut(false);  // the old behaviour: the 5 s piece, the tail, the word
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_EQ(kept[0].size(), 5u * 16000);
+}
+
 TEST(Endpointer, SilenceAndFlushAreQuiet) {
   Endpointer endpointer;
   EXPECT_TRUE(endpointer.Feed(std::vector<int16_t>(32000, 3)).empty());
