@@ -71,7 +71,11 @@ std::optional<std::vector<AdaptationUtterance>> Record(const std::string& device
   while (out.size() < prompts.size() && !g_stop) {
     const size_t i = out.size();
     std::cout << "[" << i + 1 << "/" << prompts.size() << "] say: " << prompts[i] << std::endl;
-    Endpointer endpointer;
+    // A prompt is a sentence, not a command: up to 12 s of it is one utterance; longer is
+    // dropped (the endpointer's rule) and the prompt asked again.
+    EndpointerOptions sentence;
+    sentence.max_utterance_s = 12.0;
+    Endpointer endpointer(sentence);
     std::vector<int16_t> samples;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(15);
     std::optional<std::vector<int16_t>> heard;
