@@ -99,6 +99,8 @@ int main(int argc, char** argv) try {
   RecognizerOptions options;
   double min_confidence = options.min_confidence;
   int decoys = 0;
+  int fillers = 0;
+  double filler_weight = 1.0;
   std::string state = "verification", device;
   std::vector<std::string> items;
   po::options_description desc("igms-voice-decode: spoken commands to two-digit codes");
@@ -111,6 +113,10 @@ int main(int argc, char** argv) try {
       "reject commands below this confidence (0..1; default 0.2, 0.05 with an adapted model)")(
       "decoys", po::value(&decoys),
       "near words per command that compete with it (default 0, 15 with an adapted model)")(
+      "fillers", po::value(&fillers),
+      "check each command against this many common English words (default 0)")(
+      "filler-weight", po::value(&filler_weight),
+      "a common word's weight relative to a command's (default 1)")(
       "no-predict", "keep the state until told (no prediction after own commands)")(
       "mic", "listen to a microphone (OpenAL capture) instead of files")(
       "device", po::value(&device), "capture device name (default: the system's)")(
@@ -140,9 +146,13 @@ int main(int argc, char** argv) try {
   options = RecognizerOptionsFor(model_dir);
   if (vm.count("min-confidence")) options.min_confidence = min_confidence;
   if (vm.count("decoys")) options.decoys.max_per_command = decoys;
+  if (vm.count("fillers")) options.fillers.count = fillers;
+  if (vm.count("filler-weight")) options.fillers.weight = filler_weight;
   if (IsAdaptedModel(model_dir)) {
-    spdlog::info("adapted model {}: {} decoys per command, min_confidence {}", model_dir,
-                 options.decoys.max_per_command, options.min_confidence);
+    spdlog::info(
+        "adapted model {}: {} decoys per command, min_confidence {}, {} common words at {}",
+        model_dir, options.decoys.max_per_command, options.min_confidence, options.fillers.count,
+        options.fillers.weight);
   }
   options.initial_state = *initial;
   options.predict_state = !vm.count("no-predict");

@@ -86,6 +86,16 @@ const std::vector<std::string>& TestWords() {
   return words;
 }
 
+RecognizerOptions WithoutEvaluationWords(RecognizerOptions options) {
+  for (const auto* list : {&TuningWords(), &TestWords()}) {
+    for (const std::string& phrase : *list) {
+      std::istringstream words(phrase);
+      for (std::string word; words >> word;) options.fillers.excluded.push_back(word);
+    }
+  }
+  return options;
+}
+
 std::vector<CorpusItem> BuildCorpus(const std::vector<Voice>& voices,
                                     const std::vector<std::string>& out_of_vocabulary,
                                     int oov_voices_per_word) {
@@ -166,6 +176,9 @@ std::string EvaluationReport::Lines(bool all) const {
         << " (heard \"" << r.recognition.hypothesis << "\", confidence " << r.recognition.confidence
         << ", score " << r.recognition.score_per_frame << ", uncovered "
         << r.recognition.uncovered_speech_ms << " ms, agreement " << r.recognition.agreement
+        << (r.recognition.verification.empty()
+                ? std::string()
+                : ", verified as \"" + r.recognition.verification + "\"")
         << ")\n";
   }
   return out.str();

@@ -44,6 +44,11 @@ const std::vector<Voice>& TestVoices();
 const std::vector<std::string>& TestWords();
 const std::vector<Voice>& FliteTestVoices();
 
+// `options` with every word of the tuning and test lists kept out of the filler words
+// (grammar.h), so that a measurement counts only words the recogniser was never given.
+// Every figure in docs/voice.md with filler words is measured this way.
+RecognizerOptions WithoutEvaluationWords(RecognizerOptions options);
+
 // Every command in every voice (in the first state where it is valid), then every
 // out-of-vocabulary word in the voices taken in turn, `oov_voices_per_word` of them each.
 std::vector<CorpusItem> BuildCorpus(const std::vector<Voice>& voices,

@@ -197,6 +197,53 @@ std::vector<Pronunciation> SelectDecoys(const std::vector<Pronunciation>& dictio
   return out;
 }
 
+bool FillerWordOptions::Check(std::string* error) const {
+  if (count < 0 || margin < 0 || min_phones < 1 || !(weight > 0.0 && std::isfinite(weight))) {
+    if (error) *error = "filler words: count and margin must be >= 0, min_phones >= 1, weight > 0";
+    return false;
+  }
+  return true;
+}
+
+std::vector<Pronunciation> SelectFillerWords(const std::vector<Pronunciation>& dictionary,
+                                             const FillerWordOptions& options,
+                                             const DecoyOptions& decoys,
+                                             const UnigramFn& log10_unigram) {
+  if (options.count == 0 || !log10_unigram) return {};
+  const std::vector<Pronunciation> commands = CommandPronunciations();
+  const std::set<std::string> excluded(options.excluded.begin(), options.excluded.end());
+  std::vector<std::pair<double, const Pronunciation*>> ranked;
+  for (const Pronunciation& entry : dictionary) {
+    if (static_cast<int>(entry.phones.size()) < options.min_phones) continue;
+    if (excluded.count(entry.word)) continue;
+    const double u = log10_unigram(entry.word);
+    if (u < -20.0) continue;  // not in the language model
+    ranked.push_back({u, &entry});
+  }
+  std::sort(ranked.begin(), ranked.end(), [](const auto& x, const auto& y) {
+    return x.first != y.first ? x.first > y.first : x.second->word < y.second->word;
+  });
+  std::vector<Pronunciation> out;
+  for (const auto& [u, entry] : ranked) {
+    if (static_cast<int>(out.size()) >= options.count) break;
+    bool near = false;
+    for (const Pronunciation& c : commands) {
+      const int limit =
+          std::max(1,
+                   static_cast<int>(std::lround(decoys.max_distance_fraction * c.phones.size()))) +
+          options.margin;
+      if (c.word == entry->word || (std::abs(static_cast<int>(entry->phones.size()) -
+                                             static_cast<int>(c.phones.size())) <= limit &&
+                                    PhoneDistance(entry->phones, c.phones) <= limit)) {
+        near = true;
+        break;
+      }
+    }
+    if (!near) out.push_back(*entry);
+  }
+  return out;
+}
+
 bool GrammarOptions::Check(std::string* error) const {
   for (double w : {other_state_weight, decoy_weight}) {
     if (!(w > 0.0 && std::isfinite(w))) {
@@ -209,6 +256,16 @@ bool GrammarOptions::Check(std::string* error) const {
     return false;
   }
   return true;
+}
+
+std::string BuildVerificationGrammar(const std::vector<Pronunciation>& fillers,
+                                     double filler_weight) {
+  std::string utterance;
+  for (const CommandInfo& info : AllCommands())
+    utterance += (utterance.empty() ? "" : " | ") + CommandToken(info.command);
+  for (const Pronunciation& f : fillers)
+    utterance += " | /" + FormatWeight(filler_weight) + "/ " + f.word;
+  return "#JSGF V1.0;\n\ngrammar igms_verify;\n\npublic <utterance> = " + utterance + ";\n";
 }
 
 std::string BuildGrammar(OperatorState state, const std::vector<Pronunciation>& decoys,

@@ -90,6 +90,31 @@ std::vector<Pronunciation> SelectDecoys(const std::vector<Pronunciation>& dictio
                                         const DecoyOptions& options,
                                         const UnigramFn& log10_unigram = {});
 
+// Common English words that are no command: what an operator talking to someone else says.
+// A command the state's grammar accepted is decoded once more against every command and
+// these words; "banana" heard as "unmark" is then heard as some word nearer to it. They are
+// not in the state grammars: pocketsphinx applies a word's weight at its last phone, so
+// thousands of cheap prefixes crowd the commands out of its narrow beams. Off by default.
+struct FillerWordOptions {
+  // The this-many most common dictionary words (by unigram) farther from every command than
+  // a decoy may be (DecoyOptions::max_distance_fraction) plus `margin` phones.
+  int count = 0;
+  int margin = 0;
+  int min_phones = 2;
+  // Each filler's weight relative to a command's.
+  double weight = 1.0;
+  // Never fillers: an evaluation leaves its own out-of-vocabulary words out, so it measures
+  // words the grammar has not been given.
+  std::vector<std::string> excluded;
+  bool Check(std::string* error) const;
+};
+
+// Filler words, most common first. Empty without `log10_unigram`.
+std::vector<Pronunciation> SelectFillerWords(const std::vector<Pronunciation>& dictionary,
+                                             const FillerWordOptions& options,
+                                             const DecoyOptions& decoys,
+                                             const UnigramFn& log10_unigram);
+
 struct GrammarOptions {
   // JSGF weights of the alternatives relative to a command (1.0). Each alternative is
   // written as a weighted word: sphinxbase ignores the weight of a rule reference.
@@ -103,8 +128,13 @@ struct GrammarOptions {
 };
 
 // The JSGF text of a state's grammar, named "igms_<state name>", whose public rule is
-// <utterance>. Decoys may be empty; the phone loop is always there.
+// <utterance>. Decoys may be empty.
 std::string BuildGrammar(OperatorState state, const std::vector<Pronunciation>& decoys,
                          const GrammarOptions& options);
+
+// The JSGF text of the verification grammar "igms_verify": every command, or one filler word
+// at `filler_weight`.
+std::string BuildVerificationGrammar(const std::vector<Pronunciation>& fillers,
+                                     double filler_weight);
 
 }  // namespace igms::voice

@@ -69,9 +69,11 @@ int main(int argc, char** argv) {
               ? f["model-dir"].as<std::string>()
               : process->Get<std::string>("model_dir", listen.recognizer.model_dir));
       if (voice::IsAdaptedModel(listen.recognizer.model_dir)) {
-        spdlog::info("adapted model {}: {} decoys per command, min_confidence {}",
-                     listen.recognizer.model_dir, listen.recognizer.decoys.max_per_command,
-                     listen.recognizer.min_confidence);
+        spdlog::info(
+            "adapted model {}: {} decoys per command, min_confidence {}, {} common words at {}",
+            listen.recognizer.model_dir, listen.recognizer.decoys.max_per_command,
+            listen.recognizer.min_confidence, listen.recognizer.fillers.count,
+            listen.recognizer.fillers.weight);
       }
       if (f.count("min-confidence"))
         listen.recognizer.min_confidence = f["min-confidence"].as<double>();

@@ -60,6 +60,8 @@ std::string_view RejectReasonName(RejectReason reason) {
       return "unexplained_speech";
     case RejectReason::kUnstable:
       return "unstable";
+    case RejectReason::kOtherWord:
+      return "other_word";
   }
   return "unknown";
 }
@@ -88,7 +90,7 @@ bool RecognizerOptions::Check(std::string* error) const {
     if (error) *error = "recognizer min_confidence must be in [0, 1]";
     return false;
   }
-  return decoys.Check(error) && grammar.Check(error);
+  return decoys.Check(error) && fillers.Check(error) && grammar.Check(error);
 }
 
 struct Recognizer::Impl {
@@ -98,6 +100,8 @@ struct Recognizer::Impl {
   OperatorState state = OperatorState::kVerification;
   std::map<OperatorState, std::string> grammars;
   size_t decoys = 0;
+  size_t fillers = 0;
+  std::string verification_grammar;
 
   ~Impl() {
     if (decoder) ps_free(decoder);
@@ -162,6 +166,9 @@ struct Recognizer::Impl {
     };
     const std::vector<Pronunciation> decoy_words =
         SelectDecoys(*words, options.decoys, log10_unigram);
+    const std::vector<Pronunciation> filler_words =
+        SelectFillerWords(*words, options.fillers, options.decoys, log10_unigram);
+    fillers = filler_words.size();
     ngram_model_free(lm);
     decoys = decoy_words.size();
     for (OperatorState s : AllStates()) {
@@ -169,6 +176,25 @@ struct Recognizer::Impl {
       if (ps_set_jsgf_string(decoder, std::string(StateName(s)).c_str(), grammars[s].c_str()) < 0) {
         if (error)
           *error = "pocketsphinx rejected the grammar of state " + std::string(StateName(s));
+        return false;
+      }
+    }
+    if (!filler_words.empty()) {
+      // A search takes its beams from the configuration when it is made. This one gets
+      // pocketsphinx's own wide beams: its words pay their weight only at their last phone,
+      // and narrow beams would let a cheap prefix prune the command before then.
+      const double beams[3] = {cmd_ln_float_r(config, "-beam"), cmd_ln_float_r(config, "-pbeam"),
+                               cmd_ln_float_r(config, "-wbeam")};
+      cmd_ln_set_float_r(config, "-beam", 1e-48);
+      cmd_ln_set_float_r(config, "-pbeam", 1e-48);
+      cmd_ln_set_float_r(config, "-wbeam", 7e-29);
+      verification_grammar = BuildVerificationGrammar(filler_words, options.fillers.weight);
+      const int rc = ps_set_jsgf_string(decoder, "verify", verification_grammar.c_str());
+      cmd_ln_set_float_r(config, "-beam", beams[0]);
+      cmd_ln_set_float_r(config, "-pbeam", beams[1]);
+      cmd_ln_set_float_r(config, "-wbeam", beams[2]);
+      if (rc < 0) {
+        if (error) *error = "pocketsphinx rejected the verification grammar";
         return false;
       }
     }
@@ -185,6 +211,7 @@ struct Recognizer::Impl {
       Decode(warm_up);
     }
     PhoneLoopScore(warm_up, Span{});
+    if (fillers > 0) Verify(warm_up);
     state = options.initial_state;
     return true;
   }
@@ -262,6 +289,23 @@ struct Recognizer::Impl {
     return agree;
   }
 
+  // The best of every command and the filler words for the whole utterance; empty when no
+  // path reached the end.
+  std::string Verify(std::span<const int16_t> samples) {
+    ps_set_search(decoder, "verify");
+    if (samples.empty() || ps_start_utt(decoder) < 0) return {};
+    ps_process_raw(decoder, samples.data(), samples.size(), FALSE, TRUE);
+    ps_end_utt(decoder);
+    int32 score = 0;
+    std::vector<std::string> words;
+    if (ps_get_hyp(decoder, &score) == nullptr) return {};
+    for (ps_seg_t* seg = ps_seg_iter(decoder); seg; seg = ps_seg_next(seg)) {
+      const std::string word = BaseWord(ps_seg_word(seg));
+      if (!IsFiller(word)) words.push_back(word);
+    }
+    return Join(words);
+  }
+
   Recognition Decode(std::span<const int16_t> samples) {
     Recognition r;
     r.state = state;
@@ -309,6 +353,15 @@ struct Recognizer::Impl {
         why << "\"" << Phrase(*r.command) << "\" heard again at only " << r.agreement << " of "
             << options.perturbations.size() << " other playback speeds";
         r.message = why.str();
+      }
+    }
+    if (r.accepted && fillers > 0) {
+      r.verification = Verify(samples);
+      if (r.verification != tokens[0]) {
+        r.accepted = false;
+        r.reason = RejectReason::kOtherWord;
+        r.message = "\"" + std::string(Phrase(*r.command)) + "\" sounds more like \"" +
+                    (r.verification.empty() ? std::string("nothing") : r.verification) + "\"";
       }
     }
     if (r.accepted && options.predict_state) state = PredictNextState(state, *r.command);
@@ -372,5 +425,9 @@ const std::string& Recognizer::GrammarText(OperatorState state) const {
   return impl_->grammars.at(state);
 }
 size_t Recognizer::decoy_count() const { return impl_->decoys; }
+size_t Recognizer::filler_count() const { return impl_->fillers; }
+const std::string& Recognizer::VerificationGrammarText() const {
+  return impl_->verification_grammar;
+}
 
 }  // namespace igms::voice

@@ -13,7 +13,9 @@
 //      (pocketsphinx's allphone search), squashed into [0, 1], and
 //   5. the same audio played a little faster and slower (speed and pitch together) is
 //      decoded as the same command often enough: a near miss ("rage", "marked") sits
-//      between a command and nothing, and a small change tips it over.
+//      between a command and nothing, and a small change tips it over, and
+//   6. when filler words are configured, decoding the utterance once more against every
+//      command and the most common English words still gives the command (grammar.h).
 // Anything else is a Rejection with a reason a person can read.
 //
 // Threading: one Recognizer is not thread-safe; use one per thread. Creating one loads the
@@ -60,6 +62,7 @@ struct RecognizerOptions {
   // replaces the built-in value.
   std::vector<std::string> decoder_args;
   DecoyOptions decoys;
+  FillerWordOptions fillers;
   GrammarOptions grammar;
   bool Check(std::string* error) const;
 };
@@ -76,6 +79,7 @@ enum class RejectReason {
   kLowConfidence,      // a valid command whose posterior is below min_confidence
   kUnexplainedSpeech,  // a valid command, but too much speech outside it
   kUnstable,           // a valid command, but not heard again at other playback speeds
+  kOtherWord,          // a valid command, but a common English word fits the speech better
 };
 std::string_view RejectReasonName(RejectReason reason);
 
@@ -97,6 +101,8 @@ struct Recognition {
   double command_ms = 0.0;
   // How many of the perturbed decodings gave the same command (step 5); -1 when not tried.
   int agreement = -1;
+  // What the verification against common words heard (step 6); empty when not tried.
+  std::string verification;
 };
 
 class Recognizer {
@@ -119,6 +125,9 @@ class Recognizer {
   // The JSGF text used for a state, for documentation and tests.
   const std::string& GrammarText(OperatorState state) const;
   size_t decoy_count() const;
+  // The verification grammar (step 6); empty without filler words.
+  const std::string& VerificationGrammarText() const;
+  size_t filler_count() const;
 
  private:
   struct Impl;

@@ -17,7 +17,10 @@
 // (a subset of the tuning voices, by index, e.g. the half an adaptation was not made from),
 // BENCH_VOICE_DECOY_WEIGHT=W and BENCH_VOICE_LOOP_WEIGHT=W (grammar weights; the loop is off
 // at 0), BENCH_VOICE_DECOY_MIN_UNIGRAM=L and BENCH_VOICE_DECOY_DISTANCE=F (which dictionary
-// words may be decoys: DecoyOptions).
+// words may be decoys: DecoyOptions), BENCH_VOICE_FILLERS=N, BENCH_VOICE_FILLER_WEIGHT=W,
+// BENCH_VOICE_FILLER_MARGIN=K and BENCH_VOICE_FILLER_MIN_PHONES=P (the common words each
+// accepted command is checked against: FillerWordOptions). Every tuning and test word is
+// always left out of the common words, so a figure counts only words the check never saw.
 #include <unistd.h>
 
 #include <cstdlib>
@@ -42,8 +45,12 @@ bool Run(const std::string& title, const RecognizerOptions& options,
     std::cerr << error << "\n";
     return false;
   }
-  if (std::getenv("BENCH_VOICE_GRAMMAR"))
+  if (std::getenv("BENCH_VOICE_GRAMMAR")) {
     std::cout << recognizer->GrammarText(OperatorState::kModelBuilding) << "\n";
+    if (recognizer->filler_count() > 0)  // the first words of a long list
+      std::cout << recognizer->VerificationGrammarText().substr(0, 2000) << " ... ("
+                << recognizer->filler_count() << " common words)\n";
+  }
   const auto report = Evaluate(*recognizer, BuildCorpus(voices, words, per_word), &error);
   if (!report) {
     std::cerr << error << "\n";
@@ -111,9 +118,16 @@ RecognizerOptions WithEnvironment(RecognizerOptions options) {
   }
   if (const char* k = std::getenv("BENCH_VOICE_MIN_AGREEMENT"))
     options.min_agreement = std::atoi(k);
+  if (const char* n = std::getenv("BENCH_VOICE_FILLERS")) options.fillers.count = std::atoi(n);
+  if (const char* m = std::getenv("BENCH_VOICE_FILLER_MIN_PHONES"))
+    options.fillers.min_phones = std::atoi(m);
+  if (const char* m = std::getenv("BENCH_VOICE_FILLER_MARGIN"))
+    options.fillers.margin = std::atoi(m);
+  if (const char* w = std::getenv("BENCH_VOICE_FILLER_WEIGHT"))
+    options.fillers.weight = std::atof(w);
   if (const char* w = std::getenv("BENCH_VOICE_LOOP_WEIGHT"))
     options.grammar.phone_loop_weight = std::atof(w);
-  return options;
+  return WithoutEvaluationWords(options);
 }
 
 }  // namespace

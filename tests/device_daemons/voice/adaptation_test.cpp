@@ -128,7 +128,9 @@ TEST_F(AdaptationTest, TheToolAdaptsFromRecordingsAndTheDecoderUsesTheResult) {
   EXPECT_TRUE(IsAdaptedModel(out.string()));
   EXPECT_FALSE(IsAdaptedModel(source));
   EXPECT_EQ(RecognizerOptionsFor(out.string()).decoys.max_per_command, 15);
+  EXPECT_EQ(RecognizerOptionsFor(out.string()).fillers.count, 10000);
   EXPECT_EQ(RecognizerOptionsFor(source).decoys.max_per_command, 0);
+  EXPECT_EQ(RecognizerOptionsFor(source).fillers.count, 0);
   const fs::path freeze = dir_ / "freeze.wav";
   ASSERT_EQ(Exec("espeak-ng -v en-gb+m3 -s 150 -w " + freeze.string() + " freeze").status, 0);
   const Result decode =
@@ -139,6 +141,7 @@ TEST_F(AdaptationTest, TheToolAdaptsFromRecordingsAndTheDecoderUsesTheResult) {
   const Result logged =
       Exec(Bin("igms-voice-decode") + " --model-dir " + out.string() + " " + freeze.string());
   EXPECT_NE(logged.out.find("15 decoys per command"), std::string::npos) << logged.out;
+  EXPECT_NE(logged.out.find("10000 common words at 0.01"), std::string::npos) << logged.out;
   // Bad invocations: no source (2), a list naming a missing file (1), and the model the
   // first run wrote is still there afterwards.
   EXPECT_EQ(Exec(Bin("igms-voice-adapt") + " --out " + out.string()).status, 2);

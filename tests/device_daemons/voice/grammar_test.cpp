@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 namespace igms::voice {
 namespace {
@@ -136,6 +138,53 @@ TEST(Grammar, DecoysAreNearButNeverHomophones) {
   EXPECT_TRUE(SelectDecoys(dictionary, DecoyOptions{}).empty());  // off by default
 }
 
+TEST(Grammar, FillerWordsAreCommonWordsFarFromEveryCommand) {
+  const std::vector<Pronunciation> dictionary = {
+      {"the", P("DH AH")},
+      {"o", P("OW")},
+      {"breeze", P("B R IY Z")},
+      {"freeze", P("F R IY Z")},
+      {"banana", P("B AH N AE N AH")},
+      {"water", P("W AO T ER")},
+      {"morning", P("M AO R N IH NG")},
+      {"zyzzyva", P("Z IH Z IH V AH")},
+  };
+  const std::map<std::string, double> unigram = {
+      {"the", -1.0},    {"o", -2.0},     {"breeze", -4.0},  {"freeze", -4.0},
+      {"banana", -4.5}, {"water", -3.0}, {"morning", -3.5},
+  };
+  auto log10_unigram = [&](const std::string& w) {
+    const auto it = unigram.find(w);
+    return it == unigram.end() ? -99.0 : it->second;
+  };
+  FillerWordOptions options;
+  auto words = [&](const FillerWordOptions& o) {
+    std::vector<std::string> out;
+    for (const auto& f : SelectFillerWords(dictionary, o, DecoyOptions{}, log10_unigram))
+      out.push_back(f.word);
+    return out;
+  };
+  EXPECT_TRUE(words(options).empty());  // off by default
+  options.count = 10;
+  // Most common first; never a command, a decoy-near word ("breeze"), a one-phone word, or a
+  // word the language model does not know.
+  EXPECT_EQ(words(options), (std::vector<std::string>{"the", "water", "morning", "banana"}));
+  options.count = 2;
+  EXPECT_EQ(words(options), (std::vector<std::string>{"the", "water"}));
+  options.count = 10;
+  options.excluded = {"water", "the"};
+  EXPECT_EQ(words(options), (std::vector<std::string>{"morning", "banana"}));
+  EXPECT_TRUE(SelectFillerWords(dictionary, options, DecoyOptions{}, {}).empty());
+
+  const std::string g = BuildVerificationGrammar(
+      SelectFillerWords(dictionary, options, DecoyOptions{}, log10_unigram), 0.01);
+  EXPECT_NE(g.find("grammar igms_verify;"), std::string::npos);
+  for (const CommandInfo& info : AllCommands())
+    EXPECT_NE(g.find(" " + CommandToken(info.command)), std::string::npos) << g;
+  EXPECT_NE(g.find("/0.0100"), std::string::npos) << g;
+  EXPECT_NE(g.find("/ banana;"), std::string::npos) << g;
+}
+
 TEST(Grammar, LoadDictionaryReportsProblems) {
   std::string error;
   EXPECT_FALSE(LoadDictionary("/nonexistent/dictionary.dict", &error));
@@ -167,6 +216,13 @@ TEST(Grammar, OptionChecks) {
   DecoyOptions bad_decoys;
   bad_decoys.max_distance_fraction = 2.0;
   EXPECT_FALSE(bad_decoys.Check(&error));
+  EXPECT_TRUE(FillerWordOptions{}.Check(&error));
+  FillerWordOptions bad_fillers;
+  bad_fillers.count = -1;
+  EXPECT_FALSE(bad_fillers.Check(&error));
+  bad_fillers.count = 10;
+  bad_fillers.weight = std::nan("");
+  EXPECT_FALSE(bad_fillers.Check(&error));
 }
 
 }  // namespace

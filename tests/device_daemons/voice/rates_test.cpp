@@ -91,18 +91,21 @@ TEST(VoiceRates, AdaptedToTheTuningVoicesOnUnseenVoices) {
   ASSERT_TRUE(adapted.ok()) << adapted.error;
   ASSERT_TRUE(IsAdaptedModel(adaptation.out_dir));
   // As igms-voiced decodes with it: the settings for an adapted model.
-  const RecognizerOptions options = RecognizerOptionsFor(adaptation.out_dir);
+  // The common words an adapted model checks against leave out every evaluation word.
+  const RecognizerOptions options =
+      WithoutEvaluationWords(RecognizerOptionsFor(adaptation.out_dir));
   const auto espeak = Measure(options, TestVoices());
   const auto flite = Measure(options, FliteTestVoices());
   std::filesystem::remove_all(adaptation.out_dir);
   ASSERT_TRUE(espeak && flite);
-  // Measured 93.2% and 8.2% (espeak-ng), 63.6% and 2.9% (flite): a model adapted to other
-  // speakers, with the decoys an adapted model brings, loses commands of a voice unlike
-  // theirs to the decoys. An adapted model is for the speaker it was adapted to.
-  EXPECT_GE(espeak->recognition_rate(), 0.88);
-  EXPECT_LE(espeak->false_accept_rate(), 0.11);
-  EXPECT_GE(flite->recognition_rate(), 0.58);
-  EXPECT_LE(flite->false_accept_rate(), 0.06);
+  // Measured 77.3% and 2.4% (espeak-ng), 59.1% and 1.0% (flite): a model adapted to other
+  // speakers, with the decoys and common words an adapted model brings, loses commands of a
+  // voice unlike theirs to them (without the common words: 93.2% and 8.2%, 63.6% and 2.9%).
+  // An adapted model is for the speaker it was adapted to.
+  EXPECT_GE(espeak->recognition_rate(), 0.72);
+  EXPECT_LE(espeak->false_accept_rate(), 0.05);
+  EXPECT_GE(flite->recognition_rate(), 0.54);
+  EXPECT_LE(flite->false_accept_rate(), 0.03);
 }
 
 // Each test voice as an enrolled operator: the model adapted to that voice's own enrolment
@@ -112,15 +115,18 @@ TEST(VoiceRates, EnrolledOperators) {
   const std::string work = TempFolder("enrolled");
   for (const auto* voices : {&TestVoices(), &FliteTestVoices()}) {
     std::string error;
-    const auto report =
-        EvaluateEnrolled(*voices, TestWords(), 175,
-                         EnrolledRecognizerOptions(RecognizerOptions{}.model_dir), work, &error);
+    const auto report = EvaluateEnrolled(
+        *voices, TestWords(), 175,
+        WithoutEvaluationWords(EnrolledRecognizerOptions(RecognizerOptions{}.model_dir)), work,
+        &error);
     ASSERT_TRUE(report) << error;
     CheckCounts(*report, voices->size());
-    // Measured 100.0% and 8.2% (espeak-ng), 93.2% and 3.8% (flite).
+    // Measured 97.7% and 2.9% (espeak-ng), 95.5% and 1.9% (flite): both targets met. Without
+    // the common words (step 6): 100.0% and 8.2%, 93.2% and 3.8%. The guards are the targets,
+    // except flite's recognition, one command above its target.
     const bool espeak = voices == &TestVoices();
-    EXPECT_GE(report->recognition_rate(), espeak ? 0.95 : 0.88);
-    EXPECT_LE(report->false_accept_rate(), espeak ? 0.11 : 0.06);
+    EXPECT_GE(report->recognition_rate(), espeak ? 0.95 : 0.93);
+    EXPECT_LE(report->false_accept_rate(), 0.05);
   }
   std::filesystem::remove_all(work);
 }
