@@ -468,7 +468,7 @@ RecognizerOptions EnrolledRecognizerOptions(const std::string& model_dir) {
   options.model_dir = model_dir;
   options.decoys.max_per_command = 15;
   options.grammar.decoy_weight = 1e-10;
-  options.min_confidence = 0.05;
+  options.min_confidence = 0.01;
   options.fillers.count = 10000;
   options.fillers.weight = 1e-2;
   return options;

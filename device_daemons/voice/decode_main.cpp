@@ -110,7 +110,7 @@ int main(int argc, char** argv) try {
       "model-dir", po::value(&options.model_dir)->default_value(options.model_dir),
       "pocketsphinx en-us model folder")(
       "min-confidence", po::value(&min_confidence),
-      "reject commands below this confidence (0..1; default 0.2, 0.05 with an adapted model)")(
+      "reject commands below this confidence (0..1; default 0.2, 0.01 with an adapted model)")(
       "decoys", po::value(&decoys),
       "near words per command that compete with it (default 0, 15 with an adapted model)")(
       "fillers", po::value(&fillers),

@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
       "state", po::value<std::string>(),
       "initial operator state: verification, model_building, awaiting_type")(
       "min-confidence", po::value<double>(),
-      "recogniser: reject commands below this confidence (0..1; default 0.2, 0.05 with an "
+      "recogniser: reject commands below this confidence (0..1; default 0.2, 0.01 with an "
       "adapted model)")("model-dir", po::value<std::string>(),
                         "recogniser: pocketsphinx en-us model folder");
   int exit_code = 0;
