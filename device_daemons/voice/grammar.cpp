@@ -11,6 +11,16 @@
 namespace igms::voice {
 namespace {
 
+// How many phones a dictionary word may differ from `command` by and still be its decoy.
+int DecoyDistanceLimit(const DecoyOptions& options, const Pronunciation& command) {
+  return std::max(
+      1, static_cast<int>(std::lround(options.max_distance_fraction * command.phones.size())));
+}
+
+int SizeGap(const Pronunciation& a, const Pronunciation& b) {
+  return std::abs(static_cast<int>(a.phones.size()) - static_cast<int>(b.phones.size()));
+}
+
 std::vector<std::string> Split(std::string_view text) {
   std::istringstream in{std::string(text)};
   std::vector<std::string> out;
@@ -171,15 +181,12 @@ std::vector<Pronunciation> SelectDecoys(const std::vector<Pronunciation>& dictio
 
   std::map<std::string, Pronunciation> chosen;
   for (const Pronunciation& command : commands) {
-    const int limit = std::max(
-        1, static_cast<int>(std::lround(options.max_distance_fraction * command.phones.size())));
+    const int limit = DecoyDistanceLimit(options, command);
     std::vector<std::pair<int, const Pronunciation*>> near;
     for (const Pronunciation& entry : dictionary) {
       if (static_cast<int>(entry.phones.size()) < options.min_phones) continue;
       if (command_phones.count(entry.phones)) continue;  // homophones are the command
-      const int size_gap = std::abs(static_cast<int>(entry.phones.size()) -
-                                    static_cast<int>(command.phones.size()));
-      if (size_gap > limit) continue;
+      if (SizeGap(entry, command) > limit) continue;
       const int d = PhoneDistance(entry.phones, command.phones);
       if (d < 1 || d > limit) continue;
       if (log10_unigram && log10_unigram(entry.word) < options.min_log10_unigram) continue;
@@ -226,19 +233,11 @@ std::vector<Pronunciation> SelectFillerWords(const std::vector<Pronunciation>& d
   std::vector<Pronunciation> out;
   for (const auto& [u, entry] : ranked) {
     if (static_cast<int>(out.size()) >= options.count) break;
-    bool near = false;
-    for (const Pronunciation& c : commands) {
-      const int limit =
-          std::max(1,
-                   static_cast<int>(std::lround(decoys.max_distance_fraction * c.phones.size()))) +
-          options.margin;
-      if (c.word == entry->word || (std::abs(static_cast<int>(entry->phones.size()) -
-                                             static_cast<int>(c.phones.size())) <= limit &&
-                                    PhoneDistance(entry->phones, c.phones) <= limit)) {
-        near = true;
-        break;
-      }
-    }
+    const bool near = std::any_of(commands.begin(), commands.end(), [&](const Pronunciation& c) {
+      const int limit = DecoyDistanceLimit(decoys, c) + options.margin;
+      return c.word == entry->word ||
+             (SizeGap(*entry, c) <= limit && PhoneDistance(entry->phones, c.phones) <= limit);
+    });
     if (!near) out.push_back(*entry);
   }
   return out;

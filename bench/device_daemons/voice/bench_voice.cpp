@@ -93,40 +93,37 @@ bool RunEnrolled(const RecognizerOptions& options, const std::vector<EnrolledSet
   return ok;
 }
 
+// Sets `field` from the environment variable `name` when it is set.
+void FromEnvironment(const char* name, int& field) {
+  if (const char* v = std::getenv(name)) field = std::atoi(v);
+}
+void FromEnvironment(const char* name, double& field) {
+  if (const char* v = std::getenv(name)) field = std::atof(v);
+}
+
 // The settings to try, from the environment, over `options`.
 RecognizerOptions WithEnvironment(RecognizerOptions options) {
   if (const char* extra = std::getenv("BENCH_VOICE_ARGS")) {
     std::istringstream in(extra);
     for (std::string a; in >> a;) options.decoder_args.push_back(a);
   }
-  if (const char* n = std::getenv("BENCH_VOICE_DECOYS"))
-    options.decoys.max_per_command = std::atoi(n);
-  if (const char* u = std::getenv("BENCH_VOICE_DECOY_MIN_UNIGRAM"))
-    options.decoys.min_log10_unigram = std::atof(u);
-  if (const char* d = std::getenv("BENCH_VOICE_DECOY_DISTANCE"))
-    options.decoys.max_distance_fraction = std::atof(d);
-  if (const char* w = std::getenv("BENCH_VOICE_DECOY_WEIGHT"))
-    options.grammar.decoy_weight = std::atof(w);
-  if (const char* c = std::getenv("BENCH_VOICE_MIN_CONFIDENCE"))
-    options.min_confidence = std::atof(c);
-  if (const char* u = std::getenv("BENCH_VOICE_MAX_UNCOVERED_MS"))
-    options.max_uncovered_speech_ms = std::atof(u);
   if (const char* list = std::getenv("BENCH_VOICE_PERTURBATIONS")) {
     std::istringstream in(list);
     options.perturbations.clear();
     for (double f; in >> f;) options.perturbations.push_back(f);
   }
-  if (const char* k = std::getenv("BENCH_VOICE_MIN_AGREEMENT"))
-    options.min_agreement = std::atoi(k);
-  if (const char* n = std::getenv("BENCH_VOICE_FILLERS")) options.fillers.count = std::atoi(n);
-  if (const char* m = std::getenv("BENCH_VOICE_FILLER_MIN_PHONES"))
-    options.fillers.min_phones = std::atoi(m);
-  if (const char* m = std::getenv("BENCH_VOICE_FILLER_MARGIN"))
-    options.fillers.margin = std::atoi(m);
-  if (const char* w = std::getenv("BENCH_VOICE_FILLER_WEIGHT"))
-    options.fillers.weight = std::atof(w);
-  if (const char* w = std::getenv("BENCH_VOICE_LOOP_WEIGHT"))
-    options.grammar.phone_loop_weight = std::atof(w);
+  FromEnvironment("BENCH_VOICE_DECOYS", options.decoys.max_per_command);
+  FromEnvironment("BENCH_VOICE_DECOY_MIN_UNIGRAM", options.decoys.min_log10_unigram);
+  FromEnvironment("BENCH_VOICE_DECOY_DISTANCE", options.decoys.max_distance_fraction);
+  FromEnvironment("BENCH_VOICE_DECOY_WEIGHT", options.grammar.decoy_weight);
+  FromEnvironment("BENCH_VOICE_MIN_CONFIDENCE", options.min_confidence);
+  FromEnvironment("BENCH_VOICE_MAX_UNCOVERED_MS", options.max_uncovered_speech_ms);
+  FromEnvironment("BENCH_VOICE_MIN_AGREEMENT", options.min_agreement);
+  FromEnvironment("BENCH_VOICE_FILLERS", options.fillers.count);
+  FromEnvironment("BENCH_VOICE_FILLER_MIN_PHONES", options.fillers.min_phones);
+  FromEnvironment("BENCH_VOICE_FILLER_MARGIN", options.fillers.margin);
+  FromEnvironment("BENCH_VOICE_FILLER_WEIGHT", options.fillers.weight);
+  FromEnvironment("BENCH_VOICE_LOOP_WEIGHT", options.grammar.phone_loop_weight);
   return WithoutEvaluationWords(options);
 }
 
