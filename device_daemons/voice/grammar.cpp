@@ -231,7 +231,9 @@ std::vector<Pronunciation> SelectFillerWords(const std::vector<Pronunciation>& d
     return x.first != y.first ? x.first > y.first : x.second->word < y.second->word;
   });
   std::vector<Pronunciation> out;
-  for (const auto& [u, entry] : ranked) {
+  for (const auto& ranked_entry : ranked) {
+    const Pronunciation* entry =
+        ranked_entry.second;  // a lambda cannot capture a binding in clang 14
     if (static_cast<int>(out.size()) >= options.count) break;
     const bool near = std::any_of(commands.begin(), commands.end(), [&](const Pronunciation& c) {
       const int limit = DecoyDistanceLimit(decoys, c) + options.margin;
