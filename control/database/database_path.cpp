@@ -48,13 +48,11 @@ DatabaseResult<std::string> ResolveDatabasePath(const config::LabConfig& config,
   if (from_file.empty()) return DefaultDatabasePath(folders);
   if (from_file.rfind("~/", 0) == 0) {
     if (folders.home.empty()) {
-      return DatabaseError{DatabaseErrorCode::kStorage,
-                           config.source() + ": lab.database '" + from_file +
-                               "' starts with ~ but HOME is not set"};
+      return DatabaseError{
+          DatabaseErrorCode::kStorage,
+          config.source() + ": lab.database '" + from_file + "' starts with ~ but HOME is not set"};
     }
-    return (fs::path(folders.home) / from_file.substr(2))
-        .lexically_normal()
-        .string();
+    return (fs::path(folders.home) / from_file.substr(2)).lexically_normal().string();
   }
   return fs::absolute(config.ResolvePath(from_file)).lexically_normal().string();
 }

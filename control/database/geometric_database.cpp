@@ -101,19 +101,19 @@ class FileLock {
       }
       struct stat held {};
       struct stat named {};
-      if (fstat(fd, &held) == 0 && stat(path.c_str(), &named) == 0 &&
-          held.st_dev == named.st_dev && held.st_ino == named.st_ino) {
+      if (fstat(fd, &held) == 0 && stat(path.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
+          held.st_ino == named.st_ino) {
         const std::string text = who.program + " " + who.version + ", pid " +
                                  std::to_string(getpid()) + " on " + HostName() + "\n";
-        if (ftruncate(fd, 0) == 0 && pwrite(fd, text.data(), text.size(), 0) < 0) {
-          // Who holds it is only for messages; the lock itself is held.
-        }
+        // Who holds it is only for the next opener's message: a failed write is no failure.
+        [[maybe_unused]] const bool said =
+            ftruncate(fd, 0) == 0 && pwrite(fd, text.data(), text.size(), 0) > 0;
         return std::unique_ptr<FileLock>(new FileLock(path, fd));
       }
       close(fd);
     }
-    return Fail(DatabaseErrorCode::kInUse, "cannot take the lock " + path +
-                                               ": other sessions keep replacing it");
+    return Fail(DatabaseErrorCode::kInUse,
+                "cannot take the lock " + path + ": other sessions keep replacing it");
   }
 
   ~FileLock() {
@@ -142,8 +142,8 @@ DatabaseResult<bool> Inspect(const std::string& path) {
     if (application != GeometricDatabase::kApplicationId) {
       return Fail(DatabaseErrorCode::kForeignSchema,
                   path + " is an SQLite database of another application (application_id " +
-                      Hex(application) + ", not IGMS's " +
-                      Hex(GeometricDatabase::kApplicationId) + "); it was left as it is");
+                      Hex(application) + ", not IGMS's " + Hex(GeometricDatabase::kApplicationId) +
+                      "); it was left as it is");
     }
     if (version > GeometricDatabase::kSchemaVersion) {
       return Fail(DatabaseErrorCode::kNewerSchema,
@@ -229,33 +229,51 @@ std::vector<std::string> Columns(std::initializer_list<std::string> plain,
 }
 
 const std::string& InsertModelSql() {
-  static const std::string sql = InsertSql(
-      "models",
-      Columns({"type", "present", "added_unix_ns", "session_id", "frame_id",
-               "left_capture_unix_ns", "right_capture_unix_ns", "platform_from_platform",
-               "platform_pan_rad", "platform_tilt_rad", "platform_roll_rad",
-               "platform_time_unix_ns", "range_sent", "range_used", "range_constrained",
-               "range_measured", "range_expected_min", "range_expected_max", "range_agrees",
-               "range_detail", "calibration_hash", "boundary_pixels", "ssd_rms",
-               "outline_samples", "rms_left_px", "rms_right_px", "locate_ms", "fetch_ms",
-               "round_trip_ms"}));
+  static const std::string sql = InsertSql("models", Columns({"type",
+                                                              "present",
+                                                              "added_unix_ns",
+                                                              "session_id",
+                                                              "frame_id",
+                                                              "left_capture_unix_ns",
+                                                              "right_capture_unix_ns",
+                                                              "platform_from_platform",
+                                                              "platform_pan_rad",
+                                                              "platform_tilt_rad",
+                                                              "platform_roll_rad",
+                                                              "platform_time_unix_ns",
+                                                              "range_sent",
+                                                              "range_used",
+                                                              "range_constrained",
+                                                              "range_measured",
+                                                              "range_expected_min",
+                                                              "range_expected_max",
+                                                              "range_agrees",
+                                                              "range_detail",
+                                                              "calibration_hash",
+                                                              "boundary_pixels",
+                                                              "ssd_rms",
+                                                              "outline_samples",
+                                                              "rms_left_px",
+                                                              "rms_right_px",
+                                                              "locate_ms",
+                                                              "fetch_ms",
+                                                              "round_trip_ms"}));
   return sql;
 }
 
 const std::string& InsertCylinderSql() {
-  static const std::string sql =
-      InsertSql("cylinders", Columns({"model_id", "radius", "height", "radius_sigma",
-                                      "height_sigma"},
-                                     {"center", "axis", "center_sigma"}));
+  static const std::string sql = InsertSql(
+      "cylinders", Columns({"model_id", "radius", "height", "radius_sigma", "height_sigma"},
+                           {"center", "axis", "center_sigma"}));
   return sql;
 }
 
 const std::string& InsertBoxSql() {
-  static const std::string sql = InsertSql(
-      "boxes", Columns({"model_id", "yaw_deg", "yaw_sigma_deg", "texture_u0", "texture_v0",
-                        "texture_u1", "texture_v1", "texture_png"},
-                       {"center", "size", "center_sigma", "size_sigma", "min", "max",
-                        "min_sigma", "max_sigma"}));
+  static const std::string sql =
+      InsertSql("boxes", Columns({"model_id", "yaw_deg", "yaw_sigma_deg", "texture_u0",
+                                  "texture_v0", "texture_u1", "texture_v1", "texture_png"},
+                                 {"center", "size", "center_sigma", "size_sigma", "min", "max",
+                                  "min_sigma", "max_sigma"}));
   return sql;
 }
 
@@ -358,7 +376,8 @@ struct GeometricDatabase::Impl {
       Statement& c = Prepared("SELECT * FROM cylinders WHERE model_id = :id");
       c.Bind(":id", stored.id);
       if (!c.Step()) {
-        throw SqliteError(SQLITE_CORRUPT, "model " + std::to_string(stored.id) + " has no cylinder");
+        throw SqliteError(SQLITE_CORRUPT,
+                          "model " + std::to_string(stored.id) + " has no cylinder");
       }
       auto& cyl = r.cylinder;
       *cyl.mutable_center() = ReadVec(c, "center");
@@ -535,8 +554,10 @@ DatabaseResult<std::int64_t> GeometricDatabase::AddModel(const ModelRecord& reco
     const auto& joints = p.platform_pose.joints_rad();
     const char* joint_names[] = {":platform_pan_rad", ":platform_tilt_rad", ":platform_roll_rad"};
     for (int i = 0; i < 3; ++i) {
-      if (joints.size() == 3) m.Bind(joint_names[i], joints[i]);
-      else m.BindNull(joint_names[i]);
+      if (joints.size() == 3)
+        m.Bind(joint_names[i], joints[i]);
+      else
+        m.BindNull(joint_names[i]);
     }
     m.Bind(":platform_time_unix_ns", p.platform_pose.time_unix_ns());
     m.Bind(":range_sent", p.range);
@@ -550,9 +571,9 @@ DatabaseResult<std::int64_t> GeometricDatabase::AddModel(const ModelRecord& reco
       m.Bind(":range_agrees", std::int64_t{r.agrees()});
       m.Bind(":range_detail", std::string_view(r.detail()));
     } else {
-      for (const char* name : {":range_used", ":range_constrained", ":range_measured",
-                               ":range_expected_min", ":range_expected_max", ":range_agrees",
-                               ":range_detail"}) {
+      for (const char* name :
+           {":range_used", ":range_constrained", ":range_measured", ":range_expected_min",
+            ":range_expected_max", ":range_agrees", ":range_detail"}) {
         m.BindNull(name);
       }
     }
@@ -643,7 +664,8 @@ DatabaseResult<Change> GeometricDatabase::RemoveModel(std::int64_t id) {
     Statement& q = impl_->Prepared("SELECT present FROM models WHERE id = :id");
     q.Bind(":id", id);
     if (!q.Step()) {
-      return Fail(DatabaseErrorCode::kNoSuchModel, "no model " + std::to_string(id) + " in " + path_);
+      return Fail(DatabaseErrorCode::kNoSuchModel,
+                  "no model " + std::to_string(id) + " in " + path_);
     }
     const bool present = q.Int("present") != 0;
     q.Reset();
@@ -684,14 +706,17 @@ DatabaseResult<Change> GeometricDatabase::Undo() {
     const std::int64_t model = q.Int("model_id");
     q.Reset();
     const std::int64_t now = NowUnixNs();
-    Change change{0, now, undone_kind == ChangeKind::kAdd ? ChangeKind::kUndoAdd
-                                                          : ChangeKind::kUndoRemove,
-                  model, session_id_, undone};
+    Change change{0,
+                  now,
+                  undone_kind == ChangeKind::kAdd ? ChangeKind::kUndoAdd : ChangeKind::kUndoRemove,
+                  model,
+                  session_id_,
+                  undone};
     Statement& u = impl_->Prepared(
         "UPDATE models SET present = :present, removed_unix_ns = :removed WHERE id = :id");
     u.Bind(":present", std::int64_t{change.kind == ChangeKind::kUndoRemove});
-    u.Bind(":removed", change.kind == ChangeKind::kUndoAdd ? std::optional<std::int64_t>(now)
-                                                           : std::nullopt);
+    u.Bind(":removed",
+           change.kind == ChangeKind::kUndoAdd ? std::optional<std::int64_t>(now) : std::nullopt);
     u.Bind(":id", model);
     u.Step();
     u.Reset();
@@ -729,7 +754,8 @@ DatabaseResult<StoredModel> GeometricDatabase::GetModel(std::int64_t id) {
     Statement& m = impl_->Prepared("SELECT * FROM models WHERE id = :id");
     m.Bind(":id", id);
     if (!m.Step()) {
-      return Fail(DatabaseErrorCode::kNoSuchModel, "no model " + std::to_string(id) + " in " + path_);
+      return Fail(DatabaseErrorCode::kNoSuchModel,
+                  "no model " + std::to_string(id) + " in " + path_);
     }
     StoredModel stored = impl_->ReadModel(m);
     m.Reset();

@@ -44,7 +44,7 @@ enum class DatabaseErrorCode {
   kNoSuchModel,
   kAlreadyRemoved,
   kNothingToUndo,
-  kStorage,        // the file could not be read or written (disk full, I/O error, folder)
+  kStorage,  // the file could not be read or written (disk full, I/O error, folder)
 };
 
 struct DatabaseError {

@@ -124,8 +124,8 @@ Problem CheckProvenance(const Provenance& p) {
            " angles, not 3 (pan, tilt, roll) or none";
   }
   for (int i = 0; i < joints.size(); ++i) {
-    if (auto q = Finite("provenance.platform_pose.joints_rad[" + std::to_string(i) + "]",
-                        joints[i])) {
+    if (auto q =
+            Finite("provenance.platform_pose.joints_rad[" + std::to_string(i) + "]", joints[i])) {
       return q;
     }
   }

@@ -5,8 +5,8 @@
 namespace igms::control::sqlite {
 
 Connection::Connection(const std::string& path, Mode mode) : path_(path) {
-  const int flags = mode == Mode::kReadOnly ? SQLITE_OPEN_READONLY
-                                            : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
+  const int flags =
+      mode == Mode::kReadOnly ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
   const int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
   if (rc != SQLITE_OK) {
     const std::string message = db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
@@ -66,8 +66,8 @@ int Statement::Parameter(const char* name) const {
   const int index = sqlite3_bind_parameter_index(stmt_, name);
   // A name the SQL lacks is a programmer error in this folder, never the operator's.
   if (index == 0) {
-    throw SqliteError(SQLITE_MISUSE, std::string("no parameter ") + name + " in '" +
-                                         sqlite3_sql(stmt_) + "'");
+    throw SqliteError(SQLITE_MISUSE,
+                      std::string("no parameter ") + name + " in '" + sqlite3_sql(stmt_) + "'");
   }
   return index;
 }

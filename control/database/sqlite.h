@@ -67,8 +67,10 @@ class Statement {
   void BindNull(const char* name);
   template <class T>
   void Bind(const char* name, const std::optional<T>& value) {
-    if (value) Bind(name, *value);
-    else BindNull(name);
+    if (value)
+      Bind(name, *value);
+    else
+      BindNull(name);
   }
 
   // Runs one step: true when a row is ready to be read, false when done.

@@ -59,8 +59,7 @@ class PlainInsert {
   }
   bool Insert(const std::string& payload) {
     sqlite3_exec(db_, "BEGIN IMMEDIATE", nullptr, nullptr, nullptr);
-    sqlite3_bind_blob(insert_, 1, payload.data(), static_cast<int>(payload.size()),
-                      SQLITE_STATIC);
+    sqlite3_bind_blob(insert_, 1, payload.data(), static_cast<int>(payload.size()), SQLITE_STATIC);
     const bool ok = sqlite3_step(insert_) == SQLITE_DONE;
     sqlite3_reset(insert_);
     return sqlite3_exec(db_, "COMMIT", nullptr, nullptr, nullptr) == SQLITE_OK && ok;

@@ -1,8 +1,6 @@
 // The geometric database in one process, on real files: models stored and read back whole,
 // removal as a mark, undo and history, a session continued, bad input refused before
 // anything is written, and one writer at a time.
-#include "control/database/geometric_database.h"
-
 #include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>
 #include <sqlite3.h>
@@ -12,6 +10,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "control/database/geometric_database.h"
 #include "tests/control/database/sample_records.h"
 #include "tests/support/child_process.h"
 
@@ -337,15 +336,15 @@ TEST(GeometricDatabase, RemovalIsAMarkAndUndoWalksBackThroughAddsAndRemovals) {
   auto history = db->History();
   ASSERT_TRUE(history.ok()) << history.error();
   const std::vector<std::pair<ChangeKind, std::int64_t>> expected = {
-      {ChangeKind::kAdd, a},         {ChangeKind::kAdd, b},     {ChangeKind::kRemove, a},
-      {ChangeKind::kUndoRemove, a},  {ChangeKind::kUndoAdd, b}, {ChangeKind::kUndoAdd, a},
-      {ChangeKind::kAdd, c},         {ChangeKind::kUndoAdd, c}};
+      {ChangeKind::kAdd, a},        {ChangeKind::kAdd, b},     {ChangeKind::kRemove, a},
+      {ChangeKind::kUndoRemove, a}, {ChangeKind::kUndoAdd, b}, {ChangeKind::kUndoAdd, a},
+      {ChangeKind::kAdd, c},        {ChangeKind::kUndoAdd, c}};
   ASSERT_EQ(history->size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) {
     const Change& change = (*history)[i];
     EXPECT_EQ(change.seq, static_cast<std::int64_t>(i + 1));
-    EXPECT_EQ(change.kind, expected[i].first) << "change " << i + 1 << " is "
-                                              << ChangeKindName(change.kind);
+    EXPECT_EQ(change.kind, expected[i].first)
+        << "change " << i + 1 << " is " << ChangeKindName(change.kind);
     EXPECT_EQ(change.model_id, expected[i].second) << "change " << i + 1;
     EXPECT_EQ(change.session_id, db->session_id());
     if (i > 0) {

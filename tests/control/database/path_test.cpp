@@ -1,12 +1,11 @@
 // Where the database lives: --database, else lab.database (relative to the lab file), else
 // the operator's data folder.
-#include "control/database/database_path.h"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
+#include "control/database/database_path.h"
 #include "tests/support/child_process.h"
 
 namespace igms::control {

@@ -2,13 +2,12 @@
 // loses no model whose add had returned and leaves a sound file, and a second process is
 // refused while one holds the database.
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sqlite3.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <gtest/gtest.h>
 
 #include <cstring>
 #include <set>

@@ -48,8 +48,8 @@ void ExpectRefusedUnchanged(const std::string& path, DatabaseErrorCode code,
   ASSERT_FALSE(db.ok()) << "opened " << path;
   EXPECT_EQ(static_cast<int>(db.code()), static_cast<int>(code)) << db.error();
   EXPECT_NE(db.error().find(words), std::string::npos) << db.error();
-  EXPECT_NE(db.error().find(path), std::string::npos) << "the message names the file: "
-                                                      << db.error();
+  EXPECT_NE(db.error().find(path), std::string::npos)
+      << "the message names the file: " << db.error();
   EXPECT_TRUE(FileBytes(path) == before) << path << " was changed";
   for (const char* side : {"-wal", "-shm", "-journal", ".lock"}) {
     EXPECT_FALSE(fs::exists(path + side)) << path + side << " was left behind";
