@@ -103,8 +103,8 @@ class FileLock {
       struct stat named {};
       if (fstat(fd, &held) == 0 && stat(path.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
           held.st_ino == named.st_ino) {
-        const std::string text = who.program + " " + who.version + ", pid " +
-                                 std::to_string(getpid()) + " on " + HostName() + "\n";
+        const std::string text = who.program + (who.version.empty() ? "" : " " + who.version) +
+                                 ", pid " + std::to_string(getpid()) + " on " + HostName() + "\n";
         // Who holds it is only for the next opener's message: a failed write is no failure.
         [[maybe_unused]] const bool said =
             ftruncate(fd, 0) == 0 && pwrite(fd, text.data(), text.size(), 0) > 0;
