@@ -38,6 +38,14 @@ TEST(DatabasePath, TheLabFilesPathIsRelativeToItsFolder) {
   EXPECT_EQ(ResolveDatabasePath(absolute, "", kFolders).value(), "/srv/igms.db");
 }
 
+TEST(DatabasePath, TheOneMachineLabKeepsItInTheRunFolder) {
+  const auto lab = config::LabConfig::Load(igms::testing::SourceDir() + "/deploy/lab.yaml");
+  EXPECT_EQ(ResolveDatabasePath(lab, "", kFolders).value(),
+            (fs::absolute(igms::testing::SourceDir()) / ".lab-run" / "igms-db")
+                .lexically_normal()
+                .string());
+}
+
 TEST(DatabasePath, WithoutEitherItIsTheOperatorsDataFolder) {
   const config::LabConfig none;
   EXPECT_EQ(ResolveDatabasePath(none, "", kFolders).value(), "/data/operator/igms/igms.db");
