@@ -135,11 +135,25 @@ Effects Session::Handle(const Event& event) {
   return std::move(out_);
 }
 
-geometry::Matrix34 Session::LeftCameraAt(std::span<const double> joints) const {
-  if (!calibration_.platform) return calibration_.left.P;
-  std::vector<double> q(calibration_.platform->joints.size(), 0.0);
+namespace {
+
+geometry::Matrix34 CameraAt(const geometry::Matrix34& P0,
+                            const std::optional<geometry::PlatformModel>& platform,
+                            std::span<const double> joints) {
+  if (!platform) return P0;
+  std::vector<double> q(platform->joints.size(), 0.0);
   std::copy_n(joints.begin(), std::min(joints.size(), q.size()), q.begin());
-  return geometry::CameraAtPose(calibration_.left.P, *calibration_.platform, q);
+  return geometry::CameraAtPose(P0, *platform, q);
+}
+
+}  // namespace
+
+geometry::Matrix34 Session::LeftCameraAt(std::span<const double> joints) const {
+  return CameraAt(calibration_.left.P, calibration_.platform, joints);
+}
+
+geometry::Matrix34 Session::RightCameraAt(std::span<const double> joints) const {
+  return CameraAt(calibration_.right.P, calibration_.platform, joints);
 }
 
 // ---- helpers ----
@@ -163,11 +177,9 @@ void Session::SetMode(Mode mode) {
   const devices::OperatorState before = OperatorStateOf(mode_);
   mode_ = mode;
   const devices::OperatorState after = OperatorStateOf(mode_);
-  // The voice grammar follows the system's state (fixing the flaw of thesis 2.1.6). The
-  // daemon predicts model building after "box" or "cylinder", so a locate that ends back
-  // in awaiting-type is said again even though the session's own state did not change.
-  if ((before != after || mode == Mode::kAwaitingType) && peer_up(Peer::kVoice))
-    out_.push_back(SetOperatorStateEffect{after});
+  // The voice grammar follows the system's state (fixing the flaw of thesis 2.1.6): told
+  // at every change, so a command from the buttons or the keys never leaves it behind.
+  if (before != after && peer_up(Peer::kVoice)) out_.push_back(SetOperatorStateEffect{after});
 }
 
 // ---- start ----
@@ -414,10 +426,7 @@ void Session::On(const GrabReply& e) {
   const auto& joints = view.grab.pose().joints_rad();
   for (int i = 0; i < joints.size() && static_cast<size_t>(i) < n; ++i) view.joints[i] = joints[i];
   view.left_P = LeftCameraAt(view.joints);
-  view.right_P = calibration_.platform
-                     ? geometry::CameraAtPose(calibration_.right.P, *calibration_.platform,
-                                              view.joints)
-                     : calibration_.right.P;
+  view.right_P = RightCameraAt(view.joints);
   const auto frame =
       CameraFrameOf(geometry::ProjectiveCamera(view.left_P, calibration_.left.image_size));
   view.left_frame = frame.value_or(CameraFrame{});

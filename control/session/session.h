@@ -59,7 +59,7 @@ struct FrozenView {
 
 class Session {
  public:
-  // nullopt with `error` when the options or the calibration's platform will not do.
+  // Null with `error` when the options or the calibration's platform will not do.
   static std::unique_ptr<Session> Make(const SessionOptions& options,
                                        const calibration::StereoCalibration& calibration,
                                        std::string* error = nullptr);
@@ -80,8 +80,10 @@ class Session {
   // The orientation the session commands (verification) or holds (frozen).
   const std::optional<PlatformTicks>& platform_target() const { return target_; }
   const ViewerToPlatform& viewer_to_platform() const { return to_platform_; }
-  // The cameras at a platform pose in ticks (the graphics follow each frame's pose).
+  // The cameras at a platform pose (joint angles in radians, as a LiveFrame's or a grab's
+  // PlatformPose gives them): the graphics follow the pose each frame was taken at.
   geometry::Matrix34 LeftCameraAt(std::span<const double> joints) const;
+  geometry::Matrix34 RightCameraAt(std::span<const double> joints) const;
 
  private:
   Session(const SessionOptions& options, const calibration::StereoCalibration& calibration,
