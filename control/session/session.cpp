@@ -16,9 +16,7 @@ std::string ErrorText(const CallError& e) {
   return ErrorCode_Name(e.code) + (e.message.empty() ? "" : ": " + e.message);
 }
 
-bool LinkGood(devices::LinkState s) {
-  return s == devices::CONNECTED || s == devices::REPLAYING;
-}
+bool LinkGood(devices::LinkState s) { return s == devices::CONNECTED || s == devices::REPLAYING; }
 
 ViewerOrientation OrientationOfReading(const devices::ViewerState& r) {
   return {r.yaw_deg(), r.pitch_deg(), r.roll_deg()};
@@ -28,14 +26,22 @@ ViewerOrientation OrientationOfReading(const devices::ViewerState& r) {
 
 std::string_view PeerName(Peer peer) {
   switch (peer) {
-    case Peer::kVideo: return "video";
-    case Peer::kObject: return "object";
-    case Peer::kPlatform: return "platform";
-    case Peer::kViewer: return "viewer";
-    case Peer::kJoystick: return "joystick";
-    case Peer::kSound: return "sound";
-    case Peer::kVoice: return "voice";
-    case Peer::kRanger: return "ranger";
+    case Peer::kVideo:
+      return "video";
+    case Peer::kObject:
+      return "object";
+    case Peer::kPlatform:
+      return "platform";
+    case Peer::kViewer:
+      return "viewer";
+    case Peer::kJoystick:
+      return "joystick";
+    case Peer::kSound:
+      return "sound";
+    case Peer::kVoice:
+      return "voice";
+    case Peer::kRanger:
+      return "ranger";
   }
   return "unknown";
 }
@@ -50,14 +56,22 @@ bool IsDaemon(Peer peer) {
 
 std::string_view ModeName(Mode mode) {
   switch (mode) {
-    case Mode::kStarting: return "starting";
-    case Mode::kVerification: return "verification";
-    case Mode::kFreezing: return "freezing";
-    case Mode::kGrabbing: return "grabbing";
-    case Mode::kModelBuilding: return "model building";
-    case Mode::kAwaitingType: return "awaiting the object type";
-    case Mode::kLocating: return "locating";
-    case Mode::kStopped: return "stopped";
+    case Mode::kStarting:
+      return "starting";
+    case Mode::kVerification:
+      return "verification";
+    case Mode::kFreezing:
+      return "freezing";
+    case Mode::kGrabbing:
+      return "grabbing";
+    case Mode::kModelBuilding:
+      return "model building";
+    case Mode::kAwaitingType:
+      return "awaiting the object type";
+    case Mode::kLocating:
+      return "locating";
+    case Mode::kStopped:
+      return "stopped";
   }
   return "unknown";
 }
@@ -67,9 +81,12 @@ devices::OperatorState OperatorStateOf(Mode mode) {
     case Mode::kFreezing:
     case Mode::kGrabbing:
     case Mode::kModelBuilding:
-    case Mode::kLocating: return devices::MODEL_BUILDING;
-    case Mode::kAwaitingType: return devices::AWAITING_OBJECT_TYPE;
-    default: return devices::VERIFICATION;
+    case Mode::kLocating:
+      return devices::MODEL_BUILDING;
+    case Mode::kAwaitingType:
+      return devices::AWAITING_OBJECT_TYPE;
+    default:
+      return devices::VERIFICATION;
   }
 }
 
@@ -78,18 +95,21 @@ bool IsValid(Mode mode, CommandKind c) {
   const bool display = c == C::kWireframe || c == C::kSolid || c == C::kToggleWireframe;
   switch (mode) {
     case Mode::kStarting:
-    case Mode::kStopped: return false;
+    case Mode::kStopped:
+      return false;
     case Mode::kVerification:
       return display || c == C::kFreeze || c == C::kRemoveModel || c == C::kUndo;
     case Mode::kFreezing:
-    case Mode::kGrabbing: return display || c == C::kUnfreeze;
+    case Mode::kGrabbing:
+      return display || c == C::kUnfreeze;
     case Mode::kModelBuilding:
-      return display || c == C::kUnfreeze || c == C::kRange || c == C::kMark ||
-             c == C::kUnmark || c == C::kRemovePoints || c == C::kRemoveModel || c == C::kUndo;
+      return display || c == C::kUnfreeze || c == C::kRange || c == C::kMark || c == C::kUnmark ||
+             c == C::kRemovePoints || c == C::kRemoveModel || c == C::kUndo;
     case Mode::kAwaitingType:
       return display || c == C::kIdentifyBox || c == C::kIdentifyCylinder || c == C::kUnmark ||
              c == C::kRemovePoints || c == C::kUnfreeze || c == C::kUndo;
-    case Mode::kLocating: return display;
+    case Mode::kLocating:
+      return display;
   }
   return false;
 }
@@ -237,11 +257,20 @@ void Session::On(const PeerUpEvent& e) {
   Notice(NoticeLevel::kInfo, Address(e.peer) + " is back");
   Play(cues::kServerBack);
   switch (e.peer) {
-    case Peer::kPlatform: PlatformBack("the platform daemon is back"); break;
-    case Peer::kVoice: out_.push_back(SetOperatorStateEffect{OperatorStateOf(mode_)}); break;
-    case Peer::kJoystick: joystick_.Reset(); break;
-    case Peer::kViewer: buttons_.Reset(); break;
-    default: break;
+    case Peer::kPlatform:
+      PlatformBack("the platform daemon is back");
+      break;
+    case Peer::kVoice:
+      out_.push_back(SetOperatorStateEffect{OperatorStateOf(mode_)});
+      break;
+    case Peer::kJoystick:
+      joystick_.Reset();
+      break;
+    case Peer::kViewer:
+      buttons_.Reset();
+      break;
+    default:
+      break;
   }
 }
 
@@ -251,8 +280,7 @@ void Session::On(const PeerDownEvent& e) {
   peer_up_[i] = false;
   Play(cues::kServerLost);  // after marking it down: the sound server's own loss is silent
   Notice(IsRequired(e.peer) ? NoticeLevel::kError : NoticeLevel::kWarning,
-         "lost " + Address(e.peer) + (e.why.empty() ? "" : ": " + e.why) +
-             "; reconnecting");
+         "lost " + Address(e.peer) + (e.why.empty() ? "" : ": " + e.why) + "; reconnecting");
   if (e.peer == Peer::kPlatform) {
     // Its answer will not come; the platform is commanded afresh when it is back.
     orientation_call_ = 0;
@@ -347,9 +375,6 @@ void Session::On(const SetOrientationReply& e) {
     const PlatformTicks next = *pending_;
     pending_.reset();
     CommandPlatform(next, false);
-  } else if (e.error && target_ && frozen_) {
-    // A frozen session's one orientation (putting the platform back) is worth another try.
-    CommandPlatform(*target_, true);
   }
   if (mode_ == Mode::kFreezing) MaybeGrab(e.now_ns, false);
 }
@@ -472,8 +497,7 @@ void Session::Drive(const PointerDrive& d) {
   }
   // The deflection held since the previous reading moved the pointer until this one.
   if (drive_time_ns_ && d.time_ns > *drive_time_ns_) {
-    const double dt =
-        std::min(d.time_ns - *drive_time_ns_, options_.max_drive_step_ns) * 1e-9;
+    const double dt = std::min(d.time_ns - *drive_time_ns_, options_.max_drive_step_ns) * 1e-9;
     const CameraFrame& f = frozen_->left_frame;
     *pointer_ += options_.pointer_speed * dt *
                  (drive_.right * f.right + drive_.up * f.up() + drive_.forward * f.forward);
@@ -484,8 +508,8 @@ void Session::Drive(const PointerDrive& d) {
 
 void Session::Range() {
   if (!peer_up(Peer::kRanger)) {
-    Notice(NoticeLevel::kWarning, "no ranger in this session: " + Address(Peer::kRanger) +
-                                      " is not connected");
+    Notice(NoticeLevel::kWarning,
+           "no ranger in this session: " + Address(Peer::kRanger) + " is not connected");
     return;
   }
   if (range_call_ != 0) return;  // one measurement at a time
@@ -536,9 +560,8 @@ void Session::Unmark(bool play) {
   const uint64_t id = mark_ids_.back();
   marks_.pop_back();
   mark_ids_.pop_back();
-  std::erase_if(undo_, [&](const UndoEntry& u) {
-    return u.kind == UndoEntry::kMarkAdded && u.id == id;
-  });
+  std::erase_if(undo_,
+                [&](const UndoEntry& u) { return u.kind == UndoEntry::kMarkAdded && u.id == id; });
   if (play) Play(cues::kUnmark);
   if (mode_ == Mode::kAwaitingType) SetMode(Mode::kModelBuilding);
 }
@@ -607,8 +630,8 @@ void Session::On(const LocateReply& e) {
   if (!r.found()) {
     failure_detail_ = r.detail();
     out_.push_back(SpeakFailureEffect{r.reason()});
-    Notice(NoticeLevel::kWarning, "object not found (" + object::FailureReason_Name(r.reason()) +
-                                      "): " + r.detail());
+    Notice(NoticeLevel::kWarning,
+           "object not found (" + object::FailureReason_Name(r.reason()) + "): " + r.detail());
     return LocateEnded();
   }
   SessionModel model;
@@ -737,19 +760,32 @@ void Session::Execute(const Command& command, int64_t now_ns) {
     return;
   }
   switch (command.kind) {
-    case CommandKind::kFreeze: return Freeze(now_ns);
-    case CommandKind::kUnfreeze: return Unfreeze();
-    case CommandKind::kRange: return Range();
-    case CommandKind::kMark: return Mark();
-    case CommandKind::kUnmark: return Unmark(true);
-    case CommandKind::kRemovePoints: return RemovePoints();
-    case CommandKind::kIdentifyBox: return Identify(object::OBJECT_TYPE_BOX, now_ns);
-    case CommandKind::kIdentifyCylinder: return Identify(object::OBJECT_TYPE_CYLINDER, now_ns);
-    case CommandKind::kWireframe: return SetWireframe(true);
-    case CommandKind::kSolid: return SetWireframe(false);
-    case CommandKind::kToggleWireframe: return SetWireframe(!wireframe_);
-    case CommandKind::kRemoveModel: return RemoveModel();
-    case CommandKind::kUndo: return Undo();
+    case CommandKind::kFreeze:
+      return Freeze(now_ns);
+    case CommandKind::kUnfreeze:
+      return Unfreeze();
+    case CommandKind::kRange:
+      return Range();
+    case CommandKind::kMark:
+      return Mark();
+    case CommandKind::kUnmark:
+      return Unmark(true);
+    case CommandKind::kRemovePoints:
+      return RemovePoints();
+    case CommandKind::kIdentifyBox:
+      return Identify(object::OBJECT_TYPE_BOX, now_ns);
+    case CommandKind::kIdentifyCylinder:
+      return Identify(object::OBJECT_TYPE_CYLINDER, now_ns);
+    case CommandKind::kWireframe:
+      return SetWireframe(true);
+    case CommandKind::kSolid:
+      return SetWireframe(false);
+    case CommandKind::kToggleWireframe:
+      return SetWireframe(!wireframe_);
+    case CommandKind::kRemoveModel:
+      return RemoveModel();
+    case CommandKind::kUndo:
+      return Undo();
   }
 }
 

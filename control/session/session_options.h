@@ -32,9 +32,9 @@ struct SessionOptions {
   double world_units_per_inch = 1.0;
 
   // Input discipline and cues.
-  int64_t button_hold_ns = 100'000'000;       // viewer buttons (table 2.1)
+  int64_t button_hold_ns = 100'000'000;          // viewer buttons (table 2.1)
   int64_t please_wait_after_ns = 2'000'000'000;  // a Locate in flight this long: "Please wait."
-  int64_t welcome_after_ns = 1'800'000'000;  // "Welcome" after the introduction music
+  int64_t welcome_after_ns = 1'800'000'000;      // "Welcome" after the introduction music
 
   // Start: with a required peer missing, wait for it (--wait) instead of exiting 1.
   bool wait_for_peers = false;

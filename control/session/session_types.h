@@ -31,9 +31,9 @@ namespace igms::control {
 
 // Every peer of the session (the lab file's processes.*).
 enum class Peer { kVideo, kObject, kPlatform, kViewer, kJoystick, kSound, kVoice, kRanger };
-inline constexpr Peer kAllPeers[] = {Peer::kVideo,    Peer::kObject, Peer::kPlatform,
-                                     Peer::kViewer,   Peer::kJoystick, Peer::kSound,
-                                     Peer::kVoice,    Peer::kRanger};
+inline constexpr Peer kAllPeers[] = {Peer::kVideo,  Peer::kObject,   Peer::kPlatform,
+                                     Peer::kViewer, Peer::kJoystick, Peer::kSound,
+                                     Peer::kVoice,  Peer::kRanger};
 // "video", "object", ... (the lab file's process names).
 std::string_view PeerName(Peer peer);
 // Video, object, platform, viewer and joystick are required; sound, voice, ranger optional.
@@ -208,10 +208,10 @@ struct ExitEffect {  // the session cannot start
   std::string message;
 };
 
-using Effect = std::variant<SetOrientationEffect, GrabEffect, SetOperatorStateEffect,
-                            PlaySoundEffect, SpeakFailureEffect, RangeEffect, LocateEffect,
-                            StoreModelEffect, RemoveModelEffect, RestoreModelEffect,
-                            DisplayEffect, NoticeEffect, ExitEffect>;
+using Effect =
+    std::variant<SetOrientationEffect, GrabEffect, SetOperatorStateEffect, PlaySoundEffect,
+                 SpeakFailureEffect, RangeEffect, LocateEffect, StoreModelEffect, RemoveModelEffect,
+                 RestoreModelEffect, DisplayEffect, NoticeEffect, ExitEffect>;
 using Effects = std::vector<Effect>;
 
 }  // namespace igms::control

@@ -18,9 +18,7 @@ constexpr double kDeg = M_PI / 180.0;
 
 // Heading (degrees, about +z, from +x) and elevation (degrees above level) of a direction.
 double Heading(const Eigen::Vector3d& d) { return std::atan2(d.y(), d.x()) / kDeg; }
-double Elevation(const Eigen::Vector3d& d) {
-  return std::asin(d.z() / d.norm()) / kDeg;
-}
+double Elevation(const Eigen::Vector3d& d) { return std::asin(d.z() / d.norm()) / kDeg; }
 
 // The left camera's frame with the platform at `ticks`.
 CameraFrame LeftFrameAt(const calibration::StereoCalibration& cal, const ViewerToPlatform& m,
@@ -69,7 +67,7 @@ TEST(ViewerToPlatform, NoseDownPitchTiltsTheCamerasDown) {
   for (double pitch : {-20.0, -5.0, 5.0, 20.0}) {
     const PlatformTicks t = m->Ticks({0.0, pitch, 0.0});
     // Positive pitch (nose down) is negative tilt ticks: the platform tilts up when positive.
-    EXPECT_EQ(t.pitch < 0, pitch > 0) << pitch;
+    EXPECT_EQ(t.pitch<0, pitch> 0) << pitch;
     EXPECT_NEAR(t.pitch, -pitch / geometry::ThesisTiltDegreesPerTick(), 0.5);
     const CameraFrame tilted = LeftFrameAt(cal, *m, t);
     // The optical axis drops by the pitch, within a tick (0.0175 degree) and the left

@@ -222,8 +222,7 @@ TEST_F(SessionTest, AMissingRequiredPeerStopsTheStartNamingIt) {
   const auto exits = All<ExitEffect>(e);
   ASSERT_EQ(exits.size(), 1u);
   EXPECT_EQ(exits[0].code, 1);
-  EXPECT_NE(exits[0].message.find("video (127.0.0.1:7300): connection refused"),
-            std::string::npos)
+  EXPECT_NE(exits[0].message.find("video (127.0.0.1:7300): connection refused"), std::string::npos)
       << exits[0].message;
   EXPECT_NE(exits[0].message.find("viewer (127.0.0.1:7303)"), std::string::npos);
   EXPECT_EQ(session_->mode(), Mode::kStopped);
@@ -324,7 +323,8 @@ TEST_F(SessionTest, ARefusedOrientationIsSaidOnceAndTriedAgain) {
   Start();
   const auto first = All<SetOrientationEffect>(Viewer(1.0));
   ASSERT_EQ(first.size(), 1u);
-  Effects e = Send(SetOrientationReply{first[0].call, CallError{UNAVAILABLE, "not connected"}, now_});
+  Effects e =
+      Send(SetOrientationReply{first[0].call, CallError{UNAVAILABLE, "not connected"}, now_});
   EXPECT_NE(Notices(e).find("UNAVAILABLE: not connected"), std::string::npos);
   const auto again = All<SetOrientationEffect>(Viewer(1.0));
   ASSERT_EQ(again.size(), 1u);
@@ -377,9 +377,8 @@ TEST_F(SessionTest, FreezeByButtonsWaitsForThePlatformToStopThenGrabs) {
   EXPECT_FALSE(Has<SetOperatorStateEffect>(e));  // already model building
   ASSERT_TRUE(session_->frozen());
   EXPECT_EQ(session_->frozen()->grab.frame_id(), 77u);
-  const geometry::Matrix34 expected =
-      geometry::CameraAtPose(calibration_.left.P, *calibration_.platform,
-                             std::vector<double>{pan, 0, 0});
+  const geometry::Matrix34 expected = geometry::CameraAtPose(
+      calibration_.left.P, *calibration_.platform, std::vector<double>{pan, 0, 0});
   EXPECT_LT((session_->frozen()->left_P - expected).norm(), 1e-9);
   // The pointer starts on the left camera's optical axis at the configured depth (36).
   const geometry::ProjectiveCamera left(expected, calibration_.left.image_size);
@@ -420,6 +419,14 @@ TEST_F(SessionTest, AStillPlatformThatNeverSaysSoIsGrabbedAfterTheTimeout) {
   EXPECT_NE(Notices(e).find("grabbing anyway"), std::string::npos);
 }
 
+TEST_F(SessionTest, WithThePlatformDaemonDownFreezeGrabsAtOnce) {
+  Start();
+  Send(PeerDownEvent{Peer::kPlatform, "connection refused", now_});
+  const Effects e = Command(CommandKind::kFreeze);
+  EXPECT_EQ(All<GrabEffect>(e).size(), 1u);
+  EXPECT_NE(Notices(e).find("the platform is not connected"), std::string::npos);
+}
+
 TEST_F(SessionTest, AFailedGrabGoesBackToVerification) {
   Start();
   Viewer(5.0);
@@ -428,8 +435,7 @@ TEST_F(SessionTest, AFailedGrabGoesBackToVerification) {
   Platform(false);
   const auto grabs = All<GrabEffect>(Platform(false));
   ASSERT_EQ(grabs.size(), 1u);
-  const Effects e =
-      Send(GrabReply{grabs[0].call, CallError{UNAVAILABLE, "no camera"}, now_});
+  const Effects e = Send(GrabReply{grabs[0].call, CallError{UNAVAILABLE, "no camera"}, now_});
   EXPECT_EQ(session_->mode(), Mode::kVerification);
   EXPECT_EQ(States(e), std::vector{devices::VERIFICATION});
   EXPECT_NE(Notices(e).find("UNAVAILABLE: no camera"), std::string::npos);
@@ -753,8 +759,8 @@ TEST_F(SessionTest, OtherLocateErrorsAreSaidAndTheMarksKept) {
   FreezeAndGrab();
   FourMarks();
   const LocateEffect call = Identify();
-  const Effects e =
-      Send(LocateReply{call.call, CallError{UNAVAILABLE, "video server: connection refused"}, now_});
+  const Effects e = Send(
+      LocateReply{call.call, CallError{UNAVAILABLE, "video server: connection refused"}, now_});
   EXPECT_FALSE(Has<GrabEffect>(e));
   EXPECT_NE(Notices(e).find("UNAVAILABLE: video server: connection refused"), std::string::npos);
   EXPECT_EQ(session_->mode(), Mode::kAwaitingType);
