@@ -376,7 +376,7 @@ void Session::On(const SetOrientationReply& e) {
     pending_.reset();
     CommandPlatform(next, false);
   }
-  if (mode_ == Mode::kFreezing) MaybeGrab(e.now_ns, false);
+  if (mode_ == Mode::kFreezing) MaybeGrab(false);
 }
 
 void Session::On(const PlatformReading& e) {
@@ -386,7 +386,7 @@ void Session::On(const PlatformReading& e) {
   if (restarted) return PlatformBack("the platform daemon restarted with a new zero");
   if (mode_ != Mode::kFreezing || orientation_call_ != 0) return;
   settled_readings_ = e.reading.moving() ? 0 : settled_readings_ + 1;
-  MaybeGrab(e.now_ns, false);
+  MaybeGrab(false);
 }
 
 // ---- freeze ----
@@ -398,10 +398,10 @@ void Session::Freeze(int64_t now_ns) {
   settled_readings_ = 0;
   freeze_started_ns_ = now_ns;
   SetMode(Mode::kFreezing);
-  MaybeGrab(now_ns, false);
+  MaybeGrab(false);
 }
 
-void Session::MaybeGrab(int64_t now_ns, bool timed_out) {
+void Session::MaybeGrab(bool timed_out) {
   if (mode_ != Mode::kFreezing) return;
   if (!peer_up(Peer::kPlatform)) {
     Notice(NoticeLevel::kWarning, "the platform is not connected: grabbing where it is");
@@ -413,7 +413,6 @@ void Session::MaybeGrab(int64_t now_ns, bool timed_out) {
                                       " ms: grabbing anyway");
     return Grab();
   }
-  (void)now_ns;
   if (orientation_call_ == 0 && settled_readings_ >= options_.settle_readings) Grab();
 }
 
@@ -667,7 +666,7 @@ void Session::On(const TickEvent& e) {
     Play(cues::kPleaseWait);
   }
   if (mode_ == Mode::kFreezing && e.now_ns - freeze_started_ns_ >= options_.settle_timeout_ns)
-    MaybeGrab(e.now_ns, true);
+    MaybeGrab(true);
 }
 
 // ---- models ----

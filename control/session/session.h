@@ -110,7 +110,7 @@ class Session {
   void Execute(const Command& command, int64_t now_ns);
   void Begin(int64_t now_ns);
   void Freeze(int64_t now_ns);
-  void MaybeGrab(int64_t now_ns, bool timed_out);
+  void MaybeGrab(bool timed_out);
   void Grab();
   void Unfreeze();
   void Mark();
