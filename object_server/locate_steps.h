@@ -92,7 +92,8 @@ cv::Rect GrowRect(const cv::Rect& rect, int pad, const cv::Rect& image);
 // searches up to 15 px outward from the marks, 3.8.1: an outline the marks graze stays
 // whole).
 std::vector<cv::Point2f> GrowPolygon(const std::vector<cv::Point2f>& polygon, double by);
-// The pixels of the largest 8-connected set among `pixels`, gaps of one pixel bridged.
+// The pixels of the largest 8-connected set among `pixels`, each grown by a pixel first (so
+// gaps of up to two pixels are bridged).
 std::vector<cv::Point> LargestConnected(const std::vector<cv::Point>& pixels);
 // The object's boundary: the strong edge pixels inside the grown marked region (and on the
 // edge map, when given), then of those the largest connected set, as the thesis follows the

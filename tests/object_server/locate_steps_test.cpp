@@ -244,9 +244,11 @@ TEST(LocateStepsGeometry, LargestConnectedKeepsTheBiggestSetAcrossOnePixelGaps) 
   const auto largest = LargestConnected(pixels);
   ASSERT_EQ(largest.size(), 9u);
   for (const auto& p : largest) EXPECT_LE(p.x, 16);
-  // Pixels three apart are not bridged: each stands alone.
-  const std::vector<cv::Point> apart = {{0, 0}, {3, 0}, {6, 0}};
-  EXPECT_EQ(LargestConnected(apart).size(), 1u);
+  // Each pixel is grown by one, so gaps of two are bridged too, but not gaps of three.
+  const std::vector<cv::Point> two = {{0, 0}, {3, 0}, {6, 0}};
+  EXPECT_EQ(LargestConnected(two).size(), 3u);
+  const std::vector<cv::Point> three = {{0, 0}, {4, 0}, {8, 0}};
+  EXPECT_EQ(LargestConnected(three).size(), 1u);
   EXPECT_TRUE(LargestConnected({}).empty());
 }
 
@@ -606,11 +608,17 @@ TEST(LocateStepsResult, BoxTextureRectIsItsCornersBoundsAndFailsWhenOneHasNoImag
   // Its front face (at 38 in) spans 400 * 2 / 38 = 21.05 px either side of the centre.
   EXPECT_EQ(rect->x, static_cast<int>(std::floor(127.5 - 400.0 * 2 / 38)));
   EXPECT_EQ(rect->x + rect->width, static_cast<int>(std::ceil(127.5 + 400.0 * 2 / 38)) + 1);
-  // Partly outside the image: cut to it.
+  // Partly outside the image (u from 222.7 to 274.9): cut to it.
+  x[0] = 12;
+  rect = BoxTextureRect(x, camera, image);
+  ASSERT_TRUE(rect.ok());
+  EXPECT_EQ(rect->x, 222);
+  EXPECT_EQ(rect->x + rect->width, 256);
+  // Wholly outside: no pixels to cut.
   x[0] = 20;
   rect = BoxTextureRect(x, camera, image);
   ASSERT_TRUE(rect.ok());
-  EXPECT_EQ(rect->x + rect->width, 256);
+  EXPECT_TRUE(rect->empty());
   // A corner in front of the camera yet at infinity in the image: no rectangle (this read an
   // empty projection before).
   x << 0, 40, 0, 4e24, 4, 4, 0;
