@@ -9,21 +9,14 @@
 #include <limits>
 #include <string>
 
+#include "object_server/silhouette_fit_steps.h"
+
 namespace igms::object {
 namespace {
 
 double Cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
 }
-
-// An edge measurement and the outline point that starts the hull segment it was sampled on:
-// the closest segment is searched from there, as the model moves little between steps.
-struct Measurement {
-  int view;
-  Eigen::Vector2d point;
-  int hint;
-  int a = -1, b = -1;  // an inner edge's outline points; -1 for the silhouette
-};
 
 // Signed distance from p to the line through a and b, and its gradient with respect to them.
 double LineDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& p,
@@ -38,46 +31,6 @@ double LineDistance(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Ei
     *d_b = dc_b / len - c / (len * len) * dlen_b;
   }
   return c / len;
-}
-
-// The model's outline points projected into one view and the indices of their convex hull.
-struct ViewOutline {
-  std::vector<Eigen::Vector2d> px;
-  std::vector<int> hull;      // outline indices, counter-clockwise
-  std::vector<int> position;  // outline index -> position in hull, or -1
-};
-
-bool Project(const std::vector<Eigen::Vector3d>& pts, const geometry::ProjectiveCamera& cam,
-             ViewOutline& out) {
-  out.px.resize(pts.size());
-  const geometry::Matrix34& P = cam.P();
-  for (size_t i = 0; i < pts.size(); ++i) {
-    const Eigen::Vector3d x = P * pts[i].homogeneous();
-    if (cam.Depth(pts[i]) <= 0 || std::abs(x.z()) < 1e-12) return false;
-    out.px[i] = x.hnormalized();
-  }
-  // Monotone chain on indices.
-  std::vector<int> order(pts.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-  const auto& p = out.px;
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    return p[a].x() < p[b].x() || (p[a].x() == p[b].x() && p[a].y() < p[b].y());
-  });
-  std::vector<int> h(2 * order.size() + 1);
-  size_t k = 0;
-  for (size_t i = 0; i < order.size(); ++i) {
-    while (k >= 2 && Cross(p[h[k - 2]], p[h[k - 1]], p[order[i]]) <= 0) --k;
-    h[k++] = order[i];
-  }
-  for (size_t i = order.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && Cross(p[h[k - 2]], p[h[k - 1]], p[order[i - 1]]) <= 0) --k;
-    h[k++] = order[i - 1];
-  }
-  h.resize(k > 0 ? k - 1 : 0);
-  out.hull = std::move(h);
-  out.position.assign(pts.size(), -1);
-  for (size_t i = 0; i < out.hull.size(); ++i) out.position[out.hull[i]] = static_cast<int>(i);
-  return out.hull.size() >= 3;
 }
 
 // Where a point is closest to the hull: on segment `seg` (hull position), at its start or end
@@ -168,14 +121,58 @@ double SignedFromClosest(const ViewOutline& o, const Closest& c, const Eigen::Ve
   return d;
 }
 
-// Samples every pixel along the outline, away from corners sharper than 30 degrees; `seg`
-// gets the outline index starting each sample's hull segment and `curvature` the outline's
-// curvature there (1/px, from the turn at the segment's ends).
-void SampleOutline(const ViewOutline& o, std::vector<Eigen::Vector2d>& points,
-                   std::vector<Eigen::Vector2d>& normals, std::vector<int>& seg,
-                   std::vector<double>& curvature) {
+// d(pixel)/d(world point) of a camera at X: 2x3.
+Eigen::Matrix<double, 2, 3> ProjectionJacobian(const geometry::Matrix34& P,
+                                               const Eigen::Vector3d& X) {
+  const Eigen::Vector3d x = P * X.homogeneous();
+  const double w = x.z();
+  Eigen::Matrix<double, 2, 3> J;
+  J.row(0) = (P.block<1, 3>(0, 0) - (x.x() / w) * P.block<1, 3>(2, 0)) / w;
+  J.row(1) = (P.block<1, 3>(1, 0) - (x.y() / w) * P.block<1, 3>(2, 0)) / w;
+  return J;
+}
+
+using PixelJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kMaxFitParams>;
+
+}  // namespace
+
+bool ProjectOutline(const std::vector<Eigen::Vector3d>& pts, const geometry::ProjectiveCamera& cam,
+                    ViewOutline& out) {
+  out.px.resize(pts.size());
+  const geometry::Matrix34& P = cam.P();
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector3d x = P * pts[i].homogeneous();
+    if (cam.Depth(pts[i]) <= 0 || std::abs(x.z()) < 1e-12) return false;
+    out.px[i] = x.hnormalized();
+  }
+  // Monotone chain on indices.
+  std::vector<int> order(pts.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  const auto& p = out.px;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return p[a].x() < p[b].x() || (p[a].x() == p[b].x() && p[a].y() < p[b].y());
+  });
+  std::vector<int> h(2 * order.size() + 1);
+  size_t k = 0;
+  for (size_t i = 0; i < order.size(); ++i) {
+    while (k >= 2 && Cross(p[h[k - 2]], p[h[k - 1]], p[order[i]]) <= 0) --k;
+    h[k++] = order[i];
+  }
+  for (size_t i = order.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && Cross(p[h[k - 2]], p[h[k - 1]], p[order[i - 1]]) <= 0) --k;
+    h[k++] = order[i - 1];
+  }
+  h.resize(k > 0 ? k - 1 : 0);
+  out.hull = std::move(h);
+  out.position.assign(pts.size(), -1);
+  for (size_t i = 0; i < out.hull.size(); ++i) out.position[out.hull[i]] = static_cast<int>(i);
+  return out.hull.size() >= 3;
+}
+
+OutlineSamples SampleOutline(const ViewOutline& o) {
+  OutlineSamples out;
   const size_t n = o.hull.size();
-  if (n < 3) return;
+  if (n < 3) return out;
   auto at = [&](size_t i) -> const Eigen::Vector2d& { return o.px[o.hull[i % n]]; };
   std::vector<bool> corner(n);
   std::vector<double> kappa(n);
@@ -198,30 +195,42 @@ void SampleOutline(const ViewOutline& o, std::vector<Eigen::Vector2d>& points,
     for (; s < len; s += spacing) {
       if (corner[i] && s < keep_off) continue;
       if (corner[(i + 1) % n] && len - s < keep_off) continue;
-      points.push_back(a + s * dir);
-      normals.push_back(normal);
-      seg.push_back(o.hull[i]);
-      curvature.push_back(kappa[i] + (kappa[(i + 1) % n] - kappa[i]) * (s / len));
+      out.points.push_back(a + s * dir);
+      out.normals.push_back(normal);
+      out.segment.push_back(o.hull[i]);
+      out.curvature.push_back(kappa[i] + (kappa[(i + 1) % n] - kappa[i]) * (s / len));
     }
     carry = s - len;
   }
+  return out;
 }
 
-// d(pixel)/d(world point) of a camera at X: 2x3.
-Eigen::Matrix<double, 2, 3> ProjectionJacobian(const geometry::Matrix34& P,
-                                               const Eigen::Vector3d& X) {
-  const Eigen::Vector3d x = P * X.homogeneous();
-  const double w = x.z();
-  Eigen::Matrix<double, 2, 3> J;
-  J.row(0) = (P.block<1, 3>(0, 0) - (x.x() / w) * P.block<1, 3>(2, 0)) / w;
-  J.row(1) = (P.block<1, 3>(1, 0) - (x.y() / w) * P.block<1, 3>(2, 0)) / w;
-  return J;
+double SearchRange(int outer, double search_px) {
+  return outer == 0   ? search_px
+         : outer == 1 ? std::max(2.0, 0.6 * search_px)
+                      : std::max(1.5, 0.4 * search_px);
 }
 
-// Samples each inner edge every pixel along its chain, away from its ends (where it meets
-// the silhouette and the corners blur), and measures the nearest edge across it. An edge
-// whose surfaces are narrower than its min_width_px in this view is skipped: a neighbouring
-// edge lies within the search and could be taken.
+std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int view,
+                                                const Gradients& gradients, double range,
+                                                const FitOptions& options, int* sampled) {
+  const OutlineSamples samples = SampleOutline(outline);
+  *sampled = static_cast<int>(samples.points.size());
+  std::vector<Measurement> ms;
+  for (size_t i = 0; i < samples.points.size(); ++i) {
+    double s;
+    if (!EdgeAlongNormal(gradients, samples.points[i], samples.normals[i], range,
+                         options.min_gradient, &s))
+      continue;
+    // Where the outline turns fast (a thin pipe's ends) the blur moves the edge most.
+    const double k =
+        std::min(samples.curvature[i], 1.0 / std::max(1e-9, 1.5 * options.edge_blur_px));
+    s += 0.5 * options.edge_blur_px * options.edge_blur_px * k;
+    ms.push_back({view, samples.points[i] + s * samples.normals[i], samples.segment[i]});
+  }
+  return ms;
+}
+
 void MeasureInnerEdges(const std::vector<InnerEdge>& edges, const ViewOutline& o, int view,
                        const FitView& fv, double range, double min_gradient,
                        std::vector<Measurement>& ms) {
@@ -254,7 +263,177 @@ void MeasureInnerEdges(const std::vector<InnerEdge>& edges, const ViewOutline& o
   }
 }
 
-}  // namespace
+double RobustCost(double residual, double huber, double outlier) {
+  const double a = std::min(std::abs(residual), outlier), k = huber;
+  return a <= k ? 0.5 * a * a : k * (a - 0.5 * k);
+}
+
+double RobustWeight(double residual, double huber, double outlier) {
+  const double a = std::abs(residual);
+  return a > outlier ? 0.0 : (a <= huber ? 1.0 : huber / a);
+}
+
+bool OutlineResiduals::Outlines(const Eigen::VectorXd& x, std::array<ViewOutline, 2>& o) const {
+  pts_ = outline_(x);
+  for (int v = 0; v < 2; ++v)
+    if (!ProjectOutline(pts_, *views_[v].camera, o[v])) return false;
+  return true;
+}
+
+bool OutlineResiduals::Residuals(const Eigen::VectorXd& x, std::vector<Measurement>& ms,
+                                 Eigen::VectorXd& r, Eigen::MatrixXd* J) const {
+  std::array<ViewOutline, 2> o;
+  if (!Outlines(x, o)) return false;
+  const int np = static_cast<int>(x.size());
+  // d(pixel)/d(params) of the outline points a residual depends on in each view: the
+  // hull's and the measured inner edges' (a cylinder's far cap points are neither).
+  std::array<std::vector<PixelJacobian>, 2> dpx;
+  if (J) {
+    std::array<std::vector<bool>, 2> needed;
+    for (int v = 0; v < 2; ++v) {
+      needed[v].assign(pts_.size(), false);
+      for (const int i : o[v].hull) needed[v][i] = true;
+    }
+    for (const Measurement& m : ms)
+      if (m.a >= 0) needed[m.view][m.a] = needed[m.view][m.b] = true;
+    const std::vector<Eigen::Vector3d> base = pts_;
+    std::vector<std::vector<Eigen::Vector3d>> moved(np);
+    for (int k = 0; k < np; ++k) {
+      Eigen::VectorXd xp = x;
+      xp[k] += step_[k];
+      moved[k] = outline_(xp);
+    }
+    for (int v = 0; v < 2; ++v) {
+      dpx[v].resize(base.size());
+      for (size_t i = 0; i < base.size(); ++i) {
+        if (!needed[v][i]) continue;
+        const Eigen::Matrix<double, 2, 3> jp = ProjectionJacobian(views_[v].camera->P(), base[i]);
+        dpx[v][i].resize(2, np);
+        for (int k = 0; k < np; ++k) dpx[v][i].col(k) = jp * ((moved[k][i] - base[i]) / step_[k]);
+      }
+    }
+    J->resize(ms.size(), np);
+  }
+  r.resize(ms.size());
+  for (size_t i = 0; i < ms.size(); ++i) {
+    const ViewOutline& ov = o[ms[i].view];
+    if (ms[i].a >= 0) {
+      Eigen::Vector2d da, db;
+      r[i] = LineDistance(ov.px[ms[i].a], ov.px[ms[i].b], ms[i].point, J ? &da : nullptr,
+                          J ? &db : nullptr);
+      if (J)
+        J->row(i) =
+            da.transpose() * dpx[ms[i].view][ms[i].a] + db.transpose() * dpx[ms[i].view][ms[i].b];
+      continue;
+    }
+    const Closest c = FindClosest(ov, ms[i].hint, ms[i].point);
+    const int n = static_cast<int>(ov.hull.size());
+    const int ia = ov.hull[c.seg], ib = ov.hull[(c.seg + 1) % n];
+    ms[i].hint = ia;
+    Eigen::Vector2d da, db;
+    r[i] = SignedFromClosest(ov, c, ms[i].point, J ? &da : nullptr, J ? &db : nullptr);
+    if (J)
+      J->row(i) = da.transpose() * dpx[ms[i].view][ia] + db.transpose() * dpx[ms[i].view][ib];
+  }
+  return true;
+}
+
+void RefineParameters(const OutlineResiduals& residuals, const FitOptions& options,
+                      double outlier, std::vector<Measurement>& ms, Eigen::VectorXd& x) {
+  const int np = static_cast<int>(x.size());
+  auto cost_of = [&](const Eigen::VectorXd& res) {
+    double c = 0;
+    for (int i = 0; i < res.size(); ++i) c += RobustCost(res[i], options.huber_px, outlier);
+    return c;
+  };
+  Eigen::VectorXd r, w;
+  Eigen::MatrixXd J;
+  double lambda = 1e-3;
+  for (int inner = 0; inner < options.inner_iterations; ++inner) {
+    if (!residuals.Residuals(x, ms, r, &J)) break;
+    w.resize(r.size());
+    for (int i = 0; i < r.size(); ++i) w[i] = RobustWeight(r[i], options.huber_px, outlier);
+    const Eigen::MatrixXd JtW = J.transpose() * w.asDiagonal();
+    const Eigen::MatrixXd H = JtW * J;
+    const Eigen::VectorXd g = JtW * r;
+    const double cost = cost_of(r);
+    bool improved = false;
+    double gain = 0;
+    for (int tries = 0; tries < 8 && !improved; ++tries) {
+      Eigen::MatrixXd A = H;
+      // Directions no edge constrains (an end with no measurement yet) must not drift:
+      // a small stiffness relative to the mean curvature holds them.
+      A.diagonal() += lambda * H.diagonal() +
+                      Eigen::VectorXd::Constant(np, 1e-6 * H.diagonal().mean() + 1e-9);
+      const Eigen::VectorXd dx = -A.ldlt().solve(g);
+      Eigen::VectorXd rn;
+      std::vector<Measurement> trial = ms;
+      if (dx.allFinite() && residuals.Residuals(x + dx, trial, rn, nullptr) &&
+          cost_of(rn) < cost) {
+        gain = cost - cost_of(rn);
+        x += dx;
+        ms = std::move(trial);
+        lambda = std::max(1e-7, lambda * 0.3);
+        improved = true;
+      } else {
+        lambda *= 10;
+      }
+    }
+    // Converged: a step that gains almost nothing ends this measurement's iterations.
+    if (!improved || gain < 1e-4 * (1 + cost)) break;
+  }
+}
+
+bool OutlineSettled(const std::array<ViewOutline, 2>& before,
+                    const std::array<ViewOutline, 2>& after, double settled_px) {
+  double moved = 0;
+  for (int v = 0; v < 2; ++v)
+    for (size_t i = 0; i < after[v].px.size(); ++i)
+      moved = std::max(moved, (after[v].px[i] - before[v].px[i]).squaredNorm());
+  return moved < settled_px * settled_px;
+}
+
+bool FinishFit(const OutlineResiduals& residuals, const Eigen::VectorXd& x,
+               std::vector<Measurement>& ms, const FitOptions& options, FitOutcome* out) {
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  if (!residuals.Residuals(x, ms, r, &J)) return false;
+  const int np = static_cast<int>(x.size());
+  std::array<double, 2> sum{0, 0};
+  std::array<int, 2> count{0, 0};
+  Eigen::VectorXd wk = Eigen::VectorXd::Zero(r.size());
+  double inner_sum = 0;
+  for (int i = 0; i < r.size(); ++i) {
+    const bool in = std::abs(r[i]) <= options.outlier_px;
+    out->measured[ms[i].view].push_back(ms[i].point);
+    out->inlier[ms[i].view].push_back(in);
+    if (!in) continue;
+    wk[i] = 1;
+    if (ms[i].a >= 0) {
+      inner_sum += r[i] * r[i];
+      ++out->inner_used[ms[i].view];
+      continue;
+    }
+    sum[ms[i].view] += r[i] * r[i];
+    ++count[ms[i].view];
+  }
+  for (int v = 0; v < 2; ++v) {
+    out->used[v] = count[v];
+    out->rms_px[v] = count[v] ? std::sqrt(sum[v] / count[v]) : 0;
+  }
+  const int kept = count[0] + count[1] + out->inner_used[0] + out->inner_used[1];
+  const double dof = std::max(1, kept - np);
+  const double sigma2 =
+      std::max((sum[0] + sum[1] + inner_sum) / dof, options.min_sigma_px * options.min_sigma_px) *
+      std::max(1.0, options.correlated_samples);
+  const Eigen::MatrixXd H = J.transpose() * wk.asDiagonal() * J;
+  out->covariance = sigma2 * H.completeOrthogonalDecomposition().pseudoInverse();
+  std::array<ViewOutline, 2> o;
+  if (residuals.Outlines(x, o))
+    for (int v = 0; v < 2; ++v)
+      for (const int i : o[v].hull) out->outline[v].push_back(o[v].px[i]);
+  return true;
+}
 
 std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> p) {
   std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) {
@@ -291,99 +470,6 @@ double SignedDistance(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vec
   }
   return max_line <= 0 ? max_line : min_seg;
 }
-
-namespace {
-
-// Residuals of the measurements against the model's outlines, and optionally their Jacobian:
-// analytic from each measurement's closest hull segment, through the projection, down to the
-// outline points, whose derivatives with respect to the parameters are taken numerically
-// (a handful of cheap outline evaluations instead of one full residual pass per parameter).
-// At most this many parameters (a cylinder's and a box's are 7), so the per-point Jacobians
-// live on the stack.
-constexpr int kMaxParams = 8;
-using PixelJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kMaxParams>;
-
-class Evaluator {
- public:
-  Evaluator(const OutlineFn& outline, const std::array<FitView, 2>& views,
-            const Eigen::VectorXd& step)
-      : outline_(outline), views_(views), step_(step) {}
-
-  bool Outlines(const Eigen::VectorXd& x, std::array<ViewOutline, 2>& o) const {
-    pts_ = outline_(x);
-    for (int v = 0; v < 2; ++v)
-      if (!Project(pts_, *views_[v].camera, o[v])) return false;
-    return true;
-  }
-
-  // Hints of `ms` are updated to the closest segments found.
-  bool Residuals(const Eigen::VectorXd& x, std::vector<Measurement>& ms, Eigen::VectorXd& r,
-                 Eigen::MatrixXd* J) const {
-    std::array<ViewOutline, 2> o;
-    if (!Outlines(x, o)) return false;
-    const int np = static_cast<int>(x.size());
-    // d(pixel)/d(params) of the outline points a residual depends on in each view: the
-    // hull's and the measured inner edges' (a cylinder's far cap points are neither).
-    std::array<std::vector<PixelJacobian>, 2> dpx;
-    if (J) {
-      std::array<std::vector<bool>, 2> needed;
-      for (int v = 0; v < 2; ++v) {
-        needed[v].assign(pts_.size(), false);
-        for (const int i : o[v].hull) needed[v][i] = true;
-      }
-      for (const Measurement& m : ms)
-        if (m.a >= 0) needed[m.view][m.a] = needed[m.view][m.b] = true;
-      const std::vector<Eigen::Vector3d> base = pts_;
-      std::vector<std::vector<Eigen::Vector3d>> moved(np);
-      for (int k = 0; k < np; ++k) {
-        Eigen::VectorXd xp = x;
-        xp[k] += step_[k];
-        moved[k] = outline_(xp);
-      }
-      for (int v = 0; v < 2; ++v) {
-        dpx[v].resize(base.size());
-        for (size_t i = 0; i < base.size(); ++i) {
-          if (!needed[v][i]) continue;
-          const Eigen::Matrix<double, 2, 3> jp = ProjectionJacobian(views_[v].camera->P(), base[i]);
-          dpx[v][i].resize(2, np);
-          for (int k = 0; k < np; ++k) dpx[v][i].col(k) = jp * ((moved[k][i] - base[i]) / step_[k]);
-        }
-      }
-      J->resize(ms.size(), np);
-    }
-    r.resize(ms.size());
-    for (size_t i = 0; i < ms.size(); ++i) {
-      const ViewOutline& ov = o[ms[i].view];
-      if (ms[i].a >= 0) {
-        Eigen::Vector2d da, db;
-        r[i] = LineDistance(ov.px[ms[i].a], ov.px[ms[i].b], ms[i].point, J ? &da : nullptr,
-                            J ? &db : nullptr);
-        if (J)
-          J->row(i) =
-              da.transpose() * dpx[ms[i].view][ms[i].a] + db.transpose() * dpx[ms[i].view][ms[i].b];
-        continue;
-      }
-      const Closest c = FindClosest(ov, ms[i].hint, ms[i].point);
-      const int n = static_cast<int>(ov.hull.size());
-      const int ia = ov.hull[c.seg], ib = ov.hull[(c.seg + 1) % n];
-      ms[i].hint = ia;
-      Eigen::Vector2d da, db;
-      r[i] = SignedFromClosest(ov, c, ms[i].point, J ? &da : nullptr, J ? &db : nullptr);
-      if (J)
-        J->row(i) = da.transpose() * dpx[ms[i].view][ia] + db.transpose() * dpx[ms[i].view][ib];
-    }
-    return true;
-  }
-
- private:
-  const OutlineFn& outline_;
-  const std::array<FitView, 2>& views_;
-  Eigen::VectorXd step_;
-  mutable std::vector<Eigen::Vector3d> pts_;
-};
-
-}  // namespace
-
 FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initial,
                          const std::array<FitView, 2>& views, const FitOptions& options,
                          const InnerEdgesFn& inner) {
@@ -392,58 +478,29 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
   FitOutcome out;
   Eigen::VectorXd x = initial;
   const int np = static_cast<int>(x.size());
-  if (np < 1 || np > kMaxParams) {
-    out.error = "a model needs 1 to " + std::to_string(kMaxParams) + " parameters";
+  if (np < 1 || np > kMaxFitParams) {
+    out.error = "a model needs 1 to " + std::to_string(kMaxFitParams) + " parameters";
     return out;
   }
   const Eigen::VectorXd step =
       options.step.size() == np ? options.step : Eigen::VectorXd::Constant(np, 1e-4);
-  const Evaluator eval(outline, views, step);
-
-  // Robust cost: Huber up to outlier_px, then flat, so moving away from edges never pays.
-  double outlier = options.outlier_px;  // grows with the search range in early passes
-  auto rho = [&](double res) {
-    const double a = std::min(std::abs(res), outlier), k = options.huber_px;
-    return a <= k ? 0.5 * a * a : k * (a - 0.5 * k);
-  };
-  auto cost_of = [&](const Eigen::VectorXd& res) {
-    double c = 0;
-    for (int i = 0; i < res.size(); ++i) c += rho(res[i]);
-    return c;
-  };
+  const OutlineResiduals residuals(outline, views, step);
   const char* behind = "the model went behind a camera";
   std::vector<Measurement> ms;
-  Eigen::VectorXd r, w;
-  Eigen::MatrixXd J;
   for (int outer = options.first_outer; outer < options.outer_iterations; ++outer) {
-    const double range = outer == 0   ? options.search_px
-                         : outer == 1 ? std::max(2.0, 0.6 * options.search_px)
-                                      : std::max(1.5, 0.4 * options.search_px);
-    outlier = std::max(options.outlier_px, range + 0.5);
+    // 1. The outline in both views.
+    const double range = SearchRange(outer, options.search_px);
     std::array<ViewOutline, 2> o;
-    if (!eval.Outlines(x, o)) {
+    if (!residuals.Outlines(x, o)) {
       out.error = behind;
       return out;
     }
+    // 2. The edges along it (and across the inner edges).
     ms.clear();
     for (int v = 0; v < 2; ++v) {
-      std::vector<Eigen::Vector2d> pts, normals;
-      std::vector<int> seg;
-      std::vector<double> curvature;
-      SampleOutline(o[v], pts, normals, seg, curvature);
-      out.sampled[v] = static_cast<int>(pts.size());
-      for (size_t i = 0; i < pts.size(); ++i) {
-        double s;
-        if (!EdgeAlongNormal(*views[v].gradients, pts[i], normals[i], range, options.min_gradient,
-                             &s))
-          continue;
-        // A blurred curved edge's gradient peak lies inside the true outline by about
-        // blur^2 * curvature / 2 (a disc of radius R: sigma^2 / 2R): where the outline turns
-        // fast (a thin pipe's ends), the measurement is moved back out by that much.
-        const double k = std::min(curvature[i], 1.0 / std::max(1e-9, 1.5 * options.edge_blur_px));
-        s += 0.5 * options.edge_blur_px * options.edge_blur_px * k;
-        ms.push_back({v, pts[i] + s * normals[i], seg[i]});
-      }
+      const std::vector<Measurement> silhouette =
+          MeasureSilhouetteEdges(o[v], v, *views[v].gradients, range, options, &out.sampled[v]);
+      ms.insert(ms.end(), silhouette.begin(), silhouette.end());
       if (inner)
         MeasureInnerEdges(inner(x, views[v].camera->Center()), o[v], v, views[v], range,
                           options.min_gradient, ms);
@@ -458,93 +515,19 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
       out.error = "too few edge points along the model's outline";
       return out;
     }
-    double lambda = 1e-3;
-    for (int inner = 0; inner < options.inner_iterations; ++inner) {
-      if (!eval.Residuals(x, ms, r, &J)) break;
-      w.resize(r.size());
-      for (int i = 0; i < r.size(); ++i) {
-        const double a = std::abs(r[i]);
-        w[i] = a > outlier ? 0.0 : (a <= options.huber_px ? 1.0 : options.huber_px / a);
-      }
-      const Eigen::MatrixXd JtW = J.transpose() * w.asDiagonal();
-      const Eigen::MatrixXd H = JtW * J;
-      const Eigen::VectorXd g = JtW * r;
-      const double cost = cost_of(r);
-      bool improved = false;
-      double gain = 0;
-      for (int tries = 0; tries < 8 && !improved; ++tries) {
-        Eigen::MatrixXd A = H;
-        // Directions no edge constrains (an end with no measurement yet) must not drift:
-        // a small stiffness relative to the mean curvature holds them.
-        A.diagonal() += lambda * H.diagonal() +
-                        Eigen::VectorXd::Constant(np, 1e-6 * H.diagonal().mean() + 1e-9);
-        const Eigen::VectorXd dx = -A.ldlt().solve(g);
-        Eigen::VectorXd rn;
-        std::vector<Measurement> trial = ms;
-        if (dx.allFinite() && eval.Residuals(x + dx, trial, rn, nullptr) && cost_of(rn) < cost) {
-          gain = cost - cost_of(rn);
-          x += dx;
-          ms = std::move(trial);
-          lambda = std::max(1e-7, lambda * 0.3);
-          improved = true;
-        } else {
-          lambda *= 10;
-        }
-      }
-      // Converged: a step that gains almost nothing ends this measurement's iterations.
-      if (!improved || gain < 1e-4 * (1 + cost)) break;
-    }
-    // Passes from the third on search the same range: once a pass has left the outline
+    // 3. The model onto them; the outlier bound grows with the search range in early passes.
+    RefineParameters(residuals, options, std::max(options.outlier_px, range + 0.5), ms, x);
+    // 4. Passes from the third on search the same range: once a pass has left the outline
     // where it was measured, measuring again would find the same edges.
     if (outer >= 2 && outer + 1 < options.outer_iterations) {
       std::array<ViewOutline, 2> now;
-      if (!eval.Outlines(x, now)) continue;
-      double moved = 0;
-      for (int v = 0; v < 2; ++v)
-        for (size_t i = 0; i < now[v].px.size(); ++i)
-          moved = std::max(moved, (now[v].px[i] - o[v].px[i]).squaredNorm());
-      if (moved < kSettledPx * kSettledPx) break;
+      if (residuals.Outlines(x, now) && OutlineSettled(o, now, kSettledPx)) break;
     }
   }
   // Final statistics and covariance on the last measurements.
-  if (!eval.Residuals(x, ms, r, &J)) {
+  if (!FinishFit(residuals, x, ms, options, &out)) {
     out.error = behind;
     return out;
-  }
-  std::array<double, 2> sum{0, 0};
-  std::array<int, 2> count{0, 0};
-  Eigen::VectorXd wk = Eigen::VectorXd::Zero(r.size());
-  double inner_sum = 0;
-  for (int i = 0; i < r.size(); ++i) {
-    const bool in = std::abs(r[i]) <= options.outlier_px;
-    out.measured[ms[i].view].push_back(ms[i].point);
-    out.inlier[ms[i].view].push_back(in);
-    if (!in) continue;
-    wk[i] = 1;
-    if (ms[i].a >= 0) {
-      inner_sum += r[i] * r[i];
-      ++out.inner_used[ms[i].view];
-      continue;
-    }
-    sum[ms[i].view] += r[i] * r[i];
-    ++count[ms[i].view];
-  }
-  for (int v = 0; v < 2; ++v) {
-    out.used[v] = count[v];
-    out.rms_px[v] = count[v] ? std::sqrt(sum[v] / count[v]) : 0;
-  }
-  const int kept = count[0] + count[1] + out.inner_used[0] + out.inner_used[1];
-  const double dof = std::max(1, kept - np);
-  const double sigma2 =
-      std::max((sum[0] + sum[1] + inner_sum) / dof, options.min_sigma_px * options.min_sigma_px) *
-      std::max(1.0, options.correlated_samples);
-  const Eigen::MatrixXd H = J.transpose() * wk.asDiagonal() * J;
-  out.covariance = sigma2 * H.completeOrthogonalDecomposition().pseudoInverse();
-  {
-    std::array<ViewOutline, 2> o;
-    if (eval.Outlines(x, o))
-      for (int v = 0; v < 2; ++v)
-        for (const int i : o[v].hull) out.outline[v].push_back(o[v].px[i]);
   }
   out.params = x;
   out.ok = x.allFinite();

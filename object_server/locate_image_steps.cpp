@@ -1,0 +1,274 @@
+// Steps 0-3 of the locator (locate_steps.h): the images, the marks, the boundary and the
+// stereo match.
+#include <Eigen/Dense>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "common/geometry/triangulation.h"
+#include "object_server/locate_steps.h"
+
+namespace igms::object {
+namespace {
+
+cv::Mat Gray(const cv::Mat& img) {
+  if (img.type() == CV_8UC1) return img;
+  cv::Mat g;
+  if (img.type() == CV_8UC3) cv::cvtColor(img, g, cv::COLOR_BGR2GRAY);
+  return g;
+}
+
+// The image in ideal pixels: a camera with lens distortion is undistorted first.
+cv::Mat Ideal(const cv::Mat& gray, const geometry::ProjectiveCamera& cam) {
+  if (gray.empty() || !cam.has_distortion()) return gray;
+  cv::Mat K, dist, out;
+  cv::eigen2cv(cam.lens()->K, K);
+  dist = cv::Mat(cam.lens()->dist, true);
+  cv::undistort(gray, out, K, dist, K);
+  return out;
+}
+
+cv::Rect ImageRect(const cv::Mat& image) { return cv::Rect(0, 0, image.cols, image.rows); }
+
+}  // namespace
+
+std::string FormatFixed(double v, int precision) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(precision);
+  s << v;
+  return s.str();
+}
+
+Eigen::Vector3d PointOnPixelRay(const geometry::ProjectiveCamera& camera, const Eigen::Vector2d& p,
+                                double depth) {
+  const geometry::Ray ray = camera.PixelRay(p);
+  const double rate = camera.Depth(ray.origin + ray.direction);
+  return ray.origin + ray.direction * (depth / rate);
+}
+
+StepResult<StereoPair> PrepareImages(const LocateInput& in) {
+  StereoPair pair;
+  pair.left = Ideal(Gray(in.left), in.left_camera);
+  pair.right = Ideal(Gray(in.right), in.right_camera);
+  pair.left_camera = &in.left_camera;
+  pair.right_camera = &in.right_camera;
+  const auto lsize = in.left_camera.image_size(), rsize = in.right_camera.image_size();
+  if (pair.left.empty() || pair.right.empty())
+    return StepFailure{Failure::kBadInput, "both images must be 8-bit grey or BGR and not empty"};
+  if (pair.left.cols != lsize.width || pair.left.rows != lsize.height ||
+      pair.right.cols != rsize.width || pair.right.rows != rsize.height)
+    return StepFailure{Failure::kBadInput, "image sizes do not match the calibration (" +
+                                               std::to_string(lsize.width) + "x" +
+                                               std::to_string(lsize.height) + ")"};
+  return pair;
+}
+
+StepResult<MarkedRegion> MarkRegion(const LocateInput& in) {
+  for (const auto& m : in.marks)
+    if (!m.allFinite()) return StepFailure{Failure::kBadInput, "a mark is not a finite point"};
+  MarkedRegion region;
+  double depth_sum = 0;
+  std::vector<cv::Point2f> quad;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d& m = in.marks[i];
+    const std::string name = "mark " + std::to_string(i + 1);
+    if (in.left_camera.Depth(m) <= 1e-6 || in.right_camera.Depth(m) <= 1e-6)
+      return StepFailure{Failure::kMarksBehindCamera, name + " is behind a camera"};
+    // In front of the camera yet so far to the side that its image is at infinity.
+    const auto p = in.left_camera.Project(m);
+    if (!p)
+      return StepFailure{Failure::kMarksOutsideImage,
+                         name + " does not project into the left image: it lies too far to the "
+                                "side"};
+    quad.emplace_back(static_cast<float>(p->x()), static_cast<float>(p->y()));
+    depth_sum += in.left_camera.Depth(m);
+  }
+  region.depth = depth_sum / 4;
+  cv::convexHull(quad, region.hull);
+  const double area = cv::contourArea(region.hull);
+  if (region.hull.size() < 3 || area < 16.0)
+    return StepFailure{Failure::kMarksDegenerate,
+                       "the marks bound " + FormatFixed(area, 1) +
+                           " square pixels in the left image; "
+                           "place them around the object's outline"};
+  const auto size = in.left_camera.image_size();
+  std::vector<cv::Point2f> clipped;
+  const std::vector<cv::Point2f> frame = {{-0.5f, -0.5f},
+                                          {size.width - 0.5f, -0.5f},
+                                          {size.width - 0.5f, size.height - 0.5f},
+                                          {-0.5f, size.height - 0.5f}};
+  const double inside_area = cv::intersectConvexConvex(region.hull, frame, clipped);
+  if (inside_area < 0.5 * area)
+    return StepFailure{Failure::kMarksOutsideImage,
+                       "most of the marked region lies outside the left image"};
+  return region;
+}
+
+int RegionPad(const LocateOptions& options) {
+  return static_cast<int>(std::ceil(options.search_px + options.boundary_grow_px)) + 4;
+}
+
+cv::Rect GrowRect(const cv::Rect& rect, int pad, const cv::Rect& image) {
+  return cv::Rect(rect.x - pad, rect.y - pad, rect.width + 2 * pad, rect.height + 2 * pad) &
+         image;
+}
+
+std::vector<cv::Point2f> GrowPolygon(const std::vector<cv::Point2f>& polygon, double by) {
+  std::vector<cv::Point2f> grown;
+  cv::Point2f centre(0, 0);
+  for (const auto& p : polygon) centre += p * (1.0f / polygon.size());
+  for (const auto& p : polygon) {
+    const cv::Point2f d = p - centre;
+    const float len = std::sqrt(d.dot(d));
+    grown.push_back(len > 0 ? p + d * (static_cast<float>(by) / len) : p);
+  }
+  return grown;
+}
+
+std::vector<cv::Point> LargestConnected(const std::vector<cv::Point>& pixels) {
+  if (pixels.size() < 2) return pixels;
+  const cv::Rect box = cv::boundingRect(pixels);
+  cv::Mat mask = cv::Mat::zeros(box.height + 2, box.width + 2, CV_8U);
+  for (const auto& p : pixels) mask.at<uint8_t>(p.y - box.y + 1, p.x - box.x + 1) = 255;
+  cv::dilate(mask, mask, cv::Mat());
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+  std::vector<int> count(n, 0);
+  for (const auto& p : pixels) ++count[labels.at<int>(p.y - box.y + 1, p.x - box.x + 1)];
+  const int best =
+      static_cast<int>(std::max_element(count.begin() + 1, count.end()) - count.begin());
+  std::vector<cv::Point> out;
+  for (const auto& p : pixels)
+    if (labels.at<int>(p.y - box.y + 1, p.x - box.x + 1) == best) out.push_back(p);
+  return out;
+}
+
+Boundary FindBoundary(const Gradients& left_gradients, const MarkedRegion& marks,
+                      const cv::Mat& edge_map, const LocateOptions& options) {
+  Boundary b;
+  b.region = GrowPolygon(marks.hull, options.boundary_grow_px);
+  b.pixels = LargestConnected(StrongEdgePixels(left_gradients, b.region, edge_map,
+                                               options.edge_fraction, options.min_edge_gradient,
+                                               &b.strongest));
+  return b;
+}
+
+std::optional<StepFailure> CheckBoundary(const Boundary& boundary, const MarkedRegion& marks,
+                                         const LocateOptions& options) {
+  if (boundary.pixels.empty())
+    return StepFailure{Failure::kNoEdgeNearMarks,
+                       "no edge stronger than " + FormatFixed(options.min_edge_gradient, 1) +
+                           " grey levels per pixel inside the marked region of the left image "
+                           "(strongest " +
+                           FormatFixed(boundary.strongest, 1) + ")"};
+  const double perimeter = cv::arcLength(marks.hull, true);
+  if (boundary.pixels.size() < options.min_boundary_share * perimeter)
+    return StepFailure{Failure::kEdgeCountMismatch,
+                       std::to_string(boundary.pixels.size()) +
+                           " boundary pixels inside marks of perimeter " +
+                           FormatFixed(perimeter, 0) +
+                           " px: the marked region does not hold one object's outline"};
+  return std::nullopt;
+}
+
+DepthSearch ObjectDepthSearch(const std::vector<cv::Point>& boundary, double mark_depth,
+                              const LocateOptions& options) {
+  const cv::Rect object_rect = cv::boundingRect(boundary);
+  DepthSearch s;
+  s.centre = Eigen::Vector2d(object_rect.x + 0.5 * (object_rect.width - 1),
+                             object_rect.y + 0.5 * (object_rect.height - 1));
+  s.near = std::max(0.5 * mark_depth, mark_depth - options.depth_tolerance);
+  s.far = mark_depth + options.depth_tolerance;
+  s.patch = cv::Rect(object_rect.x - 3, object_rect.y - 3, object_rect.width + 6,
+                     object_rect.height + 6);
+  return s;
+}
+
+SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, double near,
+                            double far) {
+  const auto qa = pair.right_camera->Project(PointOnPixelRay(*pair.left_camera, search.centre, near));
+  const auto qb = pair.right_camera->Project(PointOnPixelRay(*pair.left_camera, search.centre, far));
+  if (!qa || !qb) return SsdMatch{};
+  return MatchAlongSegment(pair.left, pair.right, search.patch & ImageRect(pair.left),
+                           *qa - search.centre, *qb - search.centre);
+}
+
+StepResult<SsdMatch> MatchObject(const StereoPair& pair, const DepthSearch& search,
+                                 const LocateOptions& options) {
+  const SsdMatch match = MatchBetweenDepths(pair, search, search.near, search.far);
+  if (!match.ok)
+    return StepFailure{Failure::kMatchOverThreshold,
+                       "the object's epipolar search region for the marks' depth +/- " +
+                           FormatFixed(options.depth_tolerance, 1) + " leaves the right image"};
+  return match;
+}
+
+SsdMatch NarrowByRange(const LocateInput& in, const StereoPair& pair, const DepthSearch& search,
+                       const Boundary& boundary, double mark_depth, const SsdMatch& match,
+                       const LocateOptions& options, RangeCheck* check) {
+  if (!in.range) return match;
+  check->used = true;
+  check->measured = *in.range;
+  // The beam's axis point at the range is the object's front depth when it falls inside the
+  // marked region and agrees with the marks; off the axis the nearest surface may lie deeper
+  // by up to range * (1 - cos(half angle)).
+  const Eigen::Vector3d q = in.ranger_origin + *in.range * in.ranger_axis.normalized();
+  const auto qp = in.left_camera.Project(q);
+  const double qd = in.left_camera.Depth(q);
+  const double beam = options.ranger_accuracy +
+                      *in.range * (1 - std::cos(options.ranger_half_angle_deg * M_PI / 180));
+  if (qp && qd > 0 &&
+      cv::pointPolygonTest(boundary.region, cv::Point2f(qp->x(), qp->y()), false) >= 0 &&
+      std::abs(qd - mark_depth) <= options.depth_tolerance) {
+    const SsdMatch ranged = MatchBetweenDepths(pair, search, std::max(0.5 * qd, qd - beam), qd + beam);
+    if (ranged.ok && ranged.rms <= 1.25 * match.rms + 1.0) {
+      check->constrained = true;
+      return ranged;
+    }
+  }
+  return match;
+}
+
+std::optional<StepFailure> CheckMatch(const SsdMatch& match, const LocateOptions& options) {
+  if (match.rms > options.max_ssd_rms)
+    return StepFailure{Failure::kMatchOverThreshold,
+                       "best right-image match within the marks' depth +/- " +
+                           FormatFixed(options.depth_tolerance, 1) + " differs by " +
+                           FormatFixed(match.rms, 1) + " grey levels RMS (limit " +
+                           FormatFixed(options.max_ssd_rms, 1) + "): check the marks' depth"};
+  return std::nullopt;
+}
+
+std::optional<Eigen::Vector3d> TriangulateMidpoint(const geometry::ProjectiveCamera& left_camera,
+                                                   const Eigen::Vector2d& left_pixel,
+                                                   const geometry::ProjectiveCamera& right_camera,
+                                                   const Eigen::Vector2d& right_pixel) {
+  geometry::TriangulationOptions options;
+  options.pixel_sigma = 0;
+  const auto t = geometry::Triangulate(left_camera.P(), right_camera.P(), left_pixel, right_pixel,
+                                       geometry::TriangulationMethod::kMidpoint, options);
+  if (!t) return std::nullopt;
+  return t->point;
+}
+
+std::optional<Eigen::Vector3d> TriangulateMatch(const StereoPair& pair, const DepthSearch& search,
+                                                const SsdMatch& match) {
+  return TriangulateMidpoint(*pair.left_camera, search.centre, *pair.right_camera,
+                             search.centre + match.offset);
+}
+
+cv::Rect RightRegion(const DepthSearch& search, const SsdMatch& match, int pad,
+                     const cv::Rect& image) {
+  const cv::Point shift(static_cast<int>(std::round(match.offset.x())),
+                        static_cast<int>(std::round(match.offset.y())));
+  return GrowRect(search.patch + shift, pad, image);
+}
+
+cv::Mat LeftTexture(const LocateInput& in, const cv::Rect& rect) {
+  return Ideal(in.left, in.left_camera)(rect).clone();
+}
+
+}  // namespace igms::object

@@ -1,0 +1,379 @@
+// Steps 4-5 of the locator (locate_steps.h): the starting models, the fit, the check of both
+// views, and the result from the fit.
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <opencv2/imgproc.hpp>
+
+#include "object_server/locate_steps.h"
+#include "object_server/ranger.h"
+#include "object_server/solid_models.h"
+
+namespace igms::object {
+namespace {
+
+// Propagates the parameter covariance through f by a numeric Jacobian; returns the
+// standard deviations of f's outputs.
+Eigen::VectorXd Sigmas(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                       const Eigen::VectorXd& x, const Eigen::MatrixXd& cov) {
+  const Eigen::VectorXd f0 = f(x);
+  Eigen::MatrixXd J(f0.size(), x.size());
+  for (int k = 0; k < x.size(); ++k) {
+    Eigen::VectorXd xp = x;
+    xp[k] += 1e-6;
+    J.col(k) = (f(xp) - f0) / 1e-6;
+  }
+  return (J * cov * J.transpose()).diagonal().cwiseMax(0).cwiseSqrt();
+}
+
+// The tilted start of a pipe lying towards the cameras (CylinderStarts): each end's patch
+// matched into the right image on its own; nullopt when an end has no match.
+std::optional<Eigen::VectorXd> TiltedCylinderStart(const StereoPair& pair, const DepthSearch& search,
+                                                   const Eigen::VectorXd& start,
+                                                   const Eigen::Vector2d& mid,
+                                                   const Eigen::Vector2d& along, double half_len,
+                                                   double half_width, double depth, double radius,
+                                                   const LocateOptions& options) {
+  const geometry::ProjectiveCamera& left_camera = *pair.left_camera;
+  const cv::Rect image_rect(0, 0, pair.left.cols, pair.left.rows);
+  // The pipe's length across the view widens each end's depth range.
+  const double lateral = (PointOnPixelRay(left_camera, mid + half_len * along, depth) -
+                          PointOnPixelRay(left_camera, mid - half_len * along, depth))
+                             .norm();
+  Eigen::VectorXd tilted = start;
+  for (int end = 0; end < 2; ++end) {
+    const Eigen::Vector2d e = mid + (end == 0 ? -1.0 : 1.0) * (half_len - half_width) * along;
+    const int side = static_cast<int>(std::ceil(2 * half_width)) + 8;
+    const cv::Rect end_patch(static_cast<int>(std::lround(e.x())) - side / 2,
+                             static_cast<int>(std::lround(e.y())) - side / 2, side, side);
+    const auto ea = pair.right_camera->Project(
+        PointOnPixelRay(left_camera, e, std::max(0.5 * search.near, search.near - lateral)));
+    const auto eb =
+        pair.right_camera->Project(PointOnPixelRay(left_camera, e, search.far + 2 * lateral));
+    const Eigen::Vector2d pc(end_patch.x + 0.5 * (side - 1), end_patch.y + 0.5 * (side - 1));
+    if (!ea || !eb) return std::nullopt;
+    const SsdMatch m =
+        MatchAlongSegment(pair.left, pair.right, end_patch & image_rect, *ea - pc, *eb - pc);
+    const auto xe = m.ok && m.rms <= options.max_ssd_rms
+                        ? TriangulateMidpoint(left_camera, pc, *pair.right_camera, pc + m.offset)
+                        : std::nullopt;
+    if (!xe) return std::nullopt;
+    const Eigen::Vector2d tip =
+        mid + (end == 0 ? -1.0 : 1.0) * (half_len - 0.5 * half_width) * along;
+    tilted.segment<3>(3 * end) =
+        PointOnPixelRay(left_camera, tip, left_camera.Depth(*xe) + radius);
+  }
+  return tilted;
+}
+
+// A box's parameters from two opposite corners of its world-aligned extent and its yaw.
+Eigen::VectorXd BoxParams(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double yaw) {
+  Eigen::VectorXd v(7);
+  v << 0.5 * (a + b), (b - a).cwiseAbs(), yaw;
+  return v;
+}
+
+// A box fit that kept a depth: one that flattened the box explained nothing (the turned box's
+// faces drawn as one). A failed fit has no parameters to look at.
+bool IsSolid(const FitOutcome& o) {
+  if (!o.ok || o.params.size() < 6) return false;
+  const Eigen::Vector3d size = o.params.segment<3>(3).cwiseAbs();
+  return size.minCoeff() > 0.1 * size.maxCoeff();
+}
+
+}  // namespace
+
+std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
+                                            const std::vector<cv::Point>& boundary, double depth,
+                                            const DepthSearch& search,
+                                            const LocateOptions& options) {
+  const geometry::ProjectiveCamera& left_camera = *pair.left_camera;
+  const std::vector<cv::Point2f> points(boundary.begin(), boundary.end());
+  const cv::RotatedRect rr = cv::minAreaRect(points);
+  cv::Point2f c[4];
+  rr.points(c);
+  Eigen::Vector2d e01(c[1].x - c[0].x, c[1].y - c[0].y), e12(c[2].x - c[1].x, c[2].y - c[1].y);
+  if (e01.norm() < e12.norm()) std::swap(e01, e12);
+  const Eigen::Vector2d along = e01.normalized(), across = e12.normalized();
+  const double half_len = std::max(1.0, 0.5 * e01.norm() - 1.0);
+  const double half_width = std::max(0.5, 0.5 * e12.norm() - 1.0);
+  const Eigen::Vector2d mid(rr.center.x, rr.center.y);
+  const double radius = 0.5 * (PointOnPixelRay(left_camera, mid + half_width * across, depth) -
+                               PointOnPixelRay(left_camera, mid - half_width * across, depth))
+                                  .norm();
+  const double axis_depth = depth + radius;
+  Eigen::VectorXd x0(7);
+  x0.segment<3>(0) =
+      PointOnPixelRay(left_camera, mid - (half_len - 0.5 * half_width) * along, axis_depth);
+  x0.segment<3>(3) =
+      PointOnPixelRay(left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
+  x0[6] = radius;
+  std::vector<Eigen::VectorXd> starts = {x0};
+  const auto tilted = TiltedCylinderStart(pair, search, x0, mid, along, half_len, half_width,
+                                          depth, radius, options);
+  if (tilted && std::abs(left_camera.Depth(tilted->segment<3>(0)) -
+                         left_camera.Depth(tilted->segment<3>(3))) > radius)
+    starts.push_back(*tilted);
+  return starts;
+}
+
+std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_camera,
+                                       const std::vector<cv::Point>& boundary, double depth) {
+  const Eigen::Vector3d view_dir = left_camera.P().block<1, 3>(2, 0).transpose().normalized() *
+                                   (left_camera.P().leftCols<3>().determinant() < 0 ? -1.0 : 1.0);
+  int k;
+  view_dir.cwiseAbs().maxCoeff(&k);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e18), hi = -lo, sum = Eigen::Vector3d::Zero();
+  for (const auto& p : boundary) {
+    const Eigen::Vector3d X = PointOnPixelRay(left_camera, Eigen::Vector2d(p.x, p.y), depth);
+    lo = lo.cwiseMin(X);
+    hi = hi.cwiseMax(X);
+    sum += X;
+  }
+  double across_mean = 0;
+  for (int i = 0; i < 3; ++i)
+    if (i != k) across_mean += 0.5 * (hi[i] - lo[i]);
+  const double front = sum[k] / boundary.size();
+  const double back = front + (view_dir[k] > 0 ? 1 : -1) * across_mean;
+  lo[k] = std::min(front, back);
+  hi[k] = std::max(front, back);
+  std::vector<Eigen::VectorXd> starts = {BoxParams(lo, hi, 0)};
+  for (const double share : {0.4, 1.8}) {
+    const double other = front + (view_dir[k] > 0 ? 1 : -1) * share * across_mean;
+    Eigen::Vector3d a = lo, b = hi;
+    a[k] = std::min(front, other);
+    b[k] = std::max(front, other);
+    starts.push_back(BoxParams(a, b, 0));
+  }
+  return starts;
+}
+
+FitOptions FitSettings(const LocateOptions& options, double strongest) {
+  FitOptions fit;
+  fit.search_px = options.search_px;
+  fit.min_gradient = std::max(options.min_edge_gradient, 0.25 * strongest);
+  fit.edge_blur_px = std::hypot(options.edge_sigma, options.camera_blur_px);
+  fit.outer_iterations = options.outer_iterations;
+  fit.inner_iterations = options.inner_iterations;
+  return fit;
+}
+
+double FitScore(const FitOutcome& fit) {
+  const int sampled = fit.sampled[0] + fit.sampled[1];
+  const double miss = sampled ? 1.0 - double(fit.used[0] + fit.used[1]) / sampled : 1.0;
+  return fit.ok ? fit.rms_px[0] + fit.rms_px[1] + 2.0 * miss : 1e18;
+}
+
+FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
+                         const std::vector<Eigen::VectorXd>& starts,
+                         const std::array<FitView, 2>& views, const FitOptions& fit) {
+  FitOptions first = fit;
+  first.step = Eigen::VectorXd::Constant(starts[0].size(), 1e-4);
+  first.outer_iterations =
+      starts.size() == 1 ? fit.outer_iterations : std::min(2, fit.outer_iterations);
+  FitOutcome best = FitSilhouette(outline, starts[0], views, first, inner);
+  for (size_t i = 1; i < starts.size(); ++i) {
+    FitOutcome g = FitSilhouette(outline, starts[i], views, first, inner);
+    spdlog::debug("locate: another start: score {:.3f} against {:.3f}", FitScore(g),
+                  FitScore(best));
+    if (FitScore(g) < FitScore(best)) best = std::move(g);
+  }
+  if (best.ok && first.outer_iterations < fit.outer_iterations) {
+    FitOptions rest = first;
+    rest.outer_iterations = fit.outer_iterations;
+    rest.first_outer = first.outer_iterations;
+    best = FitSilhouette(outline, best.params, views, rest, inner);
+  }
+  return best;
+}
+
+FitOutcome FitCylinder(const std::vector<Eigen::VectorXd>& starts,
+                       const std::array<FitView, 2>& views, const FitOptions& fit,
+                       const LocateOptions& options) {
+  InnerEdgesFn inner;
+  if (options.cylinder_inner_edges) inner = CylinderInnerEdges;
+  return FitFromStarts(CylinderOutline, inner, starts, views, fit);
+}
+
+FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<FitView, 2>& views,
+                  const FitOptions& fit, const LocateOptions& options) {
+  const OutlineFn outline = BoxOutline;
+  InnerEdgesFn inner;
+  if (options.box_inner_edges) inner = BoxInnerEdges;
+  // World-aligned: the first six parameters, the yaw held at 0.
+  auto aligned = [](const Eigen::VectorXd& p) {
+    Eigen::VectorXd q(7);
+    q << p, 0.0;
+    return q;
+  };
+  std::vector<Eigen::VectorXd> starts6;
+  for (const auto& st : starts) starts6.push_back(st.head<6>());
+  InnerEdgesFn inner6;
+  if (inner)
+    inner6 = [&](const Eigen::VectorXd& p, const Eigen::Vector3d& c) {
+      return inner(aligned(p), c);
+    };
+  FitOutcome f = FitFromStarts([&](const Eigen::VectorXd& p) { return outline(aligned(p)); },
+                               inner6, starts6, views, fit);
+  if (f.ok) {
+    f.params = aligned(f.params);
+    Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(7, 7);
+    cov.topLeftCorner<6, 6>() = f.covariance;
+    f.covariance = cov;
+  }
+  const bool turn = !IsSolid(f) || 0.5 * (f.rms_px[0] + f.rms_px[1]) > options.box_turn_rms_px;
+  if (!turn) return f;
+  std::vector<Eigen::VectorXd> turned;
+  const Eigen::VectorXd from = IsSolid(f) ? f.params : starts[0];
+  for (const double yaw_deg : {-36.0, -18.0, 0.0, 18.0, 36.0}) {
+    Eigen::VectorXd st = from;
+    st[6] = yaw_deg * M_PI / 180;
+    turned.push_back(st);
+  }
+  FitOutcome fo = FitFromStarts(outline, inner, turned, views, fit);
+  spdlog::debug("locate: turned box: score {:.3f} against aligned {:.3f}", FitScore(fo),
+                FitScore(f));
+  if (!f.ok || (IsSolid(fo) && (!IsSolid(f) || FitScore(fo) < 0.8 * FitScore(f))))
+    return fo;
+  return f;
+}
+
+std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options) {
+  for (int v = 0; v < 2; ++v) {
+    const char* name = v == 0 ? "left" : "right";
+    const double share = fit.sampled[v] ? double(fit.used[v]) / fit.sampled[v] : 0.0;
+    if (share < options.min_inlier_share)
+      return StepFailure{Failure::kLeftRightInconsistent,
+                         std::string("only ") + FormatFixed(100 * share, 0) +
+                             "% of the fitted outline has an edge in the " + name +
+                             " image: the object is not the same in both views"};
+    if (fit.rms_px[v] > options.max_rms_px)
+      return StepFailure{Failure::kLeftRightInconsistent,
+                         std::string("the fitted outline misses the ") + name +
+                             " image's edges by " + FormatFixed(fit.rms_px[v]) + " px RMS (limit " +
+                             FormatFixed(options.max_rms_px) + ")"};
+  }
+  return std::nullopt;
+}
+
+CylinderResult CylinderFromFit(const Eigen::VectorXd& params, const Eigen::MatrixXd& covariance) {
+  // Centre, radius and height, with their deviations.
+  auto outputs = [](const Eigen::VectorXd& p) {
+    Eigen::VectorXd o(5);
+    o.head<3>() = 0.5 * (p.segment<3>(0) + p.segment<3>(3));
+    o[3] = std::abs(p[6]);
+    o[4] = (p.segment<3>(3) - p.segment<3>(0)).norm();
+    return o;
+  };
+  const Eigen::VectorXd o = outputs(params), s = Sigmas(outputs, params, covariance);
+  CylinderResult c;
+  c.center = o.head<3>();
+  c.radius = o[3];
+  c.height = o[4];
+  c.center_sigma = s.head<3>();
+  c.radius_sigma = s[3];
+  c.height_sigma = s[4];
+  if (c.height < 1e-6 || c.radius < 1e-6) return c;
+  Eigen::Vector3d axis = params.segment<3>(3) - params.segment<3>(0);
+  axis.normalize();
+  // A stable sign: pointing up, or along +x for a level axis.
+  if (axis.z() < -1e-9 || (std::abs(axis.z()) <= 1e-9 && axis.x() < 0)) axis = -axis;
+  c.axis = axis;
+  return c;
+}
+
+BoxResult BoxFromFit(const Eigen::VectorXd& params, const Eigen::MatrixXd& covariance) {
+  // Centre, size, yaw and the world-axis-aligned extent, with their deviations.
+  auto outputs = [](const Eigen::VectorXd& p) {
+    const Eigen::VectorXd q = CanonicalBox(p);
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e18), hi = -lo;
+    for (const auto& c : BoxOutline(q)) {
+      lo = lo.cwiseMin(c);
+      hi = hi.cwiseMax(c);
+    }
+    Eigen::VectorXd o(13);
+    o << q.head<7>(), lo, hi;
+    return o;
+  };
+  const Eigen::VectorXd o = outputs(params), sd = Sigmas(outputs, params, covariance);
+  BoxResult b;
+  b.center = o.head<3>();
+  b.size = o.segment<3>(3);
+  b.yaw_deg = o[6] * 180 / M_PI;
+  b.rotation = BoxRotation(o[6]);
+  b.center_sigma = sd.head<3>();
+  b.size_sigma = sd.segment<3>(3);
+  b.yaw_sigma_deg = sd[6] * 180 / M_PI;
+  b.min = o.segment<3>(7);
+  b.max = o.segment<3>(10);
+  b.min_sigma = sd.segment<3>(7);
+  b.max_sigma = sd.segment<3>(10);
+  return b;
+}
+
+StepResult<cv::Rect> BoxTextureRect(const Eigen::VectorXd& params,
+                                    const geometry::ProjectiveCamera& left_camera,
+                                    const cv::Rect& image) {
+  double u0 = 1e18, v0 = 1e18, u1 = -1e18, v1 = -1e18;
+  for (const auto& p : BoxOutline(params)) {
+    const auto px = left_camera.Project(p);
+    if (!px)
+      return StepFailure{Failure::kFitFailed,
+                         "a corner of the fitted box does not project into the left image"};
+    u0 = std::min(u0, px->x());
+    v0 = std::min(v0, px->y());
+    u1 = std::max(u1, px->x());
+    v1 = std::max(v1, px->y());
+  }
+  return cv::Rect(
+             cv::Point(static_cast<int>(std::floor(u0)), static_cast<int>(std::floor(v0))),
+             cv::Point(static_cast<int>(std::ceil(u1)) + 1, static_cast<int>(std::ceil(v1)) + 1)) &
+         image;
+}
+
+void CheckRange(const LocateInput& in, const LocateOptions& options, const Eigen::VectorXd& params,
+                RangeCheck* check) {
+  const Eigen::VectorXd& x = params;
+  const double spacing = 0.05;
+  std::vector<Eigen::Vector3d> surface =
+      in.type == SolidType::kCylinder
+          ? CylinderSurface(x.segment<3>(0), x.segment<3>(3), std::abs(x[6]), spacing)
+          : BoxSurface(-0.5 * x.segment<3>(3).cwiseAbs(), 0.5 * x.segment<3>(3).cwiseAbs(),
+                       spacing);
+  if (in.type == SolidType::kBox) {  // from the box's own frame to the world
+    const Eigen::Matrix3d R = BoxRotation(x[6]);
+    for (auto& p : surface) p = x.head<3>() + R * p;
+  }
+  const RangerPose ranger{in.ranger_origin, in.ranger_axis.normalized()};
+  const auto beam =
+      RangesInBeam(surface, ranger, options.ranger_half_angle_deg * M_PI / 180, spacing);
+  if (!beam) {
+    check->agrees = false;
+    check->detail = "the ranger's " + FormatFixed(2 * options.ranger_half_angle_deg, 0) +
+                    "-degree beam does not reach the located object: the range " +
+                    FormatFixed(check->measured) + " measured something else";
+    return;
+  }
+  check->expected_min = beam->nearest;
+  check->expected_max = beam->on_axis;
+  const double acc = options.ranger_accuracy;
+  if (check->measured < beam->nearest - acc) {
+    check->agrees = false;
+    check->detail = "the range " + FormatFixed(check->measured) + " is " +
+                    FormatFixed(beam->nearest - check->measured) +
+                    " shorter than the located object's nearest point in the beam (" +
+                    FormatFixed(beam->nearest) +
+                    "): something nearer is in the beam, or the model is wrong";
+  } else if (check->measured > beam->on_axis + acc) {
+    check->agrees = false;
+    check->detail = "the range " + FormatFixed(check->measured) + " is " +
+                    FormatFixed(check->measured - beam->on_axis) +
+                    " beyond where the beam meets the located object (" +
+                    FormatFixed(beam->on_axis) + "): the model is nearer than the ranger says";
+  }
+}
+
+}  // namespace igms::object

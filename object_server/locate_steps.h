@@ -1,0 +1,221 @@
+// The steps of the locator (locate.h), each a function of its own so it can be tested alone.
+// Locate() runs them in this order; the numbers are those of the pipeline in locate.h, the
+// sections those of Cooke, "Interactive Graphical Model Building using Virtual Reality"
+// (1993).
+//
+//  0. PrepareImages: both images grey and in ideal pixels, of the calibration's size.
+//  1. MarkRegion: the marks' quadrilateral in the left image and their depth (3.6, 3.8).
+//  2. FindBoundary, CheckBoundary: the object's strong edges inside the grown marked region
+//     (3.8.1).
+//  3. MatchObject, NarrowByRange, CheckMatch, TriangulateMatch: the object's patch
+//     matched into the right image along the epipolar segment of the marks' depth range (3.6,
+//     equation 3.30) and triangulated (3.7).
+//  4. CylinderStarts / BoxStarts, then FitCylinder / FitBox: starting models from the
+//     boundary at the matched depth (3.8.1, 3.8.2), fitted to both images' edges
+//     (silhouette_fit.h).
+//  5. CheckBothViews: the fit must explain both images.
+//  Then CylinderFromFit / BoxFromFit (with BoxTextureRect) give the result, and CheckRange
+//  holds the located solid against the ultrasonic range (2.1.5).
+//
+// A step that can stop the locator says why with a StepFailure: the reason code of the
+// result and a detail for a person.
+#pragma once
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/geometry/camera.h"
+#include "object_server/image_ops.h"
+#include "object_server/locate.h"
+#include "object_server/silhouette_fit.h"
+
+namespace igms::object {
+
+struct StepFailure {
+  Failure reason = Failure::kNone;
+  std::string detail;
+};
+
+// A step's output, or why the locator stops there.
+template <typename T>
+class StepResult {
+ public:
+  StepResult(T value) : value_(std::move(value)) {}              // NOLINT: implicit on purpose
+  StepResult(StepFailure failure) : failure_(std::move(failure)) {}  // NOLINT
+  bool ok() const { return value_.has_value(); }
+  const T& operator*() const { return *value_; }
+  const T* operator->() const { return &*value_; }
+  const StepFailure& failure() const { return failure_; }
+
+ private:
+  std::optional<T> value_;
+  StepFailure failure_;
+};
+
+// `v` in fixed notation with `precision` decimals, for the details.
+std::string FormatFixed(double v, int precision = 2);
+
+// The point on pixel p's ray at left-camera depth d.
+Eigen::Vector3d PointOnPixelRay(const geometry::ProjectiveCamera& camera, const Eigen::Vector2d& p,
+                                double depth);
+
+// 0. Both images, grey and undistorted into ideal pixels (P maps to ideal pixels; the lens
+// acts after it, as in OpenCV's model), with their cameras. Fails (bad input) when an image
+// is empty, neither 8-bit grey nor BGR, or not of its camera's size.
+struct StereoPair {
+  cv::Mat left, right;
+  const geometry::ProjectiveCamera* left_camera = nullptr;
+  const geometry::ProjectiveCamera* right_camera = nullptr;
+};
+StepResult<StereoPair> PrepareImages(const LocateInput& in);
+
+// 1. The marks in the left image: their convex hull is the operator's segmentation (3.8),
+// their mean left-camera depth the depth estimate (trusted to the depth tolerance, 3.6).
+// Fails when a mark is not finite (bad input), behind a camera or off to infinity in the left
+// image, when the hull bounds under 16 square pixels (degenerate) or when less than half of
+// it lies inside the left image.
+struct MarkedRegion {
+  std::vector<cv::Point2f> hull;  // counter-clockwise in the image, 3 or 4 points
+  double depth = 0;               // mean left-camera depth of the marks
+};
+StepResult<MarkedRegion> MarkRegion(const LocateInput& in);
+
+// 2. The left image's rectangle the boundary and its edge search need: `rect` grown by the
+// edge search and the boundary's margin, within the image.
+int RegionPad(const LocateOptions& options);
+cv::Rect GrowRect(const cv::Rect& rect, int pad, const cv::Rect& image);
+// The polygon grown outward from its vertices' mean by `by` pixels at every vertex (the thesis
+// searches up to 15 px outward from the marks, 3.8.1: an outline the marks graze stays
+// whole).
+std::vector<cv::Point2f> GrowPolygon(const std::vector<cv::Point2f>& polygon, double by);
+// The pixels of the largest 8-connected set among `pixels`, each grown by a pixel first (so
+// gaps of up to two pixels are bridged).
+std::vector<cv::Point> LargestConnected(const std::vector<cv::Point>& pixels);
+// The object's boundary: the strong edge pixels inside the grown marked region (and on the
+// edge map, when given), then of those the largest connected set, as the thesis follows the
+// boundary from the marks (3.8.1): a neighbour's edge grazed by the margin must not widen
+// its outline.
+struct Boundary {
+  std::vector<cv::Point2f> region;  // the grown marked region
+  std::vector<cv::Point> pixels;
+  double strongest = 0;  // the strongest gradient inside the region, grey levels per pixel
+};
+Boundary FindBoundary(const Gradients& left_gradients, const MarkedRegion& marks,
+                      const cv::Mat& edge_map, const LocateOptions& options);
+// Fails when the boundary is empty (no edge near the marks) or has fewer pixels than
+// min_boundary_share of the marks' perimeter (edge count mismatch).
+std::optional<StepFailure> CheckBoundary(const Boundary& boundary, const MarkedRegion& marks,
+                                         const LocateOptions& options);
+
+// 3. The object's patch in the left image (its boundary's rectangle and a 3 px margin) and
+// the range of left-camera depths its match is searched over: the marks' depth +/- the
+// tolerance, never nearer than half the marks' depth.
+struct DepthSearch {
+  Eigen::Vector2d centre;  // of the boundary's rectangle, left image
+  cv::Rect patch;
+  double near = 0, far = 0;
+};
+DepthSearch ObjectDepthSearch(const std::vector<cv::Point>& boundary, double mark_depth,
+                              const LocateOptions& options);
+// The patch matched into the right image by the smallest SSD (3.6, equation 3.30) along the
+// epipolar segment of left-camera depths near..far; not ok when the segment does not project
+// or leaves the right image.
+SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, double near,
+                            double far);
+// The match over the search's depth range. Fails (match over threshold) when there is none:
+// the search region leaves the right image.
+StepResult<SsdMatch> MatchObject(const StereoPair& pair, const DepthSearch& search,
+                                 const LocateOptions& options);
+// With a range, the match searched again around the range's depth (the beam's axis point at
+// the range, when it falls inside the marked region and agrees with the marks' depth); kept
+// unless it matches clearly worse than `match` (then the beam met something else). Fills
+// `check`'s used, measured and constrained; returns the match to go on with.
+SsdMatch NarrowByRange(const LocateInput& in, const StereoPair& pair, const DepthSearch& search,
+                       const Boundary& boundary, double mark_depth, const SsdMatch& match,
+                       const LocateOptions& options, RangeCheck* check);
+// Fails (match over threshold) when the match differs by more than max_ssd_rms grey levels
+// RMS.
+std::optional<StepFailure> CheckMatch(const SsdMatch& match, const LocateOptions& options);
+// Midpoint triangulation of a left and a right pixel, or nullopt when their rays are
+// parallel.
+std::optional<Eigen::Vector3d> TriangulateMidpoint(const geometry::ProjectiveCamera& left_camera,
+                                                   const Eigen::Vector2d& left_pixel,
+                                                   const geometry::ProjectiveCamera& right_camera,
+                                                   const Eigen::Vector2d& right_pixel);
+// The match's 3D point by midpoint triangulation (Cooke, 3.7: only a starting depth, so the
+// simplest), or nullopt when the rays are parallel.
+std::optional<Eigen::Vector3d> TriangulateMatch(const StereoPair& pair, const DepthSearch& search,
+                                                const SsdMatch& match);
+// The right image's rectangle the fit's edge search needs: the patch moved by the match, grown
+// like the left's.
+cv::Rect RightRegion(const DepthSearch& search, const SsdMatch& match, int pad,
+                     const cv::Rect& image);
+
+// 4. Starting models. A cylinder (3.8.1) from the boundary's smallest rotated rectangle: its
+// long side the axis, its short side the diameter at the matched depth (`depth`, of the front
+// surface). Its silhouette's ends lie beyond the cap centres by up to the radius, depending
+// on the view: the caps start halfway. A pipe lying towards the cameras has its ends at
+// different depths, which one depth for both cannot start from: each end's patch is matched
+// into the right image on its own (within the marks' depth range, widened by the pipe's
+// length across the view) and, when the two ends' depths differ by more than the radius, that
+// tilted cylinder is a second start.
+std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
+                                            const std::vector<cv::Point>& boundary, double depth,
+                                            const DepthSearch& search,
+                                            const LocateOptions& options);
+// A block (3.8.2), world-axis-aligned: the boundary back-projected onto its front plane at
+// `depth` gives the two extents across the view; the one along the view starts as their
+// mean. That depth is the least seen (a side face's strip, a sliver of the top), so two more
+// starts take 0.4 and 1.8 times it.
+std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_camera,
+                                       const std::vector<cv::Point>& boundary, double depth);
+// The fit's settings from the locator's, given the boundary's strongest gradient.
+FitOptions FitSettings(const LocateOptions& options, double strongest);
+// How well a fit explains both images: the views' RMS residuals plus twice the share of
+// outline samples without an edge; lower is better, 1e18 for a failed fit.
+double FitScore(const FitOutcome& fit);
+// Of several starts, the one that explains both images best after two passes goes on to the
+// rest of the passes (one start: all passes at once).
+FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
+                         const std::vector<Eigen::VectorXd>& starts,
+                         const std::array<FitView, 2>& views, const FitOptions& fit);
+FitOutcome FitCylinder(const std::vector<Eigen::VectorXd>& starts,
+                       const std::array<FitView, 2>& views, const FitOptions& fit,
+                       const LocateOptions& options);
+// The thesis's block first: world-aligned (yaw held at 0), which the faces' edges pin down
+// well. Only when its outline misses the edges (or it came out flat) is the box turned:
+// from five yaws, kept when it explains the images clearly better (a turned box seen nearly
+// face-on can trade yaw against depth and fit about as well, wrongly).
+FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<FitView, 2>& views,
+                  const FitOptions& fit, const LocateOptions& options);
+
+// 5. Fails (left-right inconsistent) when either image has too few outline samples on an
+// edge or a too large RMS residual: background edges picked up in one view only.
+std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options);
+
+// The result from the fit's parameters, with one standard deviation from its covariance. A
+// cylinder's axis points up (along +x when level); it is left as the default when the
+// cylinder has no size.
+CylinderResult CylinderFromFit(const Eigen::VectorXd& params, const Eigen::MatrixXd& covariance);
+// Everything but the texture, which BoxTextureRect and the left image give.
+BoxResult BoxFromFit(const Eigen::VectorXd& params, const Eigen::MatrixXd& covariance);
+// The box's pixels in the left image (its corners' bounding rectangle), within `image`.
+// Fails (fit failed) when a corner does not project into the left image.
+StepResult<cv::Rect> BoxTextureRect(const Eigen::VectorXd& params,
+                                    const geometry::ProjectiveCamera& left_camera,
+                                    const cv::Rect& image);
+
+// The left image's pixels in `rect`, in its own colours (grey or BGR) and ideal pixels: the
+// patch for texture mapping (3.8.2).
+cv::Mat LeftTexture(const LocateInput& in, const cv::Rect& rect);
+
+// The range against the located solid (RangeCheck in locate.h): fills `check`'s expected
+// ranges, whether it agrees and why not.
+void CheckRange(const LocateInput& in, const LocateOptions& options, const Eigen::VectorXd& params,
+                RangeCheck* check);
+
+}  // namespace igms::object
