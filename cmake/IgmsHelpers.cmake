@@ -19,8 +19,11 @@ function(igms_executable)
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_include_directories(${ARG_NAME} PRIVATE ${PROJECT_SOURCE_DIR})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS})
+  # Every program answers --version; the tests run them all (tests/common/version).
+  set_property(GLOBAL APPEND PROPERTY IGMS_PROGRAMS ${ARG_NAME})
   if(NOT ARG_NO_INSTALL)
     install(TARGETS ${ARG_NAME} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+    set_property(GLOBAL APPEND PROPERTY IGMS_INSTALLED_PROGRAMS ${ARG_NAME})
   endif()
 endfunction()
 

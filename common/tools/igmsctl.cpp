@@ -23,6 +23,7 @@
 #include "common/log/log.h"
 #include "common/net/client.h"
 #include "common/net/clock.h"
+#include "common/version/version.h"
 
 namespace igms::tools {
 
@@ -130,7 +131,7 @@ std::atomic<bool> g_interrupted{false};
 
 int IgmsctlMain(int argc, char** argv) {
   po::options_description opts("Options");
-  opts.add_options()("help,h", "show this help")(
+  opts.add_options()("help,h", "show this help")("version", "print the version and exit")(
       "host", po::value<std::string>()->default_value("127.0.0.1"), "server host")(
       "port,p", po::value<int>(), "server port")(
       "config", po::value<std::string>(), "lab configuration: take host, port and token from it")(
@@ -155,6 +156,10 @@ int IgmsctlMain(int argc, char** argv) {
   } catch (const po::error& e) {
     std::cerr << "igmsctl: " << e.what() << "\n";
     return 2;
+  }
+  if (vm.count("version")) {
+    std::cout << version::Line("igmsctl") << "\n";
+    return 0;
   }
   std::vector<std::string> args;
   if (vm.count("args")) args = vm["args"].as<std::vector<std::string>>();
