@@ -38,7 +38,8 @@ constexpr const char* kUsage = R"(usage: igmsctl [OPTIONS] COMMAND [ARGS]
 Commands:
   list                       every service, method and stream igmsctl knows
   describe METHOD            a method's request and response messages
-  ping                       igms.Server.Ping: is the server there, who is it
+  ping                       igms.Server.Ping: is the server there, who is it (its name,
+                             program, protocol version, uptime and IGMS version)
   call METHOD [JSON]         send one request, print the response as JSON
   subscribe METHOD [JSON]    print each stream message as one line of JSON; with --count
                              or --duration it stops and prints the rate and the latency
