@@ -4,6 +4,7 @@
 #   igms_executable(NAME igms-video-server SOURCES main.cpp DEPS igms_video)
 #   igms_test(NAME net/framing SOURCES framing_test.cpp DEPS igms_net)
 #   igms_add_subdirectories()   # every child folder that has a CMakeLists.txt
+#   igms_install_lab_file(SOURCE lab.yaml DESTINATION etc/igms NAME lab.yaml REWRITE k=path)
 
 function(igms_library)
   cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS;PRIVATE_DEPS" ${ARGN})
@@ -19,8 +20,11 @@ function(igms_executable)
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_include_directories(${ARG_NAME} PRIVATE ${PROJECT_SOURCE_DIR})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS})
+  # Every program answers --version; the tests run them all (tests/common/version).
+  set_property(GLOBAL APPEND PROPERTY IGMS_PROGRAMS ${ARG_NAME})
   if(NOT ARG_NO_INSTALL)
     install(TARGETS ${ARG_NAME} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+    set_property(GLOBAL APPEND PROPERTY IGMS_INSTALLED_PROGRAMS ${ARG_NAME})
   endif()
 endfunction()
 
@@ -80,4 +84,33 @@ function(igms_fuzzer)
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS})
   target_link_options(${ARG_NAME} PRIVATE -fsanitize=fuzzer)
   add_dependencies(igms_fuzzers ${ARG_NAME})
+endfunction()
+
+# Installs DESTINATION/NAME, a lab file derived from SOURCE by cmake/DeriveLabFile.cmake when
+# installing: only the keys REWRITE names (KEY=PATH...) change, PATH relative to the install
+# prefix unless absolute. Derived at install time, so `cmake --install --prefix P` names
+# P's files; the file lands under DESTDIR like any other.
+function(igms_install_lab_file)
+  cmake_parse_arguments(ARG "" "SOURCE;DESTINATION;NAME;NOTE" "REWRITE" ${ARGN})
+  get_filename_component(source ${ARG_SOURCE} ABSOLUTE)
+  file(RELATIVE_PATH shown ${PROJECT_SOURCE_DIR} ${source})
+  if(NOT ARG_NOTE)
+    set(ARG_NOTE "Derived from ${shown} when installing: edit that file; only paths differ.")
+  endif()
+  set(staged ${CMAKE_CURRENT_BINARY_DIR}/installed/${ARG_NAME})
+  string(REPLACE ";" "|" rewrites "${ARG_REWRITE}")
+  set(destination "${ARG_DESTINATION}")
+  if(NOT IS_ABSOLUTE "${destination}")
+    set(destination "\${CMAKE_INSTALL_PREFIX}/${destination}")
+  endif()
+  install(CODE "
+    block()
+      set(INPUT [[${source}]])
+      set(OUTPUT [[${staged}]])
+      set(REWRITE [[${rewrites}]])
+      set(NOTE [[${ARG_NOTE}]])
+      set(PREFIX \"\${CMAKE_INSTALL_PREFIX}\")
+      include([[${PROJECT_SOURCE_DIR}/cmake/DeriveLabFile.cmake]])
+    endblock()
+    file(INSTALL DESTINATION \"${destination}\" TYPE FILE FILES [[${staged}]])")
 endfunction()

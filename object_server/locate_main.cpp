@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/calibration/calibration_file.h"
+#include "common/version/version.h"
 #include "object_server/debug_image.h"
 #include "object_server/locate.h"
 #include "object_server/ranger.h"
@@ -40,8 +41,8 @@ int Run(int argc, char** argv) {
   double range = -1;
   igms::object::LocateOptions input_options;
   std::vector<std::string> marks;
-  desc.add_options()("help,h", "this help")("calibration", po::value(&calibration),
-                                            "stereo calibration YAML")(
+  desc.add_options()("help,h", "this help")("version", "print the version and exit")(
+      "calibration", po::value(&calibration), "stereo calibration YAML")(
       "left", po::value(&left_path), "left image file")("right", po::value(&right_path),
                                                         "right image file")(
       "type", po::value(&type), "cylinder or box")("mark", po::value(&marks)->composing(),
@@ -65,6 +66,10 @@ int Run(int argc, char** argv) {
   }
   if (vm.count("help")) {
     std::cout << desc << "\n";
+    return 0;
+  }
+  if (vm.count("version")) {
+    std::cout << igms::version::Line("igms-locate") << "\n";
     return 0;
   }
   spdlog::set_level(vm.count("verbose") ? spdlog::level::debug : spdlog::level::warn);

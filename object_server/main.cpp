@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "common/calibration/calibration_file.h"
+#include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "common/net/client.h"
 #include "common/net/process_server.h"
@@ -66,7 +67,7 @@ int main(int argc, char** argv) {
     video_options.max_frame_bytes = 64u << 20;  // a raw colour pair is about 1.5 MB
     igms::net::Client video(io, video_options);
 
-    igms::net::Server server(io, igms::net::ServerOptionsFor(*process, 0));
+    igms::net::Server server(io, igms::net::ServerOptionsFor(*process, igms::config::ports::kObject));
     igms::object::ObjectService service(video, calibration->left.Camera(),
                                         calibration->right.Camera(), options);
     service.Register(server);

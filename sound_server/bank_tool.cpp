@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "sound_server/bank_generator.h"
+#include "common/version/version.h"
 
 namespace po = boost::program_options;
 
@@ -15,7 +16,7 @@ int main(int argc, char** argv) {
     std::string manifest_path, out_dir, stamp;
     igms::sound::GenerateOptions options;
     po::options_description flags("igms-sound-bank: generate the sound bank from its manifest");
-    flags.add_options()("help,h", "this help")("manifest", po::value(&manifest_path)->required(),
+    flags.add_options()("help,h", "this help")("version", "print the version and exit")("manifest", po::value(&manifest_path)->required(),
                                                "the bank's manifest.yaml")(
         "out", po::value(&out_dir)->required(), "folder to write the bank into")(
         "stamp", po::value(&stamp), "file touched when every sound was generated")(
@@ -25,6 +26,10 @@ int main(int argc, char** argv) {
     po::store(po::parse_command_line(argc, argv, flags), vm);
     if (vm.count("help")) {
       std::cout << flags << "\n";
+      return 0;
+    }
+    if (vm.count("version")) {
+      std::cout << igms::version::Line("igms-sound-bank") << "\n";
       return 0;
     }
     po::notify(vm);

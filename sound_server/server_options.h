@@ -20,13 +20,14 @@
 #include <filesystem>
 #include <string>
 
+#include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "sound_server/audio_output.h"
 #include "sound_server/engine.h"
 
 namespace igms::sound {
 
-inline constexpr std::uint16_t kDefaultPort = 7303;
+inline constexpr std::uint16_t kDefaultPort = config::ports::kSound;
 
 struct ServerSettings {
   std::filesystem::path manifest;

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <memory>
 
+#include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "common/net/process_server.h"
 #include "common/net/server.h"
@@ -63,7 +64,7 @@ int main(int argc, char** argv) {
       follower = std::make_unique<igms::video::PlatformPoseFollower>(io, std::move(*platform));
       pose = [&follower] { return follower->Pose(); };
     }
-    igms::net::Server server(io, igms::net::ServerOptionsFor(*process, 0));
+    igms::net::Server server(io, igms::net::ServerOptionsFor(*process, igms::config::ports::kVideo));
     igms::video::VideoService service(io, std::move(backend.backend), options, *overlay, pose);
     service.Register(server);
     if (follower) follower->Start();

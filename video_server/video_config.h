@@ -2,7 +2,7 @@
 //
 //   video:
 //     program: igms-video-server
-//     port: 7302
+//     port: 7301
 //     backend: files            # files | camera | sim
 //     sim: {scene: testbed.yaml, seed: 1}   # sim_capture.h; cameras from lab.calibration
 //     files: {left: left%02d.jpg, right: right%02d.jpg, first: 0, last: 9999, colour: false}

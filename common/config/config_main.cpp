@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/config/lab_config.h"
+#include "common/version/version.h"
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
@@ -19,7 +20,11 @@ int main(int argc, char** argv) {
     if (args[i] == "--config" && i + 1 < args.size()) {
       file = args[++i];
     } else if (args[i] == "-h" || args[i] == "--help") {
-      std::cout << "usage: igms config get KEY | processes | dump | check  [--config FILE]\n";
+      std::cout << "usage: igms config get KEY | processes | dump | check  [--config FILE]\n"
+                   "       igms config --version\n";
+      return 0;
+    } else if (args[i] == "--version") {
+      std::cout << igms::version::Line("igms-config") << "\n";
       return 0;
     } else {
       positional.push_back(args[i]);

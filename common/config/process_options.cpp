@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "common/log/log.h"
+#include "common/version/version.h"
 
 namespace igms::config {
 
@@ -45,7 +46,7 @@ std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
                                                   const po::options_description& extra,
                                                   int* exit_code) {
   po::options_description common("Lab options");
-  common.add_options()("help,h", "show this help")(
+  common.add_options()("help,h", "show this help")("version", "print the version and exit")(
       "config", po::value<std::string>(), "the lab configuration file (YAML)")(
       "name", po::value<std::string>()->default_value(default_name),
       "this process's entry under 'processes' in the configuration")(
@@ -69,6 +70,11 @@ std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
   }
   if (out.flags.count("help")) {
     std::cout << summary << "\n\n" << all << "\n";
+    *exit_code = 0;
+    return std::nullopt;
+  }
+  if (out.flags.count("version")) {
+    std::cout << version::Line(version::ProgramName()) << "\n";
     *exit_code = 0;
     return std::nullopt;
   }

@@ -2,6 +2,7 @@
 //
 //   PROGRAM --config lab.yaml --name video [--set processes.video.port=7400]...
 //           [--host H] [--port P] [--bind ADDRESS] [--log-level debug] [component flags]
+//   PROGRAM --help | --version
 //
 // --host, --port and --bind are shorthands for processes.NAME.host, .port and .bind;
 // --set overrides any key. Flags win over the file. Without --config the process runs on
@@ -42,8 +43,8 @@ struct ProcessOptions {
 void TuneAllocator();
 
 // Parses the shared flags plus `extra`, loads the configuration, applies overrides and
-// starts logging. Returns nullopt after printing help (exit 0) or an error (exit 2):
-// *exit_code says which.
+// starts logging. Returns nullopt after printing help or the version (exit 0) or an error
+// (exit 2): *exit_code says which.
 std::optional<ProcessOptions> ParseProcessOptions(
     int argc, char** argv, const std::string& default_name, const std::string& summary,
     const boost::program_options::options_description& extra, int* exit_code);

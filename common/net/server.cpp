@@ -15,6 +15,7 @@
 #include "common/net/clock.h"
 #include "common/net/framing.h"
 #include "common/net/session.h"
+#include "common/version/version.h"
 
 namespace igms::net {
 
@@ -71,6 +72,8 @@ Server::Server(asio::io_context& io, ServerOptions options)
                                        std::uint64_t id) {
     igms::PingResponse r;
     r.set_server_name(options_.name);
+    r.set_program(version::ProgramName());
+    r.set_version(version::Full());
     r.set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
     r.set_uptime_ms(std::chrono::duration_cast<std::chrono::milliseconds>(
                         std::chrono::steady_clock::now() - impl_->started)

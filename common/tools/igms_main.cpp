@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "common/version/version.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -46,7 +48,8 @@ int Help() {
       if (name.rfind("igms-", 0) == 0 && Executable(entry.path())) subs.insert(name.substr(5));
     }
   }
-  std::cout << "usage: igms COMMAND [ARGS...]   (igms COMMAND --help for its options)\n\n"
+  std::cout << "usage: igms COMMAND [ARGS...]   (igms COMMAND --help for its options)\n"
+               "       igms --version\n\n"
                "Installed commands:\n";
   for (const auto& s : subs) std::cout << "  " << s << "\n";
   std::cout << "\nThe fake client of every server is igmsctl.\n";
@@ -59,6 +62,10 @@ int main(int argc, char** argv) {
   if (argc < 2 || std::string(argv[1]) == "help" || std::string(argv[1]) == "--help" ||
       std::string(argv[1]) == "-h") {
     return Help();
+  }
+  if (std::string(argv[1]) == "--version") {
+    std::cout << igms::version::Line("igms") << "\n";
+    return 0;
   }
   const std::string sub = argv[1];
   if (sub.find('/') != std::string::npos || sub.empty() || sub[0] == '-') {

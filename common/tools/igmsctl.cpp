@@ -23,6 +23,7 @@
 #include "common/log/log.h"
 #include "common/net/client.h"
 #include "common/net/clock.h"
+#include "common/version/version.h"
 
 namespace igms::tools {
 
@@ -37,7 +38,8 @@ constexpr const char* kUsage = R"(usage: igmsctl [OPTIONS] COMMAND [ARGS]
 Commands:
   list                       every service, method and stream igmsctl knows
   describe METHOD            a method's request and response messages
-  ping                       igms.Server.Ping: is the server there, who is it
+  ping                       igms.Server.Ping: is the server there, who is it (its name,
+                             program, protocol version, uptime and IGMS version)
   call METHOD [JSON]         send one request, print the response as JSON
   subscribe METHOD [JSON]    print each stream message as one line of JSON; with --count
                              or --duration it stops and prints the rate and the latency
@@ -130,7 +132,7 @@ std::atomic<bool> g_interrupted{false};
 
 int IgmsctlMain(int argc, char** argv) {
   po::options_description opts("Options");
-  opts.add_options()("help,h", "show this help")(
+  opts.add_options()("help,h", "show this help")("version", "print the version and exit")(
       "host", po::value<std::string>()->default_value("127.0.0.1"), "server host")(
       "port,p", po::value<int>(), "server port")(
       "config", po::value<std::string>(), "lab configuration: take host, port and token from it")(
@@ -155,6 +157,10 @@ int IgmsctlMain(int argc, char** argv) {
   } catch (const po::error& e) {
     std::cerr << "igmsctl: " << e.what() << "\n";
     return 2;
+  }
+  if (vm.count("version")) {
+    std::cout << version::Line("igmsctl") << "\n";
+    return 0;
   }
   std::vector<std::string> args;
   if (vm.count("args")) args = vm["args"].as<std::vector<std::string>>();

@@ -3,6 +3,7 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "device_daemons/joystick/joystick_daemon.h"
 
@@ -48,7 +49,7 @@ int main(int argc, char** argv) {
     igms::net::ServerOptions server;
     server.name = process->name;
     server.bind_address = process->BindAddress();
-    server.port = process->Port(7310);
+    server.port = process->Port(igms::config::ports::kJoystick);
     server.token = process->Token();
     igms::devices::JoystickDaemon daemon(io, options, server, joystick);
     return igms::devices::RunDaemonProcess(

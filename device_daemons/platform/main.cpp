@@ -3,6 +3,7 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "device_daemons/platform/platform_daemon.h"
 
@@ -33,7 +34,7 @@ int main(int argc, char** argv) {
     igms::net::ServerOptions server;
     server.name = process->name;
     server.bind_address = process->BindAddress();
-    server.port = process->Port(7313);
+    server.port = process->Port(igms::config::ports::kPlatform);
     server.token = process->Token();
     igms::devices::PlatformDaemon daemon(io, options, server, sim, poll_hz);
     return igms::devices::RunDaemonProcess(

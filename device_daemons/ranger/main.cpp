@@ -3,6 +3,7 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "device_daemons/ranger/ranger_daemon.h"
 
@@ -52,7 +53,7 @@ int main(int argc, char** argv) {
     igms::net::ServerOptions server;
     server.name = process->name;
     server.bind_address = process->BindAddress();
-    server.port = process->Port(7312);
+    server.port = process->Port(igms::config::ports::kRanger);
     server.token = process->Token();
     igms::devices::RangerDaemon daemon(io, options, server, ranger);
     return igms::devices::RunDaemonProcess(

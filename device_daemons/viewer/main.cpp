@@ -6,6 +6,7 @@
 #include <tuple>
 #include <vector>
 
+#include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "device_daemons/viewer/viewer_daemon.h"
 
@@ -53,7 +54,7 @@ int main(int argc, char** argv) {
     igms::net::ServerOptions server;
     server.name = process->name;
     server.bind_address = process->BindAddress();
-    server.port = process->Port(7311);
+    server.port = process->Port(igms::config::ports::kViewer);
     server.token = process->Token();
     igms::devices::ViewerDaemon daemon(io, options, server, viewer);
     return igms::devices::RunDaemonProcess(

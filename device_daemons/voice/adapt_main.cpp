@@ -17,6 +17,7 @@
 #include <iostream>
 #include <thread>
 
+#include "common/version/version.h"
 #include "device_daemons/voice/adaptation.h"
 #include "device_daemons/voice/endpointer.h"
 #include "device_daemons/voice/evaluation.h"
@@ -128,7 +129,7 @@ int main(int argc, char** argv) try {
   std::string list, device, prompts_file;
   std::vector<std::string> espeak;
   po::options_description desc("igms-voice-adapt: adapt the recogniser to a speaker");
-  desc.add_options()("help,h", "this help")(
+  desc.add_options()("help,h", "this help")("version", "print the version and exit")(
       "out", po::value(&options.out_dir), "folder for the adapted model (replaced)")(
       "model-dir", po::value(&options.model_dir)->default_value(options.model_dir),
       "the pocketsphinx model to adapt")(
@@ -147,6 +148,10 @@ int main(int argc, char** argv) try {
   po::notify(vm);
   if (vm.count("help")) {
     std::cout << desc << "\n";
+    return 0;
+  }
+  if (vm.count("version")) {
+    std::cout << igms::version::Line("igms-voice-adapt") << "\n";
     return 0;
   }
   std::vector<std::string> prompts = EnrolmentPrompts();

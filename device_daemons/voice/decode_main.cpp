@@ -16,6 +16,7 @@
 #include <iostream>
 #include <thread>
 
+#include "common/version/version.h"
 #include "device_daemons/voice/adaptation.h"
 #include "device_daemons/voice/audio.h"
 #include "device_daemons/voice/endpointer.h"
@@ -104,7 +105,7 @@ int main(int argc, char** argv) try {
   std::string state = "verification", device;
   std::vector<std::string> items;
   po::options_description desc("igms-voice-decode: spoken commands to two-digit codes");
-  desc.add_options()("help,h", "this help")(
+  desc.add_options()("help,h", "this help")("version", "print the version and exit")(
       "state", po::value(&state)->default_value(state),
       "initial state: verification, model_building, awaiting_type")(
       "model-dir", po::value(&options.model_dir)->default_value(options.model_dir),
@@ -130,6 +131,10 @@ int main(int argc, char** argv) try {
   po::notify(vm);
   if (vm.count("help")) {
     std::cout << desc << "\n";
+    return 0;
+  }
+  if (vm.count("version")) {
+    std::cout << igms::version::Line("igms-voice-decode") << "\n";
     return 0;
   }
   if (vm.count("list-devices")) {

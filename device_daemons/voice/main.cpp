@@ -6,6 +6,7 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "device_daemons/voice/adaptation.h"
 #include "device_daemons/voice/voice_daemon.h"
@@ -93,7 +94,7 @@ int main(int argc, char** argv) {
     net::ServerOptions server;
     server.name = process->name;
     server.bind_address = process->BindAddress();
-    server.port = process->Port(7314);
+    server.port = process->Port(igms::config::ports::kVoice);
     server.token = process->Token();
     voice::VoiceDaemon daemon(io, options, server, voice);
     return devices::RunDaemonProcess(

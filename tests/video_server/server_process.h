@@ -14,8 +14,8 @@ using igms::testing::BinDir;
 using igms::testing::ScratchDir;
 using igms::testing::TestClient;
 
-// The server with `args` (its port: 0 unless a --config names one); stopped with SIGTERM
-// when destroyed.
+// The server with `args` on a free port (--port 0: its default is the lab's 7301); stopped
+// with SIGTERM when destroyed.
 class ServerProcess : public igms::testing::ChildProcess {
  public:
   explicit ServerProcess(std::vector<std::string> args)
@@ -32,7 +32,7 @@ class ServerProcess : public igms::testing::ChildProcess {
 
  private:
   static std::vector<std::string> WithName(std::vector<std::string> args) {
-    args.insert(args.begin(), {"--name", "video"});
+    args.insert(args.begin(), {"--name", "video", "--port", "0"});
     return args;
   }
   uint16_t port_ = 0;

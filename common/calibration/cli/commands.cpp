@@ -15,6 +15,7 @@
 #include "common/calibration/synthetic_platform.h"
 #include "common/geometry/decomposition.h"
 #include "common/geometry/gl_camera.h"
+#include "common/version/version.h"
 
 namespace igms::calibration::cli {
 namespace po = boost::program_options;
@@ -423,7 +424,8 @@ void Usage(std::ostream& out) {
          "  points      DLT calibration from x y z u v correspondences\n"
          "  chessboard  stereo calibration from chessboard image pairs\n"
          "  decompose   camera parameters of a calibration file's matrices\n"
-         "  platform    Denavit-Hartenberg calibration of the camera platform\n";
+         "  platform    Denavit-Hartenberg calibration of the camera platform\n"
+         "       igms calibrate --version\n";
 }
 
 }  // namespace
@@ -436,6 +438,10 @@ int RunCalibrate(int argc, const char* const argv[], std::ostream& out, std::ost
   const std::string sub = argv[1];
   if (sub == "--help" || sub == "-h" || sub == "help") {
     Usage(out);
+    return 0;
+  }
+  if (sub == "--version") {
+    out << igms::version::Line("igms-calibrate") << "\n";
     return 0;
   }
   try {

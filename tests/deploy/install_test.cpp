@@ -1,0 +1,151 @@
+// The installed lab: `cmake --install` of this build tree into a scratch prefix, and the lab
+// file installed there (deploy/lab.yaml with its paths made the installed ones, derived by
+// cmake/DeriveLabFile.cmake), read by the installed programs themselves.
+#include <gtest/gtest.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/config/lab_ports.h"
+#include "common/version/version.h"
+#include "tests/support/child_process.h"
+
+namespace igms {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::RunShell;
+using testing::ScratchDir;
+using testing::SourceDir;
+
+// Every scalar of a YAML tree by its dotted key ("processes.video.port" -> "7301").
+void Leaves(const YAML::Node& node, const std::string& key, std::map<std::string, std::string>* out) {
+  if (node.IsMap()) {
+    for (const auto& entry : node) {
+      const std::string name = entry.first.as<std::string>();
+      Leaves(entry.second, key.empty() ? name : key + "." + name, out);
+    }
+  } else if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) Leaves(node[i], key + "." + std::to_string(i), out);
+  } else {
+    (*out)[key] = node.IsNull() ? "" : node.Scalar();
+  }
+}
+
+std::vector<std::string> Lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+bool Inside(const fs::path& path, const fs::path& folder) {
+  const std::string p = fs::weakly_canonical(path).string();
+  const std::string f = fs::weakly_canonical(folder).string() + "/";
+  return p.rfind(f, 0) == 0;
+}
+
+class Installed : public ::testing::Test {
+ protected:
+  // One install for every test here: it copies every program.
+  static void SetUpTestSuite() {
+    prefix_ = new ScratchDir();
+    install_ = RunShell(std::string(IGMS_CMAKE_COMMAND) + " --install '" +
+                        std::getenv("IGMS_BUILD_DIR") + "' --prefix '" + prefix_->path().string() +
+                        "' 2>&1");
+  }
+  static void TearDownTestSuite() {
+    delete prefix_;
+    prefix_ = nullptr;
+  }
+  void SetUp() override {
+    ASSERT_EQ(install_.status, 0) << install_.out;
+    ASSERT_TRUE(fs::exists(Lab())) << "no installed lab file " << Lab();
+  }
+
+  static fs::path Prefix() { return prefix_->path(); }
+  static fs::path Bin() { return Prefix() / IGMS_INSTALL_BINDIR; }
+  static std::string Lab() { return (Prefix() / IGMS_INSTALL_SYSCONFDIR / "igms/lab.yaml").string(); }
+  // The installed `igms config ARGS --config LAB`.
+  static testing::ShellRun Config(const std::string& args) {
+    return RunShell("'" + (Bin() / "igms").string() + "' config " + args + " --config '" + Lab() +
+                    "' 2>&1");
+  }
+
+  static ScratchDir* prefix_;
+  static testing::ShellRun install_;
+};
+ScratchDir* Installed::prefix_ = nullptr;
+testing::ShellRun Installed::install_;
+
+TEST_F(Installed, TheLabFileNamesOnlyInstalledPrograms) {
+  const auto processes = Config("processes");
+  ASSERT_EQ(processes.status, 0) << processes.out;
+  std::set<std::string> names;
+  for (const std::string& name : Lines(processes.out)) {
+    names.insert(name);
+    const auto program = Config("get processes." + name + ".program");
+    ASSERT_EQ(program.status, 0) << name << ": " << program.out;
+    const fs::path path = Bin() / Lines(program.out).at(0);
+    EXPECT_TRUE(fs::is_regular_file(path) && access(path.c_str(), X_OK) == 0)
+        << "the installed lab file's " << name << " runs " << path << ", which is not installed";
+  }
+  // Every process of the lab, the voice daemon and the platform included.
+  for (const auto& p : config::ports::kLabPorts) EXPECT_TRUE(names.count(p.process)) << p.process;
+}
+
+TEST_F(Installed, TheLabFileNamesInstalledFiles) {
+  const auto calibration = Config("get lab.calibration");
+  ASSERT_EQ(calibration.status, 0) << calibration.out;
+  const fs::path calibration_path = Lines(calibration.out).at(0);
+  EXPECT_TRUE(calibration_path.is_absolute()) << calibration_path;
+  EXPECT_TRUE(fs::is_regular_file(calibration_path)) << calibration_path << " is not installed";
+  EXPECT_TRUE(Inside(calibration_path, Prefix())) << calibration_path;
+  // The database is made where the lab runs: under the prefix, not in the sources.
+  const auto database = Config("get lab.database");
+  ASSERT_EQ(database.status, 0) << database.out;
+  const fs::path database_path = Lines(database.out).at(0);
+  EXPECT_TRUE(database_path.is_absolute() && Inside(database_path, Prefix())) << database_path;
+  // TODO(issue 15, config): run the installed `igms config check --config FILE` here once it
+  // exists; it checks every key is known and every file the configuration names exists.
+}
+
+// The installed file is deploy/lab.yaml with only its paths rewritten.
+TEST_F(Installed, TheLabFileIsTheSourceLabWithInstalledPaths) {
+  std::map<std::string, std::string> source, installed;
+  Leaves(YAML::LoadFile(SourceDir() + "/deploy/lab.yaml"), "", &source);
+  Leaves(YAML::LoadFile(Lab()), "", &installed);
+  const std::set<std::string> paths = {"lab.calibration", "lab.database"};
+  for (const auto& [key, value] : source) {
+    ASSERT_TRUE(installed.count(key)) << "the installed lab file has no " << key;
+    if (paths.count(key)) {
+      EXPECT_NE(installed[key], value) << key << " still names the source tree's path";
+    } else {
+      EXPECT_EQ(installed[key], value) << key;
+    }
+  }
+  EXPECT_EQ(installed.size(), source.size());
+}
+
+TEST_F(Installed, EveryInstalledProgramPrintsItsVersion) {
+  int programs = 0;
+  for (const auto& entry : fs::directory_iterator(Bin())) {
+    const std::string name = entry.path().filename().string();
+    const auto run = RunShell("'" + entry.path().string() + "' --version 2>&1");
+    EXPECT_EQ(run.status, 0) << name << ": " << run.out;
+    EXPECT_EQ(run.out, version::Line(name) + "\n") << name;
+    ++programs;
+  }
+  EXPECT_GE(programs, 15);
+}
+
+}  // namespace
+}  // namespace igms
