@@ -49,6 +49,8 @@ std::string CheckProcess(const igms::config::LabConfig& config, const std::strin
   for (std::string line; std::getline(in, line);) {
     if (line.empty()) continue;
     if (failed.empty()) continue;  // its OK line
+    // Its own name before each problem says nothing here.
+    if (line.rfind(program + ": ", 0) == 0) line = line.substr(program.size() + 2);
     problems += (problems.empty() ? "" : "; ") + Message(line);
   }
   in.close();

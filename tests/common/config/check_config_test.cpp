@@ -126,7 +126,7 @@ TEST(IgmsConfigCheck, ATypoInOneProcessFailsThatProcess) {
   const auto r = RunShell(BinDir() + "/igms config check --config " + dir.File("lab.yaml") + " 2>&1");
   EXPECT_NE(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("\nobject: FAILED: " + dir.File("lab.yaml") +
-                       ":21: unknown key processes.object.vidoe (did you mean "
+                       ":23: unknown key processes.object.vidoe (did you mean "
                        "processes.object.video?)"),
             std::string::npos)
       << r.out;
