@@ -50,15 +50,36 @@ const char* FailureName(Failure f) {
   return "unknown";
 }
 
-std::string LocateOptions::Check() const {
-  if (!(depth_tolerance > 0)) return "depth_tolerance must be positive";
-  if (!(edge_sigma >= 0 && edge_sigma <= 10)) return "edge_sigma must be in 0..10";
-  if (!(camera_blur_px >= 0 && camera_blur_px <= 10)) return "camera_blur_px must be in 0..10";
-  if (!(edge_fraction > 0 && edge_fraction < 1)) return "edge_fraction must be in (0, 1)";
-  if (!(search_px >= 1 && search_px <= 20)) return "search_px must be in 1..20";
-  if (outer_iterations < 1 || inner_iterations < 1) return "iterations must be at least 1";
-  if (!(max_rms_px > 0) || !(max_ssd_rms > 0)) return "thresholds must be positive";
-  return "";
+bool LocateOptions::Check(std::string* error) const {
+  if (!(depth_tolerance > 0)) {
+    *error = "depth_tolerance must be positive";
+    return false;
+  }
+  if (!(edge_sigma >= 0 && edge_sigma <= 10)) {
+    *error = "edge_sigma must be in 0..10";
+    return false;
+  }
+  if (!(camera_blur_px >= 0 && camera_blur_px <= 10)) {
+    *error = "camera_blur_px must be in 0..10";
+    return false;
+  }
+  if (!(edge_fraction > 0 && edge_fraction < 1)) {
+    *error = "edge_fraction must be in (0, 1)";
+    return false;
+  }
+  if (!(search_px >= 1 && search_px <= 20)) {
+    *error = "search_px must be in 1..20";
+    return false;
+  }
+  if (outer_iterations < 1 || inner_iterations < 1) {
+    *error = "iterations must be at least 1";
+    return false;
+  }
+  if (!(max_rms_px > 0) || !(max_ssd_rms > 0)) {
+    *error = "thresholds must be positive";
+    return false;
+  }
+  return true;
 }
 
 LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
@@ -70,8 +91,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     return r;
   };
   auto fail = [&](const StepFailure& failure) { return finish(Fail(res, failure)); };
-  if (const std::string e = opt.Check(); !e.empty())
-    return fail({Failure::kBadInput, "options: " + e});
+  if (std::string e; !opt.Check(&e)) return fail({Failure::kBadInput, "options: " + e});
   const StepResult<StereoPair> pair = PrepareImages(in);
   if (!pair.ok()) return fail(pair.failure());
   const cv::Rect image_rect(0, 0, pair->left.cols, pair->left.rows);

@@ -78,8 +78,8 @@ struct LocateOptions {
                                      // RMS of the views) is tried turned about the vertical
   double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)
   double ranger_accuracy = 0.5;      // world units: the range's own error
-  // Empty when valid, else what is wrong.
-  std::string Check() const;
+  // False, with what is wrong in *error, when invalid.
+  bool Check(std::string* error) const;
 };
 
 struct LocateInput {

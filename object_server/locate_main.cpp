@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "common/config/exit_codes.h"
 #include "common/calibration/calibration_file.h"
 #include "common/version/version.h"
 #include "object_server/debug_image.h"
@@ -19,7 +20,8 @@ namespace po = boost::program_options;
 
 namespace {
 
-constexpr int kFound = 0, kNotFound = 1, kBadInput = 2;
+// Exit status: found, not found (docs/configuration.md, "Exit status").
+constexpr int kFound = igms::kExitOk, kNotFound = igms::kExitFailure, kBadInput = igms::kExitUsage;
 
 std::optional<Eigen::Vector3d> ParseMark(const std::string& text) {
   std::stringstream ss(text);
@@ -66,7 +68,7 @@ int Run(int argc, char** argv) {
   }
   if (vm.count("help")) {
     std::cout << desc << "\n";
-    return 0;
+    return igms::kExitOk;
   }
   if (vm.count("version")) {
     std::cout << igms::version::Line("igms-locate") << "\n";
@@ -115,7 +117,7 @@ int Run(int argc, char** argv) {
   input.right = cv::imread(right_path, cv::IMREAD_GRAYSCALE);
   if (input.right.empty()) return bad("cannot read image " + right_path);
 
-  if (const std::string problem = input_options.Check(); !problem.empty())
+  if (std::string problem; !input_options.Check(&problem))
     return bad("options: " + problem);
   const auto result = igms::object::Locate(input, input_options);
   if (!debug_image.empty()) {
@@ -153,6 +155,6 @@ int main(int argc, char** argv) {
     return Run(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "igms locate: internal error: " << e.what() << "\n";
-    return 3;
+    return igms::kExitUnavailable;
   }
 }

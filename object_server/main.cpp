@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "common/calibration/calibration_file.h"
+#include "common/config/exit_codes.h"
 #include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "common/net/client.h"
@@ -25,44 +26,44 @@ int main(int argc, char** argv) {
     po::options_description extra("Object server options");
     extra.add_options()("port-file", po::value<std::string>(),
                         "write the port listened on to this file once listening");
+    igms::object::ObjectServiceOptions options;
     int exit_code = 0;
     auto process = igms::config::ParseProcessOptions(
         argc, argv, "object", "igms-object-server: cylinders and boxes from marks and a grab",
-        extra, &exit_code);
+        extra, igms::object::ObjectKeys(&options), &exit_code);
     if (!process) return exit_code;
 
     const std::string calibration_file = process->config.Get<std::string>("lab.calibration", "");
     if (calibration_file.empty()) {
       spdlog::critical("lab.calibration: the object server needs the cameras' calibration");
-      return 2;
+      return igms::kExitUsage;
     }
     std::string error;
     const auto calibration =
         igms::calibration::LoadCalibration(process->config.ResolvePath(calibration_file), &error);
     if (!calibration) {
       spdlog::critical("lab.calibration: {}", error);
-      return 2;
+      return igms::kExitUsage;
     }
-    igms::object::ObjectServiceOptions options;
     options.fetch_timeout = std::chrono::milliseconds(process->Get<int>("fetch_timeout_ms", 5000));
     options.cache_frames = static_cast<size_t>(std::max(0, process->Get<int>("cache_frames", 4)));
-    options.workers = process->Get<int>("workers", options.workers);
-    options.locate.camera_blur_px =
-        process->Get<double>("camera_blur_px", options.locate.camera_blur_px);
     options.ranger = igms::object::RangerInWorld(*calibration);
     options.platform = calibration->platform;
     options.ranger_mount = calibration->ranger;
-    if (std::string problem = options.Check(); !problem.empty()) {
+    if (std::string problem; !options.Check(&problem)) {
       spdlog::critical("{}: {}", process->Key(""), problem);
-      return 2;
+      return igms::kExitUsage;
     }
     const std::string video_name = process->Get<std::string>("video", "video");
+    const std::string video_host = process->HostOf(video_name);
+    const std::uint16_t video_port = process->PortOf(video_name);
+    if (process->check_only) return igms::config::CheckPassed(*process);
 
     boost::asio::io_context io;
     igms::net::ClientOptions video_options;
     video_options.name = process->name;
-    video_options.host = process->HostOf(video_name);
-    video_options.port = process->PortOf(video_name);
+    video_options.host = video_host;
+    video_options.port = video_port;
     video_options.token = process->Token();
     video_options.max_frame_bytes = 64u << 20;  // a raw colour pair is about 1.5 MB
     igms::net::Client video(io, video_options);
@@ -83,9 +84,12 @@ int main(int argc, char** argv) {
     });
     // The worker's CallSync needs the io context running on another thread than its own.
     io.run();
-    return 0;
+    return igms::kExitOk;
+  } catch (const igms::config::ConfigError& e) {
+    spdlog::critical("igms-object-server: {}", e.what());
+    return igms::kExitUsage;
   } catch (const std::exception& e) {
     spdlog::critical("igms-object-server: {}", e.what());
-    return 1;
+    return igms::kExitFailure;
   }
 }

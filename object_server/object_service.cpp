@@ -1,5 +1,7 @@
 #include "object_server/object_service.h"
 
+#include "common/net/process_server.h"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -11,6 +13,18 @@
 #include "video_server/proto_convert.h"
 
 namespace igms::object {
+
+config::Keys ObjectKeys(ObjectServiceOptions* options) {
+  using config::KeyType;
+  config::Keys keys = net::ServerKeys();
+  keys.Add("fetch_timeout_ms", KeyType::kInt, "5000", "one GetImages call to the video server");
+  keys.Add("cache_frames", KeyType::kInt, "4", "grabs' images kept");
+  keys.Bind("workers", &options->workers, "locates run at once");
+  keys.Bind("camera_blur_px", &options->locate.camera_blur_px,
+            "the cameras' blur in pixels, for the silhouette fit");
+  keys.Add("video", KeyType::kString, "video", "the video server process it fetches frames from");
+  return keys;
+}
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -26,12 +40,24 @@ double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(
 
 }  // namespace
 
-std::string ObjectServiceOptions::Check() const {
-  if (fetch_timeout.count() <= 0) return "fetch_timeout_ms must be positive";
-  if (cache_frames == 0) return "cache_frames must be at least 1";
-  if (max_queue == 0) return "max_queue must be at least 1";
-  if (workers < 1 || workers > 64) return "workers must be in 1..64";
-  return locate.Check();
+bool ObjectServiceOptions::Check(std::string* error) const {
+  if (fetch_timeout.count() <= 0) {
+    *error = "fetch_timeout_ms must be positive";
+    return false;
+  }
+  if (cache_frames == 0) {
+    *error = "cache_frames must be at least 1";
+    return false;
+  }
+  if (max_queue == 0) {
+    *error = "max_queue must be at least 1";
+    return false;
+  }
+  if (workers < 1 || workers > 64) {
+    *error = "workers must be in 1..64";
+    return false;
+  }
+  return locate.Check(error);
 }
 
 net::Status ValidateLocateRequest(const igms::object::LocateRequest& request) {

@@ -26,6 +26,7 @@
 
 #include "common/calibration/calibration_file.h"
 #include "common/geometry/camera.h"
+#include "common/config/keys.h"
 #include "common/geometry/platform.h"
 #include "common/net/client.h"
 #include "common/net/server.h"
@@ -50,9 +51,14 @@ struct ObjectServiceOptions {
   // world points. Without a model such a frame is located at the zero pose, with a warning.
   std::optional<geometry::PlatformModel> platform;
   std::optional<calibration::RangerCalibration> ranger_mount;
-  // Empty when valid, else what is wrong.
-  std::string Check() const;
+  // False, with what is wrong in *error, when invalid.
+  bool Check(std::string* error) const;
 };
+
+// The object server's keys (processes.NAME): fetch_timeout_ms, cache_frames, workers,
+// camera_blur_px (bound to `options`), video (read by the main), max_frame_bytes
+// (net::ServerKeys); and lab.calibration, which it requires.
+config::Keys ObjectKeys(ObjectServiceOptions* options);
 
 // BAD_REQUEST with a message naming what is wrong, or Ok.
 net::Status ValidateLocateRequest(const igms::object::LocateRequest& request);

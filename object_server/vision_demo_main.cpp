@@ -154,7 +154,7 @@ int Run(int argc, char** argv) {
       argc, argv, "vision-demo",
       "igms-vision-demo: grab, mark every simulated object, locate each over TCP, compare with "
       "the ground truth",
-      extra, &exit_code);
+      extra, igms::config::Keys(), &exit_code);
   if (!process) return exit_code;
   const std::string video_name = process->flags["video"].as<std::string>();
   const std::string object_name = process->flags["object"].as<std::string>();
@@ -177,6 +177,7 @@ int Run(int argc, char** argv) {
   igms::video::SimSceneChoice sim = igms::video::ConfiguredSimScene(video_process);
   if (!sim.scene) return Fail("scene", sim.error);
   const igms::site::Scene& scene = *sim.scene;
+  if (process->check_only) return igms::config::CheckPassed(*process);
 
   boost::asio::io_context io;
   auto work = boost::asio::make_work_guard(io);

@@ -59,20 +59,31 @@ std::string NoDeviceMessage(const OutputOptions& options) {
 
 }  // namespace
 
-std::string OutputOptions::Check() const {
+bool OutputOptions::Check(std::string* error) const {
   for (const std::string* mode : {&output, &fallback}) {
     if (*mode != "default" && *mode != "null" && *mode != "wave" &&
         !(mode == &fallback && *mode == "none")) {
-      return "unknown output '" + *mode + "' (default, null or wave; fallback also none)";
+      *error = "unknown output '" + *mode + "' (default, null or wave; fallback also none)";
+      return false;
     }
   }
-  if (fallback == "default") return "the fallback cannot be 'default'";
-  if ((output == "wave" || fallback == "wave") && wave_file.empty()) {
-    return "the wave output needs a file (--wave-file)";
+  if (fallback == "default") {
+    *error = "the fallback cannot be 'default'";
+    return false;
   }
-  if (wave_rate < 8000 || wave_rate > 192000) return "the wave rate must be 8000-192000 Hz";
-  if (period_frames < 64 || period_frames > 8192) return "the period must be 64-8192 frames";
-  return "";
+  if ((output == "wave" || fallback == "wave") && wave_file.empty()) {
+    *error = "the wave output needs a file (--wave-file)";
+    return false;
+  }
+  if (wave_rate < 8000 || wave_rate > 192000) {
+    *error = "the wave rate must be 8000-192000 Hz";
+    return false;
+  }
+  if (period_frames < 64 || period_frames > 8192) {
+    *error = "the period must be 64-8192 frames";
+    return false;
+  }
+  return true;
 }
 
 AudioOutput::~AudioOutput() {
@@ -91,7 +102,7 @@ bool AudioOutput::connected() const {
 
 OutputResult OpenOutput(const OutputOptions& options) {
   OutputResult result;
-  if (std::string error = options.Check(); !error.empty()) {
+  if (std::string error; !options.Check(&error)) {
     result.error = "audio output: " + error;
     return result;
   }

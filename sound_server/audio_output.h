@@ -32,8 +32,8 @@ struct OutputOptions {
   int period_frames = 256;         // null and wave: mixing period, frames (sets latency)
   std::string fallback = "none";   // "none", "null" or "wave": used when default fails
 
-  // "" when valid, else what is wrong.
-  std::string Check() const;
+  // False, with what is wrong in *error, when invalid.
+  bool Check(std::string* error) const;
 };
 
 // An open OpenAL device with a current context. Closing it finishes the wave file.

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "common/config/exit_codes.h"
 #include "sound_server/bank_generator.h"
 #include "common/version/version.h"
 
@@ -26,7 +27,7 @@ int main(int argc, char** argv) {
     po::store(po::parse_command_line(argc, argv, flags), vm);
     if (vm.count("help")) {
       std::cout << flags << "\n";
-      return 0;
+      return igms::kExitOk;
     }
     if (vm.count("version")) {
       std::cout << igms::version::Line("igms-sound-bank") << "\n";
@@ -36,17 +37,17 @@ int main(int argc, char** argv) {
     const igms::sound::ManifestResult loaded = igms::sound::LoadManifest(manifest_path);
     if (!loaded.manifest) {
       spdlog::error("{}", loaded.error);
-      return 2;
+      return igms::kExitUsage;
     }
     const igms::sound::GenerateResult result =
         igms::sound::GenerateBank(*loaded.manifest, out_dir, options);
     for (const std::string& error : result.errors) spdlog::error("{}", error);
-    if (!result.ok()) return 1;
+    if (!result.ok()) return igms::kExitFailure;
     spdlog::info("generated {} sounds into {}", result.generated, out_dir);
     if (!stamp.empty()) std::ofstream(stamp) << result.generated << "\n";
-    return 0;
+    return igms::kExitOk;
   } catch (const std::exception& e) {
     spdlog::error("igms-sound-bank: {}", e.what());
-    return 2;
+    return igms::kExitUsage;
   }
 }

@@ -56,18 +56,30 @@ const char* PriorityName(PlayPriority priority) {
   return "?";
 }
 
-std::string EngineOptions::Check() const {
-  if (cue_sources < 1 || cue_sources > 64) return "cue sources must be 1-64";
-  if (speech_queue_limit < 1 || speech_queue_limit > 1000) return "speech queue must be 1-1000";
-  if (!ValidVolume(master_volume)) return "master volume must be 0-1";
-  if (poll_period.count() < 1 || poll_period.count() > 100) return "poll period must be 1-100 ms";
-  return "";
+bool EngineOptions::Check(std::string* error) const {
+  if (cue_sources < 1 || cue_sources > 64) {
+    *error = "cue sources must be 1-64";
+    return false;
+  }
+  if (speech_queue_limit < 1 || speech_queue_limit > 1000) {
+    *error = "speech queue must be 1-1000";
+    return false;
+  }
+  if (!ValidVolume(master_volume)) {
+    *error = "master volume must be 0-1";
+    return false;
+  }
+  if (poll_period.count() < 1 || poll_period.count() > 100) {
+    *error = "poll period must be 1-100 ms";
+    return false;
+  }
+  return true;
 }
 
 EngineResult Engine::Create(Manifest manifest, std::unique_ptr<AudioOutput> output,
                             const EngineOptions& options) {
   EngineResult result;
-  if (std::string error = options.Check(); !error.empty()) {
+  if (std::string error; !options.Check(&error)) {
     result.error = "sound engine: " + error;
     return result;
   }

@@ -51,7 +51,7 @@ struct EngineOptions {
   size_t speech_queue_limit = 16;
   float master_volume = 1.0f;
   std::chrono::milliseconds poll_period{5};
-  std::string Check() const;  // "" when valid
+  bool Check(std::string* error) const;  // false, with *error, when invalid
 };
 
 enum class Failure { kNone, kBadRequest, kNotFound, kUnavailable };

@@ -6,6 +6,7 @@
 #include <boost/asio/io_context.hpp>
 #include <filesystem>
 
+#include "common/config/exit_codes.h"
 #include "common/config/process_options.h"
 #include "common/net/process_server.h"
 #include "common/net/server.h"
@@ -18,25 +19,26 @@ int Run(int argc, char** argv) {
   int exit_code = 0;
   auto process = igms::config::ParseProcessOptions(
       argc, argv, "sound", "igms-sound-server: plays the lab's sounds and spoken messages",
-      sound::SoundFlags(), &exit_code);
+      sound::SoundFlags(), sound::SoundKeys(), &exit_code);
   if (!process) return exit_code;
   sound::ServerSettings settings;
   if (std::string error =
           sound::ReadSettings(*process, std::filesystem::canonical("/proc/self/exe"), settings);
       !error.empty()) {
     spdlog::error("{}", error);
-    return 2;
+    return igms::kExitUsage;
   }
   sound::ManifestResult manifest = sound::LoadManifest(settings.manifest);
   if (!manifest.manifest) {
     spdlog::error("{}", manifest.error);
-    return 2;
+    return igms::kExitUsage;
   }
+  if (process->check_only) return igms::config::CheckPassed(*process);
   sound::OutputResult output = sound::OpenOutput(settings.output);
   if (!output.warning.empty()) spdlog::warn("{}", output.warning);
   if (!output.output) {
     spdlog::error("{}", output.error);
-    return 3;
+    return igms::kExitUnavailable;
   }
   spdlog::info("playing on the {} output '{}' at {} Hz", output.output->output(),
                output.output->device_name(), output.output->sample_rate());
@@ -45,7 +47,7 @@ int Run(int argc, char** argv) {
   for (const std::string& warning : engine.warnings) spdlog::warn("{}", warning);
   if (!engine.engine) {
     spdlog::error("{}", engine.error);
-    return 3;
+    return igms::kExitUnavailable;
   }
   spdlog::info("sound bank {}: {} sounds, {} playable", settings.manifest.string(),
                engine.engine->Bank().size(), engine.engine->Bank().size() - engine.warnings.size());
@@ -60,14 +62,17 @@ int Run(int argc, char** argv) {
   });
   io.run();
   engine.engine->Stop(0);
-  return 0;
+  return igms::kExitOk;
 }
 
 int main(int argc, char** argv) {
   try {
     return Run(argc, argv);
+  } catch (const igms::config::ConfigError& e) {
+    spdlog::error("igms-sound-server: {}", e.what());
+    return igms::kExitUsage;
   } catch (const std::exception& e) {
     spdlog::error("igms-sound-server: {}", e.what());
-    return 1;
+    return igms::kExitFailure;
   }
 }

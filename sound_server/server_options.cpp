@@ -1,5 +1,7 @@
 #include "sound_server/server_options.h"
 
+#include "common/net/process_server.h"
+
 namespace igms::sound {
 
 namespace po = boost::program_options;
@@ -17,6 +19,23 @@ po::options_description SoundFlags() {
       "speech-queue", po::value<int>(), "messages that may wait (16)")("volume", po::value<float>(),
                                                                        "master volume 0..1 (1)");
   return flags;
+}
+
+config::Keys SoundKeys() {
+  using config::KeyType;
+  config::Keys keys = net::ServerKeys();
+  keys.Path("bank", "the bank's manifest.yaml (default: share/igms/sounds beside the program)");
+  keys.Choice("output", {"default", "null", "wave"}, "default", "where the sound goes");
+  keys.Add("device", KeyType::kString, "", "OpenAL device name for the default output");
+  keys.Add("wave_file", KeyType::kOutputPath, "", "where the wave output writes");
+  keys.Add("wave_rate", KeyType::kInt, "22050", "Hz of the null and wave outputs");
+  keys.Add("period_frames", KeyType::kInt, "256", "mixing period of the null and wave outputs");
+  keys.Choice("fallback", {"none", "null", "wave"}, "none",
+              "used when the default device cannot be opened");
+  keys.Add("cue_sources", KeyType::kInt, "4", "sources for cues");
+  keys.Add("speech_queue", KeyType::kInt, "16", "messages that may wait");
+  keys.Add("volume", KeyType::kNumber, "1", "master volume 0..1");
+  return keys;
 }
 
 namespace {
@@ -64,8 +83,9 @@ std::string ReadSettings(const config::ProcessOptions& p, const std::filesystem:
   if (queue < 1) return "the speech queue must hold at least 1 message";
   s.engine.speech_queue_limit = static_cast<size_t>(queue);
   s.engine.master_volume = Setting<float>(p, "volume", "volume", 1.0f);
-  if (std::string error = s.output.Check(); !error.empty()) return error;
-  return s.engine.Check();
+  std::string error;
+  if (!s.output.Check(&error) || !s.engine.Check(&error)) return error;
+  return "";
 }
 
 }  // namespace igms::sound

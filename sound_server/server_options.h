@@ -37,6 +37,8 @@ struct ServerSettings {
 
 // The component's own flags, for ParseProcessOptions.
 boost::program_options::options_description SoundFlags();
+// The keys above, and max_frame_bytes (net::ServerKeys), for ParseProcessOptions.
+config::Keys SoundKeys();
 
 // Reads the settings; `executable` anchors the default bank. Throws config::ConfigError
 // for a key of the wrong type, and returns an error message for a value out of range.

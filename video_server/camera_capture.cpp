@@ -207,23 +207,37 @@ class CameraCapture : public CaptureBackend {
 
 }  // namespace
 
-std::string CameraCaptureOptions::Check() const {
-  if (left.empty()) return "the camera backend needs a left device (or a side-by-side one)";
+bool CameraCaptureOptions::Check(std::string* error) const {
+  if (left.empty()) {
+    *error = "the camera backend needs a left device (or a side-by-side one)";
+    return false;
+  }
   if (!side_by_side && right.empty()) {
-    return "the camera backend needs a right device unless side_by_side is set";
+    *error = "the camera backend needs a right device unless side_by_side is set";
+    return false;
   }
-  if (side_by_side && !right.empty()) return "a side-by-side camera takes no right device";
-  if (width < 0 || height < 0 || width > 16384 || height > 16384) return "absurd frame size";
-  if (pace_fps < 0 || pace_fps > 1000) return "pace_fps must be in [0, 1000]";
+  if (side_by_side && !right.empty()) {
+    *error = "a side-by-side camera takes no right device";
+    return false;
+  }
+  if (width < 0 || height < 0 || width > 16384 || height > 16384) {
+    *error = "absurd frame size";
+    return false;
+  }
+  if (pace_fps < 0 || pace_fps > 1000) {
+    *error = "pace_fps must be in [0, 1000]";
+    return false;
+  }
   if (frame_timeout.count() <= 0 || retry_interval.count() <= 0) {
-    return "frame_timeout and retry_interval must be positive";
+    *error = "frame_timeout and retry_interval must be positive";
+    return false;
   }
-  return "";
+  return true;
 }
 
 std::unique_ptr<CaptureBackend> MakeCameraCapture(const CameraCaptureOptions& options,
                                                   std::string* error) {
-  if (std::string problem = options.Check(); !problem.empty()) {
+  if (std::string problem; !options.Check(&problem)) {
     if (error) *error = problem;
     return nullptr;
   }

@@ -41,7 +41,7 @@ struct CameraCaptureOptions {
   std::chrono::milliseconds frame_timeout{1000};
   std::chrono::milliseconds retry_interval{1000};
 
-  std::string Check() const;
+  bool Check(std::string* error) const;
 };
 
 // Starts the reader threads. Returns nullptr only when options.Check() fails (error set).

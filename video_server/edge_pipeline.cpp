@@ -56,7 +56,7 @@ void RunSide(const std::shared_ptr<PairJob>& job, bool left, const EdgeOptions& 
 
 EdgePipeline::EdgePipeline(EdgeOptions options, int threads)
     : options_(std::move(options)), pool_(threads) {
-  if (std::string problem = options_.Check(); !problem.empty()) {
+  if (std::string problem; !options_.Check(&problem)) {
     throw std::invalid_argument(problem);
   }
 }

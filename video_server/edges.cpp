@@ -26,16 +26,21 @@ float FastAtan2(float y, float x) {
 
 }  // namespace
 
-std::string EdgeOptions::Check() const {
+bool EdgeOptions::Check(std::string* error) const {
   if (!std::isfinite(sigma) || sigma < 0.0 || sigma > 50.0) {
-    return "edge sigma must be in [0, 50] pixels";
+    *error = "edge sigma must be in [0, 50] pixels";
+    return false;
   }
   if (!std::isfinite(low_threshold) || !std::isfinite(high_threshold) || low_threshold < 0.0 ||
       high_threshold <= 0.0) {
-    return "edge thresholds must be finite, low >= 0 and high > 0";
+    *error = "edge thresholds must be finite, low >= 0 and high > 0";
+    return false;
   }
-  if (low_threshold > high_threshold) return "the low edge threshold exceeds the high one";
-  return "";
+  if (low_threshold > high_threshold) {
+    *error = "the low edge threshold exceeds the high one";
+    return false;
+  }
+  return true;
 }
 
 size_t EdgeImage::bytes() const {
@@ -44,7 +49,7 @@ size_t EdgeImage::bytes() const {
 }
 
 EdgeImage DetectEdges(const cv::Mat& image, const EdgeOptions& options) {
-  if (std::string problem = options.Check(); !problem.empty()) {
+  if (std::string problem; !options.Check(&problem)) {
     throw std::invalid_argument(problem);
   }
   EdgeImage result;

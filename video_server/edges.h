@@ -36,8 +36,8 @@ struct EdgeOptions {
   // Gradient magnitude as sqrt(dx^2 + dy^2) (true) or |dx| + |dy| (false).
   bool l2_gradient = true;
 
-  // Empty when valid, otherwise what is wrong (negative or absurd sigma, low > high, ...).
-  std::string Check() const;
+  // False when invalid, with what is wrong in *error (negative or absurd sigma, low > high, ...).
+  bool Check(std::string* error) const;
 };
 
 // The edges of one image.

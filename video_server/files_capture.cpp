@@ -116,24 +116,32 @@ std::optional<std::string> FormatFilePattern(const std::string& pattern, int ind
   return out;
 }
 
-std::string FilesCaptureOptions::Check() const {
-  if (left.empty() || right.empty()) return "the files backend needs a left and a right path";
+bool FilesCaptureOptions::Check(std::string* error) const {
+  if (left.empty() || right.empty()) {
+    *error = "the files backend needs a left and a right path";
+    return false;
+  }
   if (IsFilePattern(left) != IsFilePattern(right)) {
-    return "left and right must both be plain paths or both be numbered patterns";
+    *error = "left and right must both be plain paths or both be numbered patterns";
+    return false;
   }
   if (IsFilePattern(left)) {
     if (!FormatFilePattern(left, 0) || !FormatFilePattern(right, 0)) {
-      return "a numbered pattern needs exactly one integer field such as %d or %02d: " + left +
+      *error = "a numbered pattern needs exactly one integer field such as %d or %02d: " + left +
              ", " + right;
+      return false;
     }
-    if (first < 0 || first > last) return "the index range is empty or negative";
+    if (first < 0 || first > last) {
+      *error = "the index range is empty or negative";
+      return false;
+    }
   }
-  return "";
+  return true;
 }
 
 FilesOpenResult OpenFilesCapture(const FilesCaptureOptions& options) {
   FilesOpenResult result;
-  if (std::string error = options.Check(); !error.empty()) {
+  if (std::string error; !options.Check(&error)) {
     result.error = error;
     return result;
   }

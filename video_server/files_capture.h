@@ -26,8 +26,8 @@ struct FilesCaptureOptions {
   // Decode as 3-channel BGR instead of 8-bit grey.
   bool colour = false;
 
-  // Empty when usable, otherwise what is wrong (empty path, bad pattern, first > last).
-  std::string Check() const;
+  // False, with what is wrong in *error, when unusable (empty path, bad pattern, first > last).
+  bool Check(std::string* error) const;
 };
 
 struct FilesOpenResult {

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <memory>
 
+#include "common/config/exit_codes.h"
 #include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "common/net/process_server.h"
@@ -27,7 +28,7 @@ int main(int argc, char** argv) {
     int exit_code = 0;
     auto process = igms::config::ParseProcessOptions(
         argc, argv, "video", "igms-video-server: stereo grabs, edges, live video, overlay",
-        extra, &exit_code);
+        extra, igms::video::VideoKeys(), &exit_code);
     if (!process) return exit_code;
 
     std::string error;
@@ -35,24 +36,29 @@ int main(int argc, char** argv) {
         igms::video::ConfiguredServiceOptions(*process, &error);
     if (!error.empty()) {
       spdlog::critical("{}", error);
-      return 2;
+      return igms::kExitUsage;
     }
-    igms::video::BackendChoice backend = igms::video::MakeConfiguredBackend(*process);
-    if (!backend.backend) {
-      spdlog::critical("{}", backend.error);
-      return 2;
+    // A check opens no camera: the camera backend's keys are checked by their declarations.
+    igms::video::BackendChoice backend;
+    if (!process->check_only || process->Get<std::string>("backend", "files") != "camera") {
+      backend = igms::video::MakeConfiguredBackend(*process);
+      if (!backend.backend) {
+        spdlog::critical("{}", backend.error);
+        return igms::kExitUsage;
+      }
     }
     auto overlay = igms::video::LoadOverlaySettings(options.overlay_path, &error);
     if (!overlay) {
       spdlog::critical("{}", error);
-      return 2;
+      return igms::kExitUsage;
     }
     error.clear();
     auto platform = igms::video::ConfiguredPlatformFollow(*process, &error);
     if (!error.empty()) {
       spdlog::critical("{}", error);
-      return 2;
+      return igms::kExitUsage;
     }
+    if (process->check_only) return igms::config::CheckPassed(*process);
     spdlog::info("backend {}; keeping {} grabs; edges sigma {:.3f} px, thresholds {}/{}",
                  backend.backend->Describe(), options.store_capacity, options.edges.sigma,
                  options.edges.low_threshold, options.edges.high_threshold);
@@ -76,9 +82,12 @@ int main(int argc, char** argv) {
       io.stop();
     });
     io.run();
-    return 0;
+    return igms::kExitOk;
+  } catch (const igms::config::ConfigError& e) {
+    spdlog::critical("igms-video-server: {}", e.what());
+    return igms::kExitUsage;
   } catch (const std::exception& e) {
     spdlog::critical("igms-video-server: {}", e.what());
-    return 1;
+    return igms::kExitFailure;
   }
 }

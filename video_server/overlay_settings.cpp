@@ -8,12 +8,16 @@
 
 namespace igms::video {
 
-std::string Overlay::Check() const {
+bool Overlay::Check(std::string* error) const {
   if (u_offset_px < -4096 || u_offset_px > 4096 || v_offset_px < -4096 || v_offset_px > 4096) {
-    return "overlay offsets must be within +-4096 pixels";
+    *error = "overlay offsets must be within +-4096 pixels";
+    return false;
   }
-  if (key_level < 0 || key_level > 255) return "the key level must be in 0..255";
-  return "";
+  if (key_level < 0 || key_level > 255) {
+    *error = "the key level must be in 0..255";
+    return false;
+  }
+  return true;
 }
 
 std::optional<Overlay> LoadOverlaySettings(const std::string& path, std::string* error) {
@@ -30,7 +34,7 @@ std::optional<Overlay> LoadOverlaySettings(const std::string& path, std::string*
     if (error) *error = "overlay settings file " + path + " does not parse: " + e.what();
     return std::nullopt;
   }
-  if (std::string problem = settings.Check(); !problem.empty()) {
+  if (std::string problem; !settings.Check(&problem)) {
     if (error) *error = "overlay settings file " + path + ": " + problem;
     return std::nullopt;
   }
@@ -69,7 +73,7 @@ Overlay OverlayStore::Get() const {
 }
 
 bool OverlayStore::Set(const Overlay& settings, std::string* error) {
-  if (std::string problem = settings.Check(); !problem.empty()) {
+  if (std::string problem; !settings.Check(&problem)) {
     if (error) *error = problem;
     return false;
   }

@@ -17,8 +17,8 @@ struct Overlay {
   // graphics let the video through. The thesis's setting was sixty.
   int key_level = 60;
 
-  // Empty when valid: offsets within +-4096 px, key level in 0..255.
-  std::string Check() const;
+  // True when valid (else *error says why): offsets within +-4096 px, key level in 0..255.
+  bool Check(std::string* error) const;
   bool operator==(const Overlay&) const = default;
 };
 

@@ -1,5 +1,6 @@
 #include "video_server/video_config.h"
 
+#include "common/net/process_server.h"
 #include "video_server/camera_capture.h"
 #include "video_server/files_capture.h"
 #include "video_server/sim_capture.h"
@@ -17,6 +18,39 @@ std::string PathKey(const config::ProcessOptions& process, const std::string& su
 }
 
 }  // namespace
+
+config::Keys VideoKeys() {
+  using config::KeyType;
+  config::Keys keys = net::ServerKeys();
+  keys.Choice("backend", {"files", "camera", "sim"}, "files", "where the stereo pairs come from");
+  keys.Path("sim.scene", "sim: the site's scene file (default: the thesis testbed)");
+  keys.Add("sim.seed", KeyType::kInt, "", "sim: the sensor noise seed (default: the scene's)");
+  keys.Add("files.left", KeyType::kString, "", "files: the left images, a numbered pattern");
+  keys.Add("files.right", KeyType::kString, "", "files: the right images, a numbered pattern");
+  keys.Add("files.first", KeyType::kInt, "0", "files: the first number");
+  keys.Add("files.last", KeyType::kInt, "9999", "files: the last number");
+  keys.Add("files.colour", KeyType::kBool, "false", "files: keep colour");
+  keys.Add("camera.left", KeyType::kString, "0", "camera: the left camera (device or index)");
+  keys.Add("camera.right", KeyType::kString, "1", "camera: the right camera (device or index)");
+  keys.Add("camera.side_by_side", KeyType::kBool, "false", "camera: one device, pairs side by side");
+  keys.Add("camera.width", KeyType::kInt, "0", "camera: frame width (0: the camera's)");
+  keys.Add("camera.height", KeyType::kInt, "0", "camera: frame height (0: the camera's)");
+  keys.Add("camera.colour", KeyType::kBool, "false", "camera: keep colour");
+  keys.Add("camera.pace_fps", KeyType::kNumber, "0", "camera: grab at most this often (0: freely)");
+  keys.Add("camera.frame_timeout_ms", KeyType::kInt, "1000", "camera: a frame later than this fails");
+  keys.Add("camera.retry_ms", KeyType::kInt, "1000", "camera: reopen a lost camera this often");
+  keys.Add("platform", KeyType::kString, "", "follow this platform process's pose");
+  keys.Add("store_capacity", KeyType::kInt, "16", "grabs kept");
+  keys.Add("edge_threads", KeyType::kInt, "2", "threads detecting edges");
+  keys.Add("encode_threads", KeyType::kInt, "2", "threads encoding images");
+  keys.Add("edges.sigma", KeyType::kNumber, "1.0607", "edges: Gaussian sigma in pixels");
+  keys.Add("edges.low", KeyType::kNumber, "50", "edges: low hysteresis threshold");
+  keys.Add("edges.high", KeyType::kNumber, "150", "edges: high hysteresis threshold");
+  keys.Add("edges.l2_gradient", KeyType::kBool, "true", "edges: L2 gradient magnitude");
+  keys.Choice("encoding", {"png", "raw"}, "png", "image encoding when a request does not say");
+  keys.Add("overlay_file", KeyType::kOutputPath, "", "where the overlay settings are kept");
+  return keys;
+}
 
 BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process) {
   BackendChoice choice;
@@ -78,7 +112,7 @@ VideoServiceOptions ConfiguredServiceOptions(const config::ProcessOptions& proce
   options.default_encoding = encoding == "png" ? ImageEncoding::kPng : ImageEncoding::kRaw;
   const std::string overlay = process.Get<std::string>("overlay_file", "");
   options.overlay_path = overlay.empty() ? "" : process.config.ResolvePath(overlay);
-  if (std::string problem = options.Check(); !problem.empty()) {
+  if (std::string problem; !options.Check(&problem)) {
     *error = process.Key("") + " " + problem;
   }
   return options;

@@ -33,6 +33,9 @@ struct BackendChoice {
   std::string error;
 };
 
+// The keys above, and max_frame_bytes (net::ServerKeys), for ParseProcessOptions.
+config::Keys VideoKeys();
+
 // Builds the configured backend. Errors name the key at fault. Throws config::ConfigError
 // for a key of the wrong type.
 BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process);

@@ -41,11 +41,20 @@ void FillEdgeMap(const EdgeImage& edges, const cv::Rect& rect, ImageEncoding enc
 
 }  // namespace
 
-std::string VideoServiceOptions::Check() const {
-  if (store_capacity < 1 || store_capacity > 10000) return "store capacity must be 1..10000";
-  if (edge_threads < 1 || edge_threads > 64) return "edge threads must be 1..64";
-  if (encode_threads < 1 || encode_threads > 64) return "encode threads must be 1..64";
-  return edges.Check();
+bool VideoServiceOptions::Check(std::string* error) const {
+  if (store_capacity < 1 || store_capacity > 10000) {
+    *error = "store capacity must be 1..10000";
+    return false;
+  }
+  if (edge_threads < 1 || edge_threads > 64) {
+    *error = "edge threads must be 1..64";
+    return false;
+  }
+  if (encode_threads < 1 || encode_threads > 64) {
+    *error = "encode threads must be 1..64";
+    return false;
+  }
+  return edges.Check(error);
 }
 
 VideoService::VideoService(boost::asio::io_context& io, std::unique_ptr<CaptureBackend> backend,
@@ -60,7 +69,7 @@ VideoService::VideoService(boost::asio::io_context& io, std::unique_ptr<CaptureB
       pipeline_(options_.edges, options_.edge_threads),
       capture_pool_(1),
       live_([this] { return CaptureNow(); }) {
-  if (std::string problem = options_.Check(); !problem.empty()) {
+  if (std::string problem; !options_.Check(&problem)) {
     throw std::invalid_argument(problem);
   }
   if (!backend_) throw std::invalid_argument("the video service needs a capture backend");
@@ -198,7 +207,8 @@ net::Status VideoService::SetOverlay(const SetOverlayRequest& request,
                                      SetOverlayResponse& response) {
   std::string error;
   if (!overlay_.Set(FromProto(request.settings()), &error)) {
-    const bool invalid = FromProto(request.settings()).Check() != "";
+    std::string problem;
+    const bool invalid = !FromProto(request.settings()).Check(&problem);
     return net::Status::Error(invalid ? igms::BAD_REQUEST : igms::INTERNAL, error);
   }
   ToProto(overlay_.Get(), response.mutable_settings());

@@ -44,7 +44,7 @@ struct VideoServiceOptions {
   // Threads that encode images and edge maps for responses.
   int encode_threads = 2;
 
-  std::string Check() const;
+  bool Check(std::string* error) const;
 };
 
 // The platform pose now (zero when the lab has no platform).

@@ -44,7 +44,7 @@ struct ChessboardOptions {
   };
   Procedure procedure = Procedure::kJoint;
 
-  bool Check(std::string* error = nullptr) const;
+  bool Check(std::string* error) const;
 };
 
 struct ChessboardResult {

@@ -38,7 +38,7 @@ struct PlatformObservation {
 struct PlatformCalibrationOptions {
   int max_iterations = 100;
   bool estimate_scales = false;
-  bool Check(std::string* error = nullptr) const;
+  bool Check(std::string* error) const;
 };
 
 struct PlatformCalibrationResult {

@@ -4,7 +4,10 @@
 
 #include <malloc.h>
 
+#include <filesystem>
 #include <iostream>
+
+#include "common/config/exit_codes.h"
 
 #include "common/log/log.h"
 #include "common/version/version.h"
@@ -40,11 +43,55 @@ void TuneAllocator() {
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
 }
 
+namespace {
+
+std::string ProgramName(const char* argv0) {
+  return std::filesystem::path(argv0).filename().string();
+}
+
+// The keys the --set flags name, checked like the file's (a --set that names no key is a typo
+// too). Returns the problems.
+std::vector<KeyProblem> UnknownSetKeys(const std::vector<std::string>& sets, const std::string& name,
+                                       const Keys& keys) {
+  std::vector<KeyProblem> problems;
+  for (const auto& kv : sets) {
+    const std::string key = kv.substr(0, kv.find('='));
+    LabConfig probe;
+    probe.Set(key, "0");
+    for (auto problem : UnknownKeys(probe, name, keys)) {
+      problem.where = "--set " + key;
+      problems.push_back(problem);
+    }
+  }
+  return problems;
+}
+
+// The keys for --help: "  poll_hz (number, default 50): orientation polling rate".
+std::string KeysHelp(const Keys& keys) {
+  static const char* const kTypes[] = {"string", "integer", "number", "true/false",
+                                       "list",   "map",     "path",   "output path"};
+  std::string text = "Configuration keys (processes.NAME.KEY, and lab.KEY):\n";
+  for (const auto& spec : keys.specs()) {
+    text += "  " + spec.key + " (" + kTypes[static_cast<int>(spec.type)];
+    if (!spec.choices.empty()) {
+      std::string list;
+      for (const auto& c : spec.choices) list += (list.empty() ? "" : "|") + c;
+      text += ": " + list;
+    }
+    if (!spec.default_value.empty()) text += ", default " + spec.default_value;
+    if (!spec.flag.empty()) text += ", flag --" + spec.flag;
+    text += "): " + spec.help + "\n";
+  }
+  return text;
+}
+
+}  // namespace
+
 std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
                                                   const std::string& default_name,
                                                   const std::string& summary,
                                                   const po::options_description& extra,
-                                                  int* exit_code) {
+                                                  const Keys& component_keys, int* exit_code) {
   po::options_description common("Lab options");
   common.add_options()("help,h", "show this help")("version", "print the version and exit")(
       "config", po::value<std::string>(), "the lab configuration file (YAML)")(
@@ -55,9 +102,15 @@ std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
       "host", po::value<std::string>(), "shorthand for processes.NAME.host")(
       "port", po::value<int>(), "shorthand for processes.NAME.port (0: any free port)")(
       "bind", po::value<std::string>(), "shorthand for processes.NAME.bind (listen address)")(
-      "log-level", po::value<std::string>(), "trace, debug, info, warn, error (default info)");
+      "log-level", po::value<std::string>(),
+      "trace, debug, info, warn, error (default: the file's log_level, else info)")(
+      "check-config", po::bool_switch(),
+      "check the configuration for this process, print OK or the problems, and exit (0 or 2)")(
+      "allow-unknown-keys", po::bool_switch(),
+      "warn about keys nothing reads instead of refusing to start");
   po::options_description all;
   all.add(common).add(extra);
+  const std::string program = ProgramName(argv[0]);
 
   ProcessOptions out;
   try {
@@ -65,12 +118,14 @@ std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
     po::notify(out.flags);
   } catch (const po::error& e) {
     std::cerr << argv[0] << ": " << e.what() << " (see --help)\n";
-    *exit_code = 2;
+    *exit_code = kExitUsage;
     return std::nullopt;
   }
+  Keys keys = CommonKeys();
+  keys.Merge(component_keys);
   if (out.flags.count("help")) {
-    std::cout << summary << "\n\n" << all << "\n";
-    *exit_code = 0;
+    std::cout << summary << "\n\n" << all << "\n" << KeysHelp(keys) << "\n";
+    *exit_code = kExitOk;
     return std::nullopt;
   }
   if (out.flags.count("version")) {
@@ -79,31 +134,70 @@ std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
     return std::nullopt;
   }
   out.name = out.flags["name"].as<std::string>();
+  out.check_only = out.flags["check-config"].as<bool>();
+  const auto fail = [&](const std::vector<KeyProblem>& problems) {
+    for (const auto& p : problems) std::cerr << program << ": " << p.Text() << "\n";
+    *exit_code = kExitUsage;
+    return std::nullopt;
+  };
   try {
-    if (out.flags.count("config")) out.config = LabConfig::Load(out.flags["config"].as<std::string>());
-    if (out.flags.count("set")) {
-      for (const auto& kv : out.flags["set"].as<std::vector<std::string>>()) {
-        const auto eq = kv.find('=');
-        if (eq == std::string::npos || eq == 0) {
-          throw ConfigError("--set expects KEY=VALUE, got '" + kv + "'");
-        }
-        out.config.Set(kv.substr(0, eq), kv.substr(eq + 1));
+    if (out.check_only && !out.flags.count("config")) {
+      return fail({{"", "--check-config needs the file to check: --config FILE"}});
+    }
+    if (out.flags.count("config")) {
+      out.config = LabConfig::Load(out.flags["config"].as<std::string>());
+      if (out.check_only && !out.config.Has("processes." + out.name)) {
+        return fail({{out.config.source(), "no process named " + out.name + " under processes"}});
       }
     }
+    std::vector<std::string> sets;
+    if (out.flags.count("set")) sets = out.flags["set"].as<std::vector<std::string>>();
+    // Unknown keys are judged in the file before --set adds its own (with no line of the file).
+    std::vector<KeyProblem> unknown = UnknownKeys(out.config, out.name, keys);
+    for (const auto& kv : sets) {
+      const auto eq = kv.find('=');
+      if (eq == std::string::npos || eq == 0) {
+        throw ConfigError("--set expects KEY=VALUE, got '" + kv + "'");
+      }
+      out.config.Set(kv.substr(0, eq), kv.substr(eq + 1));
+    }
+    for (const auto& p : UnknownSetKeys(sets, out.name, keys)) unknown.push_back(p);
     if (out.flags.count("host")) out.config.Set(out.Key("host"), out.flags["host"].as<std::string>());
     if (out.flags.count("port")) out.config.Set(out.Key("port"), std::to_string(out.flags["port"].as<int>()));
     if (out.flags.count("bind")) out.config.Set(out.Key("bind"), out.flags["bind"].as<std::string>());
-    out.log_level = out.flags.count("log-level") ? out.flags["log-level"].as<std::string>()
-                                                 : out.Get<std::string>("log_level", "info");
+    const bool allow_unknown = out.flags["allow-unknown-keys"].as<bool>();
+    std::vector<KeyProblem> problems = BadValues(out.config, out.name, keys, out.check_only);
+    if (!unknown.empty() && (out.check_only || !allow_unknown)) {
+      problems.insert(problems.begin(), unknown.begin(), unknown.end());
+      if (!out.check_only) {
+        problems.push_back({"", "refusing to start on unknown keys (--allow-unknown-keys to go on)"});
+      }
+    }
+    if (!problems.empty()) return fail(problems);
+    if (out.flags.count("log-level")) {
+      out.log_level = out.flags["log-level"].as<std::string>();
+    } else {
+      out.log_level = out.Get<std::string>("log_level", out.config.Get<std::string>("lab.log_level", "info"));
+    }
+    // A check prints its result, not the process's chatter.
+    igms::log::Init(out.name, out.check_only ? "warn" : out.log_level);
+    for (const auto& p : unknown) {
+      if (!out.check_only) spdlog::warn("{} (going on: --allow-unknown-keys)", p.Text());
+    }
+    keys.Read(out);
   } catch (const ConfigError& e) {
-    std::cerr << argv[0] << ": " << e.what() << "\n";
-    *exit_code = 2;
+    std::cerr << program << ": " << e.what() << "\n";
+    *exit_code = kExitUsage;
     return std::nullopt;
   }
-  igms::log::Init(out.name, out.log_level);
   TuneAllocator();
-  *exit_code = 0;
+  *exit_code = kExitOk;
   return out;
+}
+
+int CheckPassed(const ProcessOptions& process) {
+  std::cout << process.config.source() << ": OK for processes." << process.name << "\n";
+  return kExitOk;
 }
 
 }  // namespace igms::config

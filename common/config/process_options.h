@@ -7,6 +7,12 @@
 // --host, --port and --bind are shorthands for processes.NAME.host, .port and .bind;
 // --set overrides any key. Flags win over the file. Without --config the process runs on
 // its built-in defaults.
+//
+// A key in `lab` or processes.NAME that neither the common keys nor the component's Keys
+// declare stops the process (exit 2) unless --allow-unknown-keys is given (then it warns).
+// --check-config checks the file for this process and exits 0 or 2 without starting it:
+// ParseProcessOptions checks the keys, their types and that path keys name files that exist;
+// the main then validates its options as it would to start, and returns CheckPassed().
 #pragma once
 
 #include <boost/program_options.hpp>
@@ -14,6 +20,7 @@
 #include <optional>
 #include <string>
 
+#include "common/config/keys.h"
 #include "common/config/lab_config.h"
 
 namespace igms::config {
@@ -23,6 +30,7 @@ struct ProcessOptions {
   std::string name;       // the process's entry under "processes"
   std::string log_level;  // already applied by Parse
   boost::program_options::variables_map flags;
+  bool check_only = false;  // --check-config: validate, report, and do not start
 
   std::string Key(const std::string& sub) const { return "processes." + name + "." + sub; }
   template <class T>
@@ -42,11 +50,18 @@ struct ProcessOptions {
 // programs that don't use it (benchmarks) call it themselves.
 void TuneAllocator();
 
-// Parses the shared flags plus `extra`, loads the configuration, applies overrides and
-// starts logging. Returns nullopt after printing help or the version (exit 0) or an error
-// (exit 2): *exit_code says which.
+// Parses the shared flags plus `extra`, loads the configuration, applies overrides, refuses
+// keys that neither CommonKeys() nor `keys` declare, fills the fields `keys` binds and starts
+// logging (level: --log-level, else processes.NAME.log_level, else lab.log_level, else info).
+// Returns nullopt after printing help or the version (exit 0) or an error (exit 2):
+// *exit_code says which.
 std::optional<ProcessOptions> ParseProcessOptions(
     int argc, char** argv, const std::string& default_name, const std::string& summary,
-    const boost::program_options::options_description& extra, int* exit_code);
+    const boost::program_options::options_description& extra, const Keys& keys,
+    int* exit_code);
+
+// For --check-config, once the main has validated everything it would validate to start:
+// prints one line saying the configuration is good for this process and returns 0.
+int CheckPassed(const ProcessOptions& process);
 
 }  // namespace igms::config

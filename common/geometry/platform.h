@@ -45,7 +45,7 @@ struct PlatformModel {
 
   // 1 to 6 joints, every number finite, every tick scale non-zero, world_from_base a
   // proper rigid transform (orthonormal rotation, det +1, within 1e-6).
-  bool Check(std::string* error = nullptr) const;
+  bool Check(std::string* error) const;
 };
 
 // Degrees per tick of thesis 4.4 (exact from the encoder counts and gear ratios).

@@ -39,7 +39,7 @@ struct TriangulationOptions {
   // of the point's distance from the cameras).
   int max_iterations = 20;
 
-  bool Check(std::string* error = nullptr) const;
+  bool Check(std::string* error) const;
 };
 
 struct Triangulation {

@@ -7,6 +7,16 @@
 
 namespace igms::net {
 
+const config::Keys& ServerKeys() {
+  static const config::Keys keys = [] {
+    config::Keys k;
+    k.Add("max_frame_bytes", config::KeyType::kInt, std::to_string(ServerOptions().max_frame_bytes),
+          "the largest request accepted, in bytes");
+    return k;
+  }();
+  return keys;
+}
+
 ServerOptions ServerOptionsFor(const config::ProcessOptions& process, std::uint16_t default_port) {
   ServerOptions options;
   options.name = process.name;

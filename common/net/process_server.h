@@ -15,6 +15,9 @@
 
 namespace igms::net {
 
+// The keys ServerOptionsFor reads besides the common ones (config::CommonKeys): max_frame_bytes.
+const config::Keys& ServerKeys();
+
 // name, bind address, port (default_port when the configuration has none), token and
 // max_frame_bytes from processes.NAME and lab.token.
 ServerOptions ServerOptionsFor(const config::ProcessOptions& process, std::uint16_t default_port);

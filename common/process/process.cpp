@@ -3,9 +3,12 @@
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
+#include <sstream>
 
 extern char** environ;
 
@@ -47,6 +50,32 @@ std::string RunProgram(const std::vector<std::string>& argv, const std::string& 
            where;
   }
   return "'" + Join(argv) + "' was killed by signal " + std::to_string(WTERMSIG(status)) + where;
+}
+
+std::vector<std::filesystem::path> ProgramSearchDirs() {
+  std::vector<std::filesystem::path> dirs;
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) dirs.push_back(self.parent_path());
+  if (const char* path = std::getenv("PATH")) {
+    std::stringstream ss(path);
+    std::string dir;
+    while (std::getline(ss, dir, ':')) {
+      if (!dir.empty()) dirs.emplace_back(dir);
+    }
+  }
+  return dirs;
+}
+
+std::filesystem::path FindProgram(const std::string& name) {
+  for (const auto& dir : ProgramSearchDirs()) {
+    const std::filesystem::path candidate = dir / name;
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(candidate, ec) && access(candidate.c_str(), X_OK) == 0) {
+      return candidate;
+    }
+  }
+  return {};
 }
 
 }  // namespace igms

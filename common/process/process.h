@@ -2,6 +2,7 @@
 // file names are data.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -12,5 +13,11 @@ namespace igms {
 // "" when it exits 0, otherwise a message with the command line and how it ended (and,
 // with an output file, where its messages are).
 std::string RunProgram(const std::vector<std::string>& argv, const std::string& output_path = "");
+
+// Where the lab's programs are looked for: this executable's folder first (the build's bin/
+// or the installed bindir), then PATH.
+std::vector<std::filesystem::path> ProgramSearchDirs();
+// The first executable called `name` in ProgramSearchDirs(), or an empty path.
+std::filesystem::path FindProgram(const std::string& name);
 
 }  // namespace igms

@@ -215,12 +215,16 @@ float Supersample(const Tracer& tracer, int x, int y, int n) {
 
 }  // namespace
 
-std::string RenderOptions::Check() const {
-  if (edge_samples_object < 1 || edge_samples_object > 32)
-    return "edge_samples_object must be in 1..32";
-  if (edge_samples_table < 1 || edge_samples_table > 32)
-    return "edge_samples_table must be in 1..32";
-  return "";
+bool RenderOptions::Check(std::string* error) const {
+  if (edge_samples_object < 1 || edge_samples_object > 32) {
+    *error = "edge_samples_object must be in 1..32";
+    return false;
+  }
+  if (edge_samples_table < 1 || edge_samples_table > 32) {
+    *error = "edge_samples_table must be in 1..32";
+    return false;
+  }
+  return true;
 }
 
 cv::Mat RenderRadiance(const Scene& scene, const geometry::ProjectiveCamera& camera,

@@ -30,8 +30,8 @@ struct RenderOptions {
   int edge_samples_object = 8;  // N for pixels where the surface changes next to a solid
   int edge_samples_table = 4;   // N where only the table's edge and the background meet
   bool apply_sensor = true;     // false: the noiseless, unblurred radiance, rounded to 8 bits
-  // Returns an empty string when valid, else what is wrong.
-  std::string Check() const;
+  // False, with what is wrong in *error, when invalid.
+  bool Check(std::string* error) const;
 };
 
 // Radiance in grey levels (0..255 scale, not clipped), CV_32F, before the sensor model.

@@ -9,30 +9,16 @@
 #include <filesystem>
 #include <iostream>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "common/config/exit_codes.h"
+#include "common/process/process.h"
 #include "common/version/version.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::vector<fs::path> SearchDirs() {
-  std::vector<fs::path> dirs;
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) dirs.push_back(self.parent_path());
-  if (const char* path = std::getenv("PATH")) {
-    std::stringstream ss(path);
-    std::string dir;
-    while (std::getline(ss, dir, ':')) {
-      if (!dir.empty()) dirs.emplace_back(dir);
-    }
-  }
-  return dirs;
-}
 
 bool Executable(const fs::path& p) {
   std::error_code ec;
@@ -41,7 +27,7 @@ bool Executable(const fs::path& p) {
 
 int Help() {
   std::set<std::string> subs;
-  for (const auto& dir : SearchDirs()) {
+  for (const auto& dir : igms::ProgramSearchDirs()) {
     std::error_code ec;
     for (const auto& entry : fs::directory_iterator(dir, ec)) {
       const std::string name = entry.path().filename().string();
@@ -70,22 +56,20 @@ int main(int argc, char** argv) {
   const std::string sub = argv[1];
   if (sub.find('/') != std::string::npos || sub.empty() || sub[0] == '-') {
     std::cerr << "igms: '" << sub << "' is not a command (see igms help)\n";
-    return 2;
+    return igms::kExitUsage;
   }
-  for (const auto& dir : SearchDirs()) {
-    const fs::path candidate = dir / ("igms-" + sub);
-    if (Executable(candidate)) {
-      std::vector<char*> args;
-      std::string arg0 = "igms-" + sub;
-      args.push_back(arg0.data());
-      for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
-      args.push_back(nullptr);
-      execv(candidate.c_str(), args.data());
-      std::cerr << "igms: cannot run " << candidate << ": " << std::strerror(errno) << "\n";
-      return 2;
-    }
+  const fs::path program = igms::FindProgram("igms-" + sub);
+  if (!program.empty()) {
+    std::vector<char*> args;
+    std::string arg0 = "igms-" + sub;
+    args.push_back(arg0.data());
+    for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
+    args.push_back(nullptr);
+    execv(program.c_str(), args.data());
+    std::cerr << "igms: cannot run " << program << ": " << std::strerror(errno) << "\n";
+    return igms::kExitUsage;
   }
   std::cerr << "igms: no command '" << sub << "' (looked for igms-" << sub
             << " beside igms and on PATH; see igms help)\n";
-  return 2;
+  return igms::kExitUsage;
 }

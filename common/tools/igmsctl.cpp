@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/config/exit_codes.h"
 #include "common/config/lab_config.h"
 #include "common/log/log.h"
 #include "common/net/client.h"
@@ -156,7 +157,7 @@ int IgmsctlMain(int argc, char** argv) {
     po::notify(vm);
   } catch (const po::error& e) {
     std::cerr << "igmsctl: " << e.what() << "\n";
-    return 2;
+    return kExitUsage;
   }
   if (vm.count("version")) {
     std::cout << version::Line("igmsctl") << "\n";
@@ -175,39 +176,39 @@ int IgmsctlMain(int argc, char** argv) {
     for (const auto* m : AllMethods()) {
       std::cout << m->full_name() << (m->server_streaming() ? "  (stream)" : "") << "\n";
     }
-    return 0;
+    return kExitOk;
   }
 
   std::string method_name = command == "ping" ? "igms.Server.Ping" : "";
   if (command == "call" || command == "subscribe" || command == "describe") {
     if (args.size() < 2) {
       std::cerr << "igmsctl: " << command << " needs a METHOD\n";
-      return 2;
+      return kExitUsage;
     }
     method_name = args[1];
   } else if (command != "ping") {
     std::cerr << "igmsctl: unknown command '" << command << "' (see igmsctl --help)\n";
-    return 2;
+    return kExitUsage;
   }
   std::string error;
   const pb::MethodDescriptor* method = FindMethod(method_name, &error);
   if (!method) {
     std::cerr << "igmsctl: " << error << "\n";
-    return 2;
+    return kExitUsage;
   }
   if (command == "describe") {
     std::cout << method->full_name() << (method->server_streaming() ? " (stream)" : "") << "\n"
               << "  request:  " << Describe(method->input_type()) << "\n"
               << "  response: " << Describe(method->output_type()) << "\n";
-    return 0;
+    return kExitOk;
   }
   if (command == "subscribe" && !method->server_streaming()) {
     std::cerr << "igmsctl: " << method->full_name() << " is not a stream; use call\n";
-    return 2;
+    return kExitUsage;
   }
   if (command == "call" && method->server_streaming()) {
     std::cerr << "igmsctl: " << method->full_name() << " is a stream; use subscribe\n";
-    return 2;
+    return kExitUsage;
   }
 
   auto request = NewMessage(method->input_type());
@@ -215,7 +216,7 @@ int IgmsctlMain(int argc, char** argv) {
   if (auto s = pb::util::JsonStringToMessage(json, request.get()); !s.ok()) {
     std::cerr << "igmsctl: the request is not a " << method->input_type()->full_name() << ": "
               << s.message() << "\n";
-    return 2;
+    return kExitUsage;
   }
 
   net::ClientOptions co;
@@ -229,7 +230,7 @@ int IgmsctlMain(int argc, char** argv) {
       co.token = config.Get<std::string>("lab.token", "");
       if (!vm.count("to")) {
         std::cerr << "igmsctl: --config needs --to NAME (one of the lab's processes)\n";
-        return 2;
+        return kExitUsage;
       }
       const std::string to = vm["to"].as<std::string>();
       co.host = config.Get<std::string>("processes." + to + ".host", "127.0.0.1");
@@ -237,13 +238,13 @@ int IgmsctlMain(int argc, char** argv) {
     }
   } catch (const config::ConfigError& e) {
     std::cerr << "igmsctl: " << e.what() << "\n";
-    return 2;
+    return kExitUsage;
   }
   if (vm.count("port")) co.port = static_cast<std::uint16_t>(vm["port"].as<int>());
   if (vm.count("token")) co.token = vm["token"].as<std::string>();
   if (co.port == 0) {
     std::cerr << "igmsctl: say which server: --port P (and --host H), or --config FILE --to NAME\n";
-    return 2;
+    return kExitUsage;
   }
   const auto timeout = std::chrono::milliseconds(vm["timeout"].as<int>());
 
@@ -252,7 +253,7 @@ int IgmsctlMain(int argc, char** argv) {
   std::thread io_thread([&] { io.run(); });
   net::Client client(io, co);
   client.Start();
-  int rc = 0;
+  int rc = kExitOk;
 
   if (command != "subscribe") {
     std::mutex m;
@@ -262,13 +263,16 @@ int IgmsctlMain(int argc, char** argv) {
                    [&](const net::Status& status, std::string_view payload) {
                      if (!status.ok()) {
                        std::cerr << "igmsctl: " << method->full_name() << ": " << status.ToString() << "\n";
-                       rc = status.code == igms::TIMEOUT || status.code == igms::UNAVAILABLE ? 2 : 1;
+                       // A server that cannot be reached is a wrong address as far as igmsctl can tell.
+                       rc = status.code == igms::TIMEOUT || status.code == igms::UNAVAILABLE
+                                ? kExitUsage
+                                : kExitFailure;
                      } else {
                        auto response = NewMessage(method->output_type());
                        if (!response->ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
                          std::cerr << "igmsctl: the response is not a "
                                    << method->output_type()->full_name() << "\n";
-                         rc = 2;
+                         rc = kExitUsage;
                        } else {
                          std::cout << ToJson(*response) << std::endl;
                        }
@@ -330,7 +334,7 @@ int IgmsctlMain(int argc, char** argv) {
       }
       std::cerr << "\n";
     }
-    if (count > 0 && received < count && !failed) rc = 2;
+    if (count > 0 && received < count && !failed) rc = kExitUsage;
   }
   client.Stop();
   work.reset();

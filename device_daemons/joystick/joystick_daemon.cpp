@@ -21,6 +21,21 @@ bool ReadList(const config::ProcessOptions& p, const std::string& sub, std::arra
 
 }  // namespace
 
+config::Keys JoystickKeys(JoystickDaemonOptions* options) {
+  using config::KeyType;
+  config::Keys keys = DaemonKeys();
+  keys.Bind("continuous", &options->continuous,
+            "let the box stream ('C') instead of polling", "continuous");
+  keys.Add("gamepad", KeyType::kString, "",
+           "read a Linux joystick or gamepad (e.g. /dev/input/js0) instead of a FlyBox");
+  keys.Add("gamepad_map.axes", KeyType::kList, "",
+           "device axes of x, y, twist, lever 0, lever 1 (-1: unmapped)");
+  keys.Add("gamepad_map.invert", KeyType::kList, "", "5 booleans: which axes are inverted");
+  keys.Add("gamepad_map.buttons", KeyType::kList, "", "the device buttons of FlyBox buttons 1-8");
+  keys.Add("gamepad_map.trigger", KeyType::kInt, "", "the device button of the trigger");
+  return keys;
+}
+
 bool ReadGamepadMapping(const config::ProcessOptions& p, GamepadMapping* mapping, std::string* error) {
   GamepadMapping m;
   if (!ReadList(p, "gamepad_map.axes", &m.axes, error) || !ReadList(p, "gamepad_map.invert", &m.invert, error) ||

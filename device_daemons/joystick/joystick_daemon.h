@@ -20,6 +20,10 @@ struct JoystickDaemonOptions {
   GamepadMapping mapping;
 };
 
+// The joystick's keys (processes.NAME): the daemon's shared ones (DaemonKeys), continuous
+// (bound to `options`), gamepad and gamepad_map (read by the main and ReadGamepadMapping).
+config::Keys JoystickKeys(JoystickDaemonOptions* options);
+
 // The gamepad mapping from the configuration (keys under processes.NAME.gamepad_map, each
 // optional, defaults as GamepadMapping's): axes: [x, y, twist, lever0, lever1] (device axis
 // numbers, -1 unmapped), invert: [5 booleans], buttons: [the device buttons of FlyBox

@@ -3,8 +3,10 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "common/config/exit_codes.h"
 #include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
+#include "common/net/process_server.h"
 #include "device_daemons/joystick/joystick_daemon.h"
 
 int main(int argc, char** argv) {
@@ -14,9 +16,11 @@ int main(int argc, char** argv) {
   flags.add_options()
       ("continuous", po::bool_switch(), "let the box stream ('C') instead of polling")
       ("gamepad", po::value<std::string>(), "read a Linux joystick or gamepad (e.g. /dev/input/js0) instead of a FlyBox");
+  igms::devices::JoystickDaemonOptions joystick;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
-      argc, argv, "joystick", "The FlyBox joystick daemon: CerealBox protocol to TCP readings.", flags, &exit_code);
+      argc, argv, "joystick", "The FlyBox joystick daemon: CerealBox protocol to TCP readings.", flags,
+      igms::devices::JoystickKeys(&joystick), &exit_code);
   if (!process) return exit_code;
   try {
     // A gamepad is the source when named by the flag, or by the configuration unless a
@@ -36,22 +40,17 @@ int main(int argc, char** argv) {
     std::string error;
     if (!igms::devices::ReadDaemonOptions(source, "joystick", &options, &error)) {
       spdlog::error("{}", error);
-      return 2;
+      return igms::kExitUsage;
     }
-    igms::devices::JoystickDaemonOptions joystick;
-    joystick.continuous = f["continuous"].as<bool>() || process->Get<bool>("continuous", false);
     joystick.gamepad = !gamepad.empty();
     if (!igms::devices::ReadGamepadMapping(*process, &joystick.mapping, &error)) {
       spdlog::error("{}", error);
-      return 2;
+      return igms::kExitUsage;
     }
+    if (process->check_only) return igms::config::CheckPassed(*process);
     boost::asio::io_context io;
-    igms::net::ServerOptions server;
-    server.name = process->name;
-    server.bind_address = process->BindAddress();
-    server.port = process->Port(igms::config::ports::kJoystick);
-    server.token = process->Token();
-    igms::devices::JoystickDaemon daemon(io, options, server, joystick);
+    igms::devices::JoystickDaemon daemon(io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kJoystick),
+                                         joystick);
     return igms::devices::RunDaemonProcess(
         io,
         [&](std::string* e) {
@@ -60,8 +59,11 @@ int main(int argc, char** argv) {
           return true;
         },
         [&] { daemon.Stop(); });
+  } catch (const igms::config::ConfigError& e) {
+    spdlog::error("{}", e.what());
+    return igms::kExitUsage;
   } catch (const std::exception& e) {
     spdlog::critical("{}", e.what());
-    return 1;
+    return igms::kExitFailure;
   }
 }

@@ -3,8 +3,10 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "common/config/exit_codes.h"
 #include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
+#include "common/net/process_server.h"
 #include "device_daemons/platform/platform_daemon.h"
 
 int main(int argc, char** argv) {
@@ -14,29 +16,24 @@ int main(int argc, char** argv) {
   flags.add_options()
       ("poll-hz", po::value<double>(), "orientation polling rate, at most 80 Hz (default 50)")
       ("backlash-deg", po::value<double>(), "simulator: gear backlash on pitch and roll (thesis: 1.59)");
+  igms::devices::MollySimOptions sim;
+  double poll_hz = 50;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
       argc, argv, "platform", "The MOLLY camera platform daemon: orientation commands and readings over TCP.",
-      flags, &exit_code);
+      flags, igms::devices::PlatformKeys(&sim, &poll_hz), &exit_code);
   if (!process) return exit_code;
   try {
     igms::devices::DaemonOptions options;
     std::string error;
     if (!igms::devices::ReadDaemonOptions(*process, "platform", &options, &error)) {
       spdlog::error("{}", error);
-      return 2;
+      return igms::kExitUsage;
     }
-    const auto& f = process->flags;
-    igms::devices::MollySimOptions sim;
-    sim.backlash_deg = f.count("backlash-deg") ? f["backlash-deg"].as<double>() : process->Get<double>("backlash_deg", 0.0);
-    const double poll_hz = f.count("poll-hz") ? f["poll-hz"].as<double>() : process->Get<double>("poll_hz", 50.0);
+    if (process->check_only) return igms::config::CheckPassed(*process);
     boost::asio::io_context io;
-    igms::net::ServerOptions server;
-    server.name = process->name;
-    server.bind_address = process->BindAddress();
-    server.port = process->Port(igms::config::ports::kPlatform);
-    server.token = process->Token();
-    igms::devices::PlatformDaemon daemon(io, options, server, sim, poll_hz);
+    igms::devices::PlatformDaemon daemon(io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kPlatform),
+                                         sim, poll_hz);
     return igms::devices::RunDaemonProcess(
         io,
         [&](std::string* e) {
@@ -45,8 +42,11 @@ int main(int argc, char** argv) {
           return true;
         },
         [&] { daemon.Stop(); });
+  } catch (const igms::config::ConfigError& e) {
+    spdlog::error("{}", e.what());
+    return igms::kExitUsage;
   } catch (const std::exception& e) {
     spdlog::critical("{}", e.what());
-    return 1;
+    return igms::kExitFailure;
   }
 }

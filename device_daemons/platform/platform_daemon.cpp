@@ -2,6 +2,14 @@
 
 namespace igms::devices {
 
+config::Keys PlatformKeys(MollySimOptions* sim, double* poll_hz) {
+  config::Keys keys = DaemonKeys();
+  keys.Bind("poll_hz", poll_hz, "orientation polling rate, at most 80 Hz", "poll-hz");
+  keys.Bind("backlash_deg", &sim->backlash_deg,
+            "simulator: gear backlash on pitch and roll (thesis: 1.59)", "backlash-deg");
+  return keys;
+}
+
 PlatformDaemon::PlatformDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
                                MollySimOptions sim, double poll_hz)
     : DaemonBase(io, "platform", "igms.devices.PlatformService", std::move(options), std::move(server), poll_hz),

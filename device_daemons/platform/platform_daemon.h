@@ -10,6 +10,10 @@
 
 namespace igms::devices {
 
+// The platform's keys (processes.NAME): the daemon's shared ones (DaemonKeys), poll_hz and
+// backlash_deg (bound to `poll_hz` and `sim`).
+config::Keys PlatformKeys(MollySimOptions* sim, double* poll_hz);
+
 class PlatformDaemon : public DaemonBase<PlatformState> {
  public:
   PlatformDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,

@@ -3,8 +3,10 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "common/config/exit_codes.h"
 #include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
+#include "common/net/process_server.h"
 #include "device_daemons/ranger/ranger_daemon.h"
 
 int main(int argc, char** argv) {
@@ -16,20 +18,20 @@ int main(int argc, char** argv) {
       ("scene", po::value<std::string>(), "simulator: the site's scene file (default: the thesis testbed)")
       ("calibration", po::value<std::string>(), "simulator: the calibration file with the ranger's mount and the platform model (default: lab.calibration)")
       ("follow-platform", po::value<uint16_t>(), "simulator: turn the beam with the platform daemon on this port (default: the process named by processes.NAME.platform)");
+  igms::devices::RangerDaemonOptions ranger;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
-      argc, argv, "ranger", "The ultrasonic ranger daemon: ranges on request over TCP.", flags, &exit_code);
+      argc, argv, "ranger", "The ultrasonic ranger daemon: ranges on request over TCP.", flags,
+      igms::devices::RangerKeys(&ranger), &exit_code);
   if (!process) return exit_code;
   try {
     igms::devices::DaemonOptions options;
     std::string error;
     if (!igms::devices::ReadDaemonOptions(*process, "ranger", &options, &error)) {
       spdlog::error("{}", error);
-      return 2;
+      return igms::kExitUsage;
     }
     const auto& f = process->flags;
-    igms::devices::RangerDaemonOptions ranger;
-    ranger.poll_hz = f.count("poll-hz") ? f["poll-hz"].as<double>() : process->Get<double>("poll_hz", 0.0);
     const auto path = [&](const char* flag, const std::string& key) {
       if (f.count(flag)) return f[flag].as<std::string>();
       return process->config.ResolvePath(process->config.Get<std::string>(key, ""));
@@ -43,19 +45,16 @@ int main(int argc, char** argv) {
     } else if (!platform_name.empty() && options.source == igms::devices::SourceKind::kSimulate) {
       if (!process->config.Has("processes." + platform_name + ".port")) {
         spdlog::error("{}: no process named {} in the lab configuration", process->Key("platform"), platform_name);
-        return 2;
+        return igms::kExitUsage;
       }
       ranger.platform_host = process->HostOf(platform_name);
       ranger.follow_platform_port = process->PortOf(platform_name);
     }
     ranger.token = process->Token();
+    if (process->check_only) return igms::config::CheckPassed(*process);
     boost::asio::io_context io;
-    igms::net::ServerOptions server;
-    server.name = process->name;
-    server.bind_address = process->BindAddress();
-    server.port = process->Port(igms::config::ports::kRanger);
-    server.token = process->Token();
-    igms::devices::RangerDaemon daemon(io, options, server, ranger);
+    igms::devices::RangerDaemon daemon(io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kRanger),
+                                       ranger);
     return igms::devices::RunDaemonProcess(
         io,
         [&](std::string* e) {
@@ -64,8 +63,11 @@ int main(int argc, char** argv) {
           return true;
         },
         [&] { daemon.Stop(); });
+  } catch (const igms::config::ConfigError& e) {
+    spdlog::error("{}", e.what());
+    return igms::kExitUsage;
   } catch (const std::exception& e) {
     spdlog::critical("{}", e.what());
-    return 1;
+    return igms::kExitFailure;
   }
 }

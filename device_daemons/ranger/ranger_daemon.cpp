@@ -4,6 +4,18 @@
 
 namespace igms::devices {
 
+config::Keys RangerKeys(RangerDaemonOptions* options) {
+  config::Keys keys = DaemonKeys();
+  keys.Bind("poll_hz", &options->poll_hz,
+            "also range continuously at this rate, at most 6 Hz (0: on request only)", "poll-hz");
+  keys.Path("scene", "simulator: the site's scene file (default: the thesis testbed)");
+  keys.Path("calibration",
+            "simulator: the ranger's mount and the platform model (default: lab.calibration)");
+  keys.Add("platform", config::KeyType::kString, "",
+           "simulator: the platform process whose pose turns the beam");
+  return keys;
+}
+
 RangerDaemon::RangerDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
                            RangerDaemonOptions ranger)
     : DaemonBase(io, "ranger", "igms.devices.RangerService", std::move(options), std::move(server), udm::kMaxRateHz),

@@ -26,6 +26,10 @@ struct RangerDaemonOptions {
   std::string token;                  // the lab token, for the platform daemon
 };
 
+// The ranger's keys (processes.NAME): the daemon's shared ones (DaemonKeys) and poll_hz
+// (bound to `options`), scene, calibration and platform (read by the main).
+config::Keys RangerKeys(RangerDaemonOptions* options);
+
 class RangerDaemon : public DaemonBase<RangerState> {
  public:
   RangerDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,

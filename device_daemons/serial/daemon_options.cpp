@@ -4,6 +4,8 @@
 
 #include <filesystem>
 
+#include "common/net/process_server.h"
+
 namespace igms::devices {
 
 namespace po = boost::program_options;
@@ -21,6 +23,21 @@ bool DaemonOptions::Check(std::string* error) const {
     return true;
   }
   return link.Check(error);
+}
+
+config::Keys DaemonKeys() {
+  using config::KeyType;
+  config::Keys keys = net::ServerKeys();
+  keys.Add("serial", KeyType::kString, "", "serial port of the device, or simulate");
+  keys.Add("baud", KeyType::kInt, "9600", "baud rate");
+  keys.Add("sim_port", KeyType::kString, "",
+           "link path of the simulator's pseudo-terminal (default: a fresh temporary one)");
+  keys.Path("replay", "publish readings from this recording");
+  keys.Add("replay_speed", KeyType::kNumber, "1", "replay at this many times the original rate; 0 = at once");
+  keys.Add("loop", KeyType::kBool, "false", "repeat the replay");
+  keys.Add("record", KeyType::kOutputPath, "", "record every reading to this file");
+  keys.Add("silence_ms", KeyType::kInt, "500", "watchdog: the device is stale after this silence");
+  return keys;
 }
 
 void AddDaemonFlags(po::options_description* flags) {

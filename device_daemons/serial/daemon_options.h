@@ -35,6 +35,10 @@ struct DaemonOptions {
   bool Check(std::string* error) const;
 };
 
+// The keys above (processes.NAME.serial, .baud, .sim_port, .replay, .replay_speed, .loop,
+// .record, .silence_ms), which ReadDaemonOptions reads.
+config::Keys DaemonKeys();
+
 // Adds the flags above to `flags`.
 void AddDaemonFlags(boost::program_options::options_description* flags);
 

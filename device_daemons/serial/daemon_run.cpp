@@ -1,6 +1,6 @@
 #include <spdlog/spdlog.h>
 
-
+#include "common/config/exit_codes.h"
 #include "common/net/process_server.h"
 #include "device_daemons/serial/daemon_base.h"
 
@@ -11,7 +11,7 @@ int RunDaemonProcess(boost::asio::io_context& io, const std::function<bool(std::
   std::string error;
   if (!start(&error)) {
     spdlog::error("{}", error);
-    return 1;
+    return kExitFailure;
   }
   const auto signals = net::StopOnSignal(io, [&] {
     stop();
@@ -19,7 +19,7 @@ int RunDaemonProcess(boost::asio::io_context& io, const std::function<bool(std::
   });
   // One thread: the drivers and the server share it, so neither needs locks.
   io.run();
-  return 0;
+  return kExitOk;
 }
 
 }  // namespace igms::devices

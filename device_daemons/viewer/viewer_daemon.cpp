@@ -5,6 +5,18 @@
 
 namespace igms::devices {
 
+config::Keys ViewerKeys(ViewerDaemonOptions* options) {
+  config::Keys keys = DaemonKeys();
+  keys.Bind("stream", &options->stream, "let the viewer stream ('S') instead of polling it",
+            "stream");
+  keys.Bind("poll_hz", &options->poll_hz, "polling rate, at most 70 Hz", "poll-hz");
+  keys.Bind("path", &options->path_file, "simulator: a head-motion path file", "path");
+  keys.Add("power_up", config::KeyType::kList, "",
+           "simulator: the head's power-up pose in the site, [x, y, z, yaw, pitch, roll] "
+           "(metres, degrees)");
+  return keys;
+}
+
 ViewerDaemon::ViewerDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
                            ViewerDaemonOptions viewer)
     : DaemonBase(io, "viewer", "igms.devices.ViewerService", std::move(options), std::move(server),

@@ -17,6 +17,10 @@ struct ViewerDaemonOptions {
   ViewerSimOptions sim;     // simulator: the head's power-up pose in the site
 };
 
+// The viewer's keys (processes.NAME): the daemon's shared ones (DaemonKeys), stream, poll_hz
+// and path (bound to `options`) and power_up (read by the main).
+config::Keys ViewerKeys(ViewerDaemonOptions* options);
+
 class ViewerDaemon : public DaemonBase<ViewerState> {
  public:
   ViewerDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,

@@ -17,6 +17,7 @@
 #include <iostream>
 #include <thread>
 
+#include "common/config/exit_codes.h"
 #include "common/version/version.h"
 #include "device_daemons/voice/adaptation.h"
 #include "device_daemons/voice/endpointer.h"
@@ -148,7 +149,7 @@ int main(int argc, char** argv) try {
   po::notify(vm);
   if (vm.count("help")) {
     std::cout << desc << "\n";
-    return 0;
+    return igms::kExitOk;
   }
   if (vm.count("version")) {
     std::cout << igms::version::Line("igms-voice-adapt") << "\n";
@@ -163,38 +164,38 @@ int main(int argc, char** argv) try {
     }
     if (prompts.empty()) {
       spdlog::error("no prompts in {}", prompts_file);
-      return 2;
+      return igms::kExitUsage;
     }
   }
   if (vm.count("print-prompts")) {
     for (const std::string& p : prompts) std::cout << p << "\n";
-    return 0;
+    return igms::kExitOk;
   }
   const int sources = int(vm.count("record")) + int(!list.empty()) + int(!espeak.empty());
   if (sources != 1) {
     spdlog::error("give exactly one of --record, --list FILE, --espeak VOICE:WPM...");
-    return 2;
+    return igms::kExitUsage;
   }
   std::string error;
   if (!options.Check(&error)) {
     spdlog::error("{}", error);
-    return 2;
+    return igms::kExitUsage;
   }
   std::signal(SIGINT, [](int) { g_stop = 1; });
   std::signal(SIGTERM, [](int) { g_stop = 1; });
   const auto utterances = !list.empty()      ? ReadList(list)
                           : !espeak.empty() ? Espeak(espeak, prompts)
                                             : Record(device, prompts);
-  if (!utterances) return 1;
+  if (!utterances) return igms::kExitFailure;
   const AdaptationReport report = AdaptModel(*utterances, options);
   if (!report.ok()) {
     spdlog::error("{}", report.error);
-    return 1;
+    return igms::kExitFailure;
   }
   spdlog::info("adapted to {} utterances ({:.0f} s of speech): {}", report.utterances,
                report.seconds, options.out_dir);
-  return 0;
+  return igms::kExitOk;
 } catch (const std::exception& e) {
   spdlog::error("{}", e.what());
-  return 2;
+  return igms::kExitUsage;
 }

@@ -16,6 +16,7 @@
 #include <iostream>
 #include <thread>
 
+#include "common/config/exit_codes.h"
 #include "common/version/version.h"
 #include "device_daemons/voice/adaptation.h"
 #include "device_daemons/voice/audio.h"
@@ -51,7 +52,7 @@ int RunFiles(Recognizer& recognizer, const std::vector<std::string>& items, bool
       if (!state) {
         spdlog::error("unknown state '{}' (verification, model_building, awaiting_type)",
                       item.substr(6));
-        return 2;
+        return igms::kExitUsage;
       }
       recognizer.SetState(*state);
       continue;
@@ -73,7 +74,7 @@ int RunMicrophone(Recognizer& recognizer, const std::string& device, bool verbos
   auto mic = Microphone::Open(device, &error);
   if (!mic) {
     spdlog::error("{}", error);
-    return 1;
+    return igms::kExitFailure;
   }
   Endpointer endpointer;
   std::vector<int16_t> samples;
@@ -82,14 +83,14 @@ int RunMicrophone(Recognizer& recognizer, const std::string& device, bool verbos
     samples.clear();
     if (!mic->Read(samples)) {
       spdlog::error("the capture device stopped");
-      return 1;
+      return igms::kExitFailure;
     }
     for (const auto& utterance : endpointer.Feed(samples)) {
       Report(recognizer.Recognize(utterance), verbose);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  return 0;
+  return igms::kExitOk;
 }
 
 }  // namespace
@@ -131,7 +132,7 @@ int main(int argc, char** argv) try {
   po::notify(vm);
   if (vm.count("help")) {
     std::cout << desc << "\n";
-    return 0;
+    return igms::kExitOk;
   }
   if (vm.count("version")) {
     std::cout << igms::version::Line("igms-voice-decode") << "\n";
@@ -139,12 +140,12 @@ int main(int argc, char** argv) try {
   }
   if (vm.count("list-devices")) {
     for (const auto& name : Microphone::DeviceNames()) std::cout << name << "\n";
-    return 0;
+    return igms::kExitOk;
   }
   const auto initial = StateFromName(state);
   if (!initial) {
     spdlog::error("unknown state '{}'", state);
-    return 2;
+    return igms::kExitUsage;
   }
   // An adapted model (igms-voice-adapt) brings the settings chosen for enrolled operators.
   const std::string model_dir = options.model_dir;
@@ -163,13 +164,13 @@ int main(int argc, char** argv) try {
   options.predict_state = !vm.count("no-predict");
   if (!vm.count("mic") && items.empty()) {
     spdlog::error("give sound files, or --mic");
-    return 2;
+    return igms::kExitUsage;
   }
   std::string error;
   auto recognizer = Recognizer::Create(options, &error);
   if (!recognizer) {
     spdlog::error("{}", error);
-    return 2;
+    return igms::kExitUsage;
   }
   std::signal(SIGINT, [](int) { g_stop = 1; });
   std::signal(SIGTERM, [](int) { g_stop = 1; });
@@ -178,5 +179,5 @@ int main(int argc, char** argv) try {
                          : RunFiles(*recognizer, items, verbose);
 } catch (const std::exception& e) {
   spdlog::error("{}", e.what());
-  return 2;
+  return igms::kExitUsage;
 }

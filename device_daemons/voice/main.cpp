@@ -6,8 +6,10 @@
 
 #include <boost/asio/io_context.hpp>
 
+#include "common/config/exit_codes.h"
 #include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
+#include "common/net/process_server.h"
 #include "device_daemons/voice/adaptation.h"
 #include "device_daemons/voice/voice_daemon.h"
 
@@ -32,7 +34,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   const auto process = config::ParseProcessOptions(
       argc, argv, "voice", "The voice daemon: spoken commands as two-digit codes over TCP.", flags,
-      &exit_code);
+      voice::VoiceKeys(), &exit_code);
   if (!process) return exit_code;
   try {
     const auto& f = process->flags;
@@ -42,7 +44,7 @@ int main(int argc, char** argv) {
     const auto initial = voice::StateFromName(state);
     if (!initial) {
       spdlog::error("unknown state '{}' (verification, model_building, awaiting_type)", state);
-      return 2;
+      return kExitUsage;
     }
     voice.initial_state = *initial;
     const bool microphone = f["microphone"].as<bool>() || process->Get<bool>("microphone", false);
@@ -54,7 +56,7 @@ int main(int argc, char** argv) {
       if (f.count("serial") || f["simulate"].as<bool>() || f.count("replay") ||
           (microphone && !wav.empty())) {
         spdlog::error("name only one of --serial, --simulate, --replay, --microphone and --wav");
-        return 2;
+        return kExitUsage;
       }
       voice::SpeechListenerOptions listen;
       listen.microphone = microphone;
@@ -80,7 +82,7 @@ int main(int argc, char** argv) {
         listen.recognizer.min_confidence = f["min-confidence"].as<double>();
       if (!listen.Check(&error)) {
         spdlog::error("{}", error);
-        return 2;
+        return kExitUsage;
       }
       voice.listen = listen;
       options.source = devices::SourceKind::kSerial;  // the recogniser stands in for the line
@@ -88,15 +90,11 @@ int main(int argc, char** argv) {
                                               : process->Get<std::string>("record", "");
     } else if (!devices::ReadDaemonOptions(*process, "voice", &options, &error)) {
       spdlog::error("{} (or --microphone, --wav FILE...)", error);
-      return 2;
+      return kExitUsage;
     }
+    if (process->check_only) return config::CheckPassed(*process);
     boost::asio::io_context io;
-    net::ServerOptions server;
-    server.name = process->name;
-    server.bind_address = process->BindAddress();
-    server.port = process->Port(igms::config::ports::kVoice);
-    server.token = process->Token();
-    voice::VoiceDaemon daemon(io, options, server, voice);
+    voice::VoiceDaemon daemon(io, options, net::ServerOptionsFor(*process, igms::config::ports::kVoice), voice);
     return devices::RunDaemonProcess(
         io,
         [&](std::string* e) {
@@ -105,8 +103,11 @@ int main(int argc, char** argv) {
           return true;
         },
         [&] { daemon.Stop(); });
+  } catch (const config::ConfigError& e) {
+    spdlog::error("{}", e.what());
+    return kExitUsage;
   } catch (const std::exception& e) {
     spdlog::critical("{}", e.what());
-    return 1;
+    return kExitFailure;
   }
 }

@@ -5,6 +5,20 @@
 #include "device_daemons/voice/voice_proto.h"
 
 namespace igms::voice {
+
+config::Keys VoiceKeys() {
+  using config::KeyType;
+  config::Keys keys = devices::DaemonKeys();
+  keys.Choice("state", {"verification", "model_building", "awaiting_type"}, "verification",
+              "the operator's state at start");
+  keys.Add("microphone", KeyType::kBool, "false",
+           "recognise speech from a microphone instead of a Dragon on a serial line");
+  keys.Add("device", KeyType::kString, "", "capture device for the microphone (default: the system's)");
+  keys.Path("model_dir", "recogniser: the pocketsphinx en-us model folder, or an operator's "
+                         "adapted model (igms-voice-adapt)");
+  return keys;
+}
+
 namespace {
 
 // The Dragon gives a command at most every few tenths of a second; subscribers asking

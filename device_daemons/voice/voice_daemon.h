@@ -29,6 +29,10 @@ struct VoiceDaemonOptions {
   std::optional<SpeechListenerOptions> listen;
 };
 
+// The voice daemon's keys (processes.NAME), read by its main: the daemon's shared ones
+// (DaemonKeys), state, microphone, device and model_dir.
+config::Keys VoiceKeys();
+
 class VoiceDaemon : public devices::DaemonBase<devices::VoiceState> {
  public:
   VoiceDaemon(boost::asio::io_context& io, devices::DaemonOptions options,

@@ -114,8 +114,17 @@ TEST_F(Installed, TheLabFileNamesInstalledFiles) {
   const auto database = Config("get lab.database");
   ASSERT_EQ(database.status, 0) << database.out;
   EXPECT_TRUE(Lines(database.out).empty() || Lines(database.out).at(0).empty()) << database.out;
-  // TODO(issue 15, config): run the installed `igms config check --config FILE` here once it
-  // exists; it checks every key is known and every file the configuration names exists.
+}
+
+// The installed programs check the installed file: every key known, every file it names there.
+TEST_F(Installed, TheInstalledProgramsPassTheConfigurationCheck) {
+  const auto check = Config("check");
+  EXPECT_EQ(check.status, 0) << check.out;
+  for (const auto& p : config::ports::kLabPorts) {
+    EXPECT_NE(check.out.find(std::string(p.process) + ": OK"), std::string::npos)
+        << p.process << " did not pass:\n"
+        << check.out;
+  }
 }
 
 // The installed file is deploy/lab.yaml with only its paths rewritten.

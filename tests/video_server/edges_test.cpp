@@ -17,20 +17,22 @@ using testing::OpenCvData;
 TEST(Edges, DefaultSigmaIsTheNarrowReadingOfTheThesis) {
   EXPECT_NEAR(kDefaultEdgeSigma, 1.0607, 1e-4);
   EXPECT_EQ(EdgeOptions{}.sigma, kDefaultEdgeSigma);
-  EXPECT_EQ(EdgeOptions{}.Check(), "");
+  std::string error;
+  EXPECT_TRUE(EdgeOptions{}.Check(&error)) << error;
 }
 
 TEST(Edges, OptionsAreValidated) {
+  std::string error;
   EdgeOptions options;
   options.sigma = -1;
-  EXPECT_NE(options.Check(), "");
+  EXPECT_FALSE(options.Check(&error));
   options = {};
   options.low_threshold = 200;
   options.high_threshold = 100;
-  EXPECT_NE(options.Check(), "");
+  EXPECT_FALSE(options.Check(&error));
   options = {};
   options.high_threshold = std::nan("");
-  EXPECT_NE(options.Check(), "");
+  EXPECT_FALSE(options.Check(&error));
   EXPECT_THROW(DetectEdges(cv::Mat(10, 10, CV_8UC1), options), std::invalid_argument);
 }
 

@@ -94,7 +94,10 @@ TEST(ProcessOptions, FlagsOverrideTheFile) {
   for (auto& a : args) argv.push_back(a.data());
   int rc = -1;
   boost::program_options::options_description extra("extra");
-  auto p = ParseProcessOptions(static_cast<int>(argv.size()), argv.data(), "video", "test", extra, &rc);
+  Keys keys;
+  keys.Add("edges.sigma", KeyType::kNumber, "1", "edge sigma");
+  auto p = ParseProcessOptions(static_cast<int>(argv.size()), argv.data(), "video", "test", extra,
+                               keys, &rc);
   ASSERT_TRUE(p);
   EXPECT_EQ(rc, 0);
   EXPECT_EQ(p->Port(9), 0);
@@ -106,7 +109,8 @@ TEST(ProcessOptions, FlagsOverrideTheFile) {
   std::vector<std::string> bad = {"prog", "--config", file, "--set", "novalue"};
   argv.clear();
   for (auto& a : bad) argv.push_back(a.data());
-  EXPECT_FALSE(ParseProcessOptions(static_cast<int>(argv.size()), argv.data(), "video", "t", extra, &rc));
+  EXPECT_FALSE(
+      ParseProcessOptions(static_cast<int>(argv.size()), argv.data(), "video", "t", extra, keys, &rc));
   EXPECT_EQ(rc, 2);
   std::filesystem::remove_all(dir);
 }

@@ -1,0 +1,260 @@
+#include "common/config/keys.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "common/config/lab_config.h"
+#include "common/config/process_options.h"
+
+namespace igms::config {
+
+namespace {
+
+constexpr const char* kLabPrefix = "lab.";
+
+bool IsLabKey(const std::string& key) { return key.rfind(kLabPrefix, 0) == 0; }
+
+std::string Where(const LabConfig& config, const YAML::Mark& mark) {
+  if (mark.line < 0) return config.source();
+  return config.source() + ":" + std::to_string(mark.line + 1);
+}
+
+std::string Where(const LabConfig& config, const YAML::Node& node) {
+  return node.IsDefined() ? Where(config, node.Mark()) : config.source();
+}
+
+// Edits between two keys, a swap of neighbours counting as one ("vidoe" is one from "video").
+std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
+                          d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+// Walks a map of the file: every key that nothing declares is a problem. `prefix` is the
+// key of `node` as declared ("" for processes.NAME, "lab." for lab); `shown` as printed.
+void Walk(const LabConfig& config, const YAML::Node& node, const std::string& prefix,
+          const std::string& shown, const std::vector<std::string>& declared, const Keys& keys,
+          std::vector<KeyProblem>* problems) {
+  for (const auto& kv : node) {
+    const std::string name = kv.first.Scalar();
+    const std::string key = prefix + name;
+    const YAML::Node value = kv.second;
+    const bool has_children =
+        std::any_of(declared.begin(), declared.end(),
+                    [&](const std::string& d) { return d.rfind(key + ".", 0) == 0; });
+    const KeySpec* spec = keys.Find(key);
+    if (spec && (spec->type == KeyType::kMap || !has_children)) continue;
+    if (has_children) {
+      if (value.IsMap()) {
+        Walk(config, value, key + ".", shown + name + ".", declared, keys, problems);
+      } else if (!value.IsNull()) {
+        problems->push_back({Where(config, kv.first), shown + name + " must be a map"});
+      }
+      continue;
+    }
+    std::string message = "unknown key " + shown + name;
+    const std::string closest = ClosestKey(key, declared);
+    if (!closest.empty()) {
+      message += " (did you mean " + shown.substr(0, shown.size() - prefix.size()) + closest + "?)";
+    }
+    problems->push_back({Where(config, kv.first), message});
+  }
+}
+
+std::string FullKey(const std::string& name, const std::string& key) {
+  return IsLabKey(key) ? key : "processes." + name + "." + key;
+}
+
+}  // namespace
+
+KeySpec& Keys::Declare(const std::string& key, KeyType type, const std::string& default_value,
+                       const std::string& help) {
+  auto it = std::find_if(specs_.begin(), specs_.end(),
+                         [&](const KeySpec& s) { return s.key == key; });
+  if (it == specs_.end()) it = specs_.insert(specs_.end(), KeySpec{});
+  it->key = key;
+  it->type = type;
+  it->default_value = default_value;
+  it->help = help;
+  return *it;
+}
+
+Keys& Keys::Add(const std::string& key, KeyType type, const std::string& default_value,
+                const std::string& help) {
+  Declare(key, type, default_value, help);
+  return *this;
+}
+
+Keys& Keys::Choice(const std::string& key, std::vector<std::string> choices,
+                   const std::string& default_value, const std::string& help) {
+  Declare(key, KeyType::kString, default_value, help).choices = std::move(choices);
+  return *this;
+}
+
+Keys& Keys::Merge(const Keys& other) {
+  for (const auto& spec : other.specs_) Declare(spec.key, spec.type, spec.default_value, spec.help) = spec;
+  readers_.insert(readers_.end(), other.readers_.begin(), other.readers_.end());
+  return *this;
+}
+
+void Keys::Read(const ProcessOptions& process) const {
+  for (const auto& read : readers_) read(process);
+}
+
+const KeySpec* Keys::Find(const std::string& key) const {
+  for (const auto& spec : specs_) {
+    if (spec.key == key) return &spec;
+  }
+  return nullptr;
+}
+
+const Keys& CommonKeys() {
+  static const Keys keys = [] {
+    Keys k;
+    k.Add("lab.token", KeyType::kString, "",
+          "a shared secret every client must present; empty: none (a closed lab network)");
+    k.Path("lab.calibration", "the cameras' calibration file (docs/calibration.md)");
+    k.Add("lab.database", KeyType::kOutputPath, "", "the geometric database");
+    const std::vector<std::string> levels = {"trace", "debug", "info", "warn",
+                                             "error", "critical", "off"};
+    k.Choice("lab.log_level", levels, "info",
+             "every process's log level, under its own log_level and --log-level");
+    k.Add("program", KeyType::kString, "", "the program that runs this process");
+    k.Add("host", KeyType::kString, "127.0.0.1", "where the others find this process");
+    k.Add("port", KeyType::kInt, "", "the port it listens on (0: any free port)");
+    k.Add("bind", KeyType::kString, "127.0.0.1", "the address it listens on");
+    k.Choice("log_level", levels, "", "this process's log level, over lab.log_level");
+    return k;
+  }();
+  return keys;
+}
+
+std::string ClosestKey(const std::string& key, const std::vector<std::string>& declared) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(1, std::min<std::size_t>(3, key.size() / 3));
+  for (const auto& candidate : declared) {
+    const std::size_t d = EditDistance(key, candidate);
+    if (d <= best_distance && (best.empty() || d < best_distance)) {
+      best = candidate;
+      best_distance = d;
+    }
+  }
+  return best;
+}
+
+std::vector<KeyProblem> UnknownKeys(const LabConfig& config, const std::string& name,
+                                    const Keys& keys) {
+  std::vector<std::string> lab, own;
+  for (const auto& spec : keys.specs()) (IsLabKey(spec.key) ? lab : own).push_back(spec.key);
+  std::vector<KeyProblem> problems;
+  const YAML::Node lab_node = config.Find("lab");
+  if (lab_node.IsMap()) Walk(config, lab_node, kLabPrefix, kLabPrefix, lab, keys, &problems);
+  const YAML::Node own_node = name.empty() ? YAML::Node() : config.Find("processes." + name);
+  if (own_node.IsMap()) {
+    Walk(config, own_node, "", "processes." + name + ".", own, keys, &problems);
+  }
+  return problems;
+}
+
+std::vector<KeyProblem> BadValues(const LabConfig& config, const std::string& name,
+                                  const Keys& keys, bool paths) {
+  std::vector<KeyProblem> problems;
+  for (const auto& spec : keys.specs()) {
+    const std::string key = FullKey(name, spec.key);
+    const YAML::Node node = config.Find(key);
+    if (!node.IsDefined() || node.IsNull()) continue;
+    const auto bad = [&](const std::string& what) {
+      problems.push_back({Where(config, node), key + " " + what});
+    };
+    const auto reads_as = [&](auto value) {
+      try {
+        node.as<decltype(value)>();
+        return true;
+      } catch (const YAML::Exception&) {
+        return false;
+      }
+    };
+    const std::string found = node.IsScalar() ? " (found '" + node.Scalar() + "')" : "";
+    switch (spec.type) {
+      case KeyType::kInt:
+        if (!node.IsScalar() || !reads_as(0LL)) bad("must be an integer" + found);
+        break;
+      case KeyType::kNumber:
+        if (!node.IsScalar() || !reads_as(0.0)) bad("must be a number" + found);
+        break;
+      case KeyType::kBool:
+        if (!node.IsScalar() || !reads_as(false)) bad("must be true or false" + found);
+        break;
+      case KeyType::kList:
+        if (!node.IsSequence()) bad("must be a list" + found);
+        break;
+      case KeyType::kMap:
+        if (!node.IsMap()) bad("must be a map" + found);
+        break;
+      case KeyType::kString:
+      case KeyType::kPath:
+      case KeyType::kOutputPath:
+        if (!node.IsScalar()) {
+          bad("must be a single value, not a list or a map");
+          break;
+        }
+        if (!spec.choices.empty() &&
+            std::find(spec.choices.begin(), spec.choices.end(), node.Scalar()) ==
+                spec.choices.end()) {
+          std::string list;
+          for (const auto& c : spec.choices) list += (list.empty() ? "" : ", ") + c;
+          bad("must be one of " + list + found);
+        }
+        if (paths && spec.type == KeyType::kPath && !node.Scalar().empty()) {
+          const std::string path = config.ResolvePath(node.Scalar());
+          std::error_code ec;
+          if (!std::filesystem::exists(path, ec)) bad("names " + path + ", which does not exist");
+        }
+        break;
+    }
+  }
+  return problems;
+}
+
+namespace detail {
+
+template <class T>
+void ReadBound(const ProcessOptions& process, const KeySpec& spec, T* field) {
+  const auto& flags = process.flags;
+  if (!spec.flag.empty() && flags.count(spec.flag)) {
+    if constexpr (std::is_same_v<T, bool>) {
+      // A switch: on when given; off leaves the file its say.
+      if (flags[spec.flag].as<bool>()) {
+        *field = true;
+        return;
+      }
+    } else {
+      *field = flags[spec.flag].as<T>();
+      return;
+    }
+  }
+  const std::string key = FullKey(process.name, spec.key);
+  *field = process.config.Get<T>(key, *field);
+}
+
+template void ReadBound<bool>(const ProcessOptions&, const KeySpec&, bool*);
+template void ReadBound<int>(const ProcessOptions&, const KeySpec&, int*);
+template void ReadBound<unsigned>(const ProcessOptions&, const KeySpec&, unsigned*);
+template void ReadBound<unsigned long>(const ProcessOptions&, const KeySpec&, unsigned long*);
+template void ReadBound<double>(const ProcessOptions&, const KeySpec&, double*);
+template void ReadBound<float>(const ProcessOptions&, const KeySpec&, float*);
+template void ReadBound<std::string>(const ProcessOptions&, const KeySpec&, std::string*);
+
+}  // namespace detail
+
+}  // namespace igms::config

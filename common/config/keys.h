@@ -1,0 +1,144 @@
+// The configuration keys a component reads, declared next to the options struct they fill
+// (docs/configuration.md). One declaration gives a key its type, default and help, lets a
+// process refuse keys nobody reads (a typo would otherwise fall back to a default in
+// silence), lets `--check-config` check the file, and can bind the key, and the flag that
+// overrides it, to a field of the options struct:
+//
+//   config::Keys RangerKeys(RangerDaemonOptions* o) {
+//     config::Keys keys;
+//     keys.Bind("poll_hz", &o->poll_hz, "also range continuously at this rate", "poll-hz");
+//     keys.Path("scene", "simulator: the site's scene file");  // read by the component
+//     return keys;
+//   }
+//
+// Keys are relative to processes.NAME, or absolute when they start with "lab.". A dotted key
+// ("edges.sigma") is a key of a nested map. The process's own keys and `lab` are judged; the
+// other processes' sections belong to other programs.
+#pragma once
+
+#include <functional>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace igms::config {
+
+class LabConfig;
+struct ProcessOptions;
+
+enum class KeyType {
+  kString,
+  kInt,
+  kNumber,
+  kBool,
+  kList,  // a YAML sequence
+  kMap,   // a YAML map whose keys the component reads itself
+  kPath,  // a file or folder the process reads: --check-config checks that it exists
+  kOutputPath,  // a file the process writes (created when missing)
+};
+
+struct KeySpec {
+  std::string key;            // "poll_hz" (in processes.NAME) or "lab.calibration"
+  KeyType type = KeyType::kString;
+  std::string default_value;  // as text, for help and docs ("" when there is none)
+  std::string help;
+  std::vector<std::string> choices;  // for a string: the values accepted (empty: any)
+  std::string flag;                  // the command-line flag that overrides it, if any
+};
+
+// A problem found in a configuration, with the place it was found ("lab.yaml:12").
+struct KeyProblem {
+  std::string where;
+  std::string message;
+  std::string Text() const { return where.empty() ? message : where + ": " + message; }
+};
+
+class Keys {
+ public:
+  // A key the component reads with its own code.
+  Keys& Add(const std::string& key, KeyType type, const std::string& default_value,
+            const std::string& help);
+  // A string key that takes one of `choices`.
+  Keys& Choice(const std::string& key, std::vector<std::string> choices,
+               const std::string& default_value, const std::string& help);
+  // A file or folder the process reads (relative to the configuration file's folder).
+  Keys& Path(const std::string& key, const std::string& help) {
+    return Add(key, KeyType::kPath, "", help);
+  }
+  // Binds a key to a field: Read() sets the field from the flag when it is given, else from
+  // the key when it is set, else leaves the field's value (the default). A bool flag is a
+  // switch that can only turn the field on. T: bool, int, unsigned, double, float,
+  // std::string, std::size_t.
+  template <class T>
+  Keys& Bind(const std::string& key, T* field, const std::string& help,
+             const std::string& flag = "");
+  // Another component's keys (a daemon's own keys after the ones every daemon shares).
+  Keys& Merge(const Keys& other);
+
+  // Fills every bound field (flags over the file over the defaults). Throws ConfigError,
+  // naming file, line and key, for a value of the wrong type.
+  void Read(const ProcessOptions& process) const;
+
+  const KeySpec* Find(const std::string& key) const;
+  const std::vector<KeySpec>& specs() const { return specs_; }
+
+ private:
+  KeySpec& Declare(const std::string& key, KeyType type, const std::string& default_value,
+                   const std::string& help);
+
+  std::vector<KeySpec> specs_;
+  std::vector<std::function<void(const ProcessOptions&)>> readers_;
+};
+
+namespace detail {
+template <class T>
+KeyType TypeOf() {
+  if constexpr (std::is_same_v<T, bool>) return KeyType::kBool;
+  else if constexpr (std::is_integral_v<T>) return KeyType::kInt;
+  else if constexpr (std::is_floating_point_v<T>) return KeyType::kNumber;
+  else return KeyType::kString;
+}
+template <class T>
+std::string DefaultText(const T& value) {
+  if constexpr (std::is_same_v<T, bool>) return value ? "true" : "false";
+  else if constexpr (std::is_same_v<T, std::string>) return value;
+  else {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+  }
+}
+// Defined in keys.cpp for the types Bind takes.
+template <class T>
+void ReadBound(const ProcessOptions& process, const KeySpec& spec, T* field);
+}  // namespace detail
+
+template <class T>
+Keys& Keys::Bind(const std::string& key, T* field, const std::string& help,
+                 const std::string& flag) {
+  KeySpec& spec = Declare(key, detail::TypeOf<T>(), detail::DefaultText(*field), help);
+  spec.flag = flag;
+  readers_.push_back([spec = spec, field](const ProcessOptions& process) {
+    detail::ReadBound(process, spec, field);
+  });
+  return *this;
+}
+
+// lab.token, lab.calibration, lab.database, lab.log_level, and the keys every process has:
+// program, host, port, bind, log_level.
+const Keys& CommonKeys();
+
+// Every key in `lab` and in processes.NAME that `keys` does not declare, with file and line
+// and, when one is close, the declared key that was likely meant.
+std::vector<KeyProblem> UnknownKeys(const LabConfig& config, const std::string& name,
+                                    const Keys& keys);
+// Values of the wrong type or not among a key's choices. With `paths`, also every path key
+// whose file does not exist.
+std::vector<KeyProblem> BadValues(const LabConfig& config, const std::string& name,
+                                  const Keys& keys, bool paths);
+
+// The declared key closest to `key` (a likely typo), or "".
+std::string ClosestKey(const std::string& key, const std::vector<std::string>& declared);
+
+}  // namespace igms::config
