@@ -4,7 +4,7 @@
 //
 //   igms::Result<Manifest> LoadManifest(const std::filesystem::path& path);
 //   ...
-//   if (!r.ok()) return igms::Error{"line 3: unknown key 'foo'"};
+//   if (!r.ok()) return igms::ErrorMessage{"line 3: unknown key 'foo'"};
 //   auto manifest = LoadManifest(path);
 //   if (!manifest.ok()) { std::cerr << manifest.error() << "\n"; return 1; }
 //   Use(*manifest);
@@ -17,8 +17,9 @@
 
 namespace igms {
 
-// Why something failed, in words a person can act on (what is wrong and where).
-struct Error {
+// Why something failed, in words a person can act on (what is wrong and where). Not named
+// Error: igms::Error is a wire message (igms/common.proto).
+struct ErrorMessage {
   std::string message;
 };
 
@@ -26,7 +27,7 @@ template <class T>
 class [[nodiscard]] Result {
  public:
   Result(T value) : state_(std::in_place_index<0>, std::move(value)) {}
-  Result(Error error) : state_(std::in_place_index<1>, std::move(error)) {}
+  Result(ErrorMessage error) : state_(std::in_place_index<1>, std::move(error)) {}
 
   bool ok() const { return state_.index() == 0; }
 
@@ -56,7 +57,7 @@ class [[nodiscard]] Result {
     return std::get<0>(self.state_);
   }
 
-  std::variant<T, Error> state_;
+  std::variant<T, ErrorMessage> state_;
 };
 
 // For checks in the `bool Check(std::string* why)` style (options, inputs): stores `why` when

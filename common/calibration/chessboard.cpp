@@ -88,9 +88,9 @@ Result<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& lef
                                              const std::vector<std::string>& right,
                                              const ChessboardOptions& options,
                                              const Progress& progress) {
-  if (std::string why; !options.Check(&why)) return Error{why};
+  if (std::string why; !options.Check(&why)) return ErrorMessage{why};
   if (left.size() != right.size()) {
-    return Error{"got " + std::to_string(left.size()) + " left images but " +
+    return ErrorMessage{"got " + std::to_string(left.size()) + " left images but " +
                  std::to_string(right.size()) + " right images"};
   }
   const cv::Size board(options.cols, options.rows);
@@ -107,11 +107,11 @@ Result<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& lef
     for (int k = 0; k < 2; ++k) {
       const cv::Mat img = cv::imread(*paths[k], cv::IMREAD_GRAYSCALE);
       if (img.empty()) {
-        return Error{*paths[k] + ": cannot read the image"};
+        return ErrorMessage{*paths[k] + ": cannot read the image"};
       }
       if (size.area() == 0) size = img.size();
       if (img.size() != size) {
-        return Error{*paths[k] + ": image size differs from the first image's"};
+        return ErrorMessage{*paths[k] + ": image size differs from the first image's"};
       }
       found[k] = FindCorners(img, board);
     }
@@ -125,7 +125,7 @@ Result<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& lef
   }
   result.pairs_used = static_cast<int>(corners[0].size());
   if (result.pairs_used < 3) {
-    return Error{"only " + std::to_string(result.pairs_used) +
+    return ErrorMessage{"only " + std::to_string(result.pairs_used) +
                  " pairs show the board in both images; at least 3 are needed"};
   }
   const std::vector<std::vector<cv::Point3f>> object(result.pairs_used, BoardPoints(options));
@@ -163,7 +163,7 @@ Result<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& lef
   result.calibration.right = ToCamera(K[1], dist[1], result.R, result.t, size);
   std::string why;
   if (!ValidateCalibration(result.calibration, &why)) {
-    return Error{"calibration came out invalid: " + why};
+    return ErrorMessage{"calibration came out invalid: " + why};
   }
   return result;
 }

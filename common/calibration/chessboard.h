@@ -64,8 +64,8 @@ struct ChessboardResult {
 // Progress messages ("corners 3/13: left03.jpg") for long runs; may be empty.
 using Progress = std::function<void(const std::string&)>;
 
-// Calibrates from left/right image files (paired by position). Fails (an Error saying why) on
-// bad options, unequal list lengths, an unreadable image, images of different sizes, or
+// Calibrates from left/right image files (paired by position). Fails (an ErrorMessage saying
+// why) on bad options, unequal list lengths, an unreadable image, images of different sizes, or
 // fewer than 3 usable pairs.
 Result<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& left,
                                              const std::vector<std::string>& right,

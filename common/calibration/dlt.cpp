@@ -51,7 +51,7 @@ Result<geometry::Matrix34> SolveThesis(std::span<const Correspondence> points) {
   // The normal equations of the thesis, solved through QR for accuracy (same minimiser).
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
   if (qr.rank() < 11) {
-    return Error{"the linear system is rank deficient (degenerate point configuration)"};
+    return ErrorMessage{"the linear system is rank deficient (degenerate point configuration)"};
   }
   const Eigen::VectorXd c = qr.solve(b);
   geometry::Matrix34 P;
@@ -99,7 +99,7 @@ Result<geometry::Matrix34> SolveNormalized(std::span<const Correspondence> point
   const Eigen::VectorXd sv = svd.singularValues();
   // One null direction is the answer; a second (near-)null one means the points do not pin P.
   if (!(sv[10] > 1e-9 * sv[0])) {
-    return Error{"the linear system is rank deficient (degenerate point configuration)"};
+    return ErrorMessage{"the linear system is rank deficient (degenerate point configuration)"};
   }
   const Eigen::VectorXd p = svd.matrixV().col(11);
   geometry::Matrix34 Pn;
@@ -127,11 +127,11 @@ std::vector<double> ReprojectionResiduals(const geometry::Matrix34& P,
 }
 
 Result<DltResult> CalibrateDlt(std::span<const Correspondence> points, DltMethod method) {
-  if (std::string why; !CheckInput(points, &why)) return Error{why};
+  if (std::string why; !CheckInput(points, &why)) return ErrorMessage{why};
   const auto P = method == DltMethod::kThesis ? SolveThesis(points) : SolveNormalized(points);
-  if (!P.ok()) return Error{P.error()};
+  if (!P.ok()) return ErrorMessage{P.error()};
   if (!P->allFinite()) {
-    return Error{"the solution is not finite"};
+    return ErrorMessage{"the solution is not finite"};
   }
   DltResult result;
   result.P = *P;
@@ -163,14 +163,15 @@ Result<std::vector<Correspondence>> ParseCorrespondences(const std::string& text
       char* end = nullptr;
       const double v = std::strtod(token.c_str(), &end);
       if (end == token.c_str() || *end != '\0' || !std::isfinite(v)) {
-        return Error{"line " + std::to_string(number) + ": '" + token + "' is not a finite number"};
+        return ErrorMessage{"line " + std::to_string(number) + ": '" + token +
+                            "' is not a finite number"};
       }
       values.push_back(v);
     }
     if (values.empty()) continue;
     if (values.size() != 5) {
-      return Error{"line " + std::to_string(number) + ": expected 5 numbers (x y z u v), got " +
-                   std::to_string(values.size())};
+      return ErrorMessage{"line " + std::to_string(number) +
+                          ": expected 5 numbers (x y z u v), got " + std::to_string(values.size())};
     }
     out.push_back({{values[0], values[1], values[2]}, {values[3], values[4]}});
   }

@@ -12,7 +12,7 @@
 // Both minimise an algebraic error; residuals are reported geometrically: the pixel
 // distance between each observed pixel and the reprojected world point.
 //
-// Input is refused (an Error saying why) when there are fewer than six correspondences,
+// Input is refused (an ErrorMessage saying why) when there are fewer than six correspondences,
 // a value is not finite, the world points are coplanar or collinear (the smallest singular
 // value of their centred spread under 1e-6 of the largest: a plane does not determine P), or
 // the linear system is rank deficient.
@@ -51,7 +51,7 @@ std::vector<double> ReprojectionResiduals(const geometry::Matrix34& P,
                                           std::span<const Correspondence> points);
 
 // Reads "x y z u v" lines (whitespace or commas between numbers; '#' starts a comment;
-// blank lines skipped). An Error "line N: ..." on a malformed line.
+// blank lines skipped). An ErrorMessage "line N: ..." on a malformed line.
 Result<std::vector<Correspondence>> ParseCorrespondences(const std::string& text);
 
 }  // namespace igms::calibration

@@ -89,35 +89,36 @@ Result<PlatformCalibrationResult> CalibratePlatform(
     const PlatformModel& initial, std::span<const PlatformObservation> observations,
     const PlatformCalibrationOptions& options, const PlatformProgress& progress) {
   std::string why;
-  if (!options.Check(&why)) return Error{why};
+  if (!options.Check(&why)) return ErrorMessage{why};
   if (!initial.Check(&why)) {
-    return Error{"initial platform model: " + why};
+    return ErrorMessage{"initial platform model: " + why};
   }
   if (initial.joints.size() < 2) {
-    return Error{"platform calibration needs at least two joints"};
+    return ErrorMessage{"platform calibration needs at least two joints"};
   }
   if (!left_P0.allFinite() || !right_P0.allFinite()) {
-    return Error{"camera matrices must be finite"};
+    return ErrorMessage{"camera matrices must be finite"};
   }
   for (size_t i = 0; i < observations.size(); ++i) {
     const auto& o = observations[i];
     const std::string where = "observation " + std::to_string(i + 1) + ": ";
     if (o.camera != 0 && o.camera != 1) {
-      return Error{where + "camera must be 0 (left) or 1 (right)"};
+      return ErrorMessage{where + "camera must be 0 (left) or 1 (right)"};
     }
     if (o.ticks.size() != initial.joints.size()) {
-      return Error{where + "expected " + std::to_string(initial.joints.size()) + " joint values"};
+      return ErrorMessage{where + "expected " + std::to_string(initial.joints.size()) +
+                          " joint values"};
     }
     bool finite = o.world.allFinite() && o.pixel.allFinite();
     for (double t : o.ticks) finite = finite && std::isfinite(t);
     if (!finite) {
-      return Error{where + "not finite"};
+      return ErrorMessage{where + "not finite"};
     }
   }
   const Parameterization param(initial, options.estimate_scales);
   const int np = param.size();
   if (static_cast<int>(2 * observations.size()) < np) {
-    return Error{"need at least " + std::to_string((np + 1) / 2) + " observations for " +
+    return ErrorMessage{"need at least " + std::to_string((np + 1) / 2) + " observations for " +
                     std::to_string(np) + " parameters, got " + std::to_string(observations.size())};
   }
   const geometry::Matrix34 P0[2] = {left_P0, right_P0};
@@ -146,7 +147,7 @@ Result<PlatformCalibrationResult> CalibratePlatform(
     const Eigen::VectorXd g = J.transpose() * r;
     const Eigen::VectorXd diag = JtJ.diagonal().cwiseMax(1e-12 * JtJ.diagonal().maxCoeff());
     if (!(JtJ.diagonal().maxCoeff() > 0)) {
-      return Error{"the observations do not constrain the platform (zero Jacobian)"};
+      return ErrorMessage{"the observations do not constrain the platform (zero Jacobian)"};
     }
     bool improved = false;
     double new_cost = cost;
@@ -186,7 +187,7 @@ Result<PlatformCalibrationResult> CalibratePlatform(
     }
     const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues();
     if (!(sv[np - 1] > 1e-9 * sv[0])) {
-      return Error{
+      return ErrorMessage{
           "the observations do not determine the platform (vary every joint, use several "
           "poses)"};
     }
@@ -223,7 +224,7 @@ Result<std::vector<PlatformObservation>> ParsePlatformObservations(const std::st
     } else if (camera == "right" || camera == "1") {
       o.camera = 1;
     } else {
-      return Error{where + "camera must be left, right, 0 or 1, got '" + camera + "'"};
+      return ErrorMessage{where + "camera must be left, right, 0 or 1, got '" + camera + "'"};
     }
     std::vector<double> v;
     std::string token;
@@ -231,12 +232,12 @@ Result<std::vector<PlatformObservation>> ParsePlatformObservations(const std::st
       char* end = nullptr;
       const double value = std::strtod(token.c_str(), &end);
       if (end == token.c_str() || *end != '\0' || !std::isfinite(value)) {
-        return Error{where + "'" + token + "' is not a finite number"};
+        return ErrorMessage{where + "'" + token + "' is not a finite number"};
       }
       v.push_back(value);
     }
     if (static_cast<int>(v.size()) != joints + 5) {
-      return Error{where + "expected camera, " + std::to_string(joints) +
+      return ErrorMessage{where + "expected camera, " + std::to_string(joints) +
                       " joint values, x y z u v (" + std::to_string(joints + 5) +
                       " numbers), got " + std::to_string(v.size())};
     }

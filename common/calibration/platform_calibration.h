@@ -54,10 +54,10 @@ struct PlatformCalibrationResult {
 
 using PlatformProgress = std::function<void(int iteration, double rms)>;
 
-// Fails (an Error saying why) when the options or initial model are bad, fewer than two joints,
-// an observation names a bad camera, has the wrong tick count or a non-finite value, there
-// are fewer residuals than parameters, or the problem is singular (e.g. all observations at
-// one pose).
+// Fails (an ErrorMessage saying why) when the options or initial model are bad, fewer than
+// two joints, an observation names a bad camera, has the wrong tick count or a non-finite
+// value, there are fewer residuals than parameters, or the problem is singular (e.g. all
+// observations at one pose).
 Result<PlatformCalibrationResult> CalibratePlatform(
     const geometry::Matrix34& left_P0, const geometry::Matrix34& right_P0,
     const geometry::PlatformModel& initial, std::span<const PlatformObservation> observations,
@@ -70,7 +70,7 @@ std::vector<double> PlatformResiduals(const geometry::Matrix34& left_P0,
                                       std::span<const PlatformObservation> observations);
 
 // Reads "camera t1 t2 ... tn x y z u v" lines (camera "left", "right", 0 or 1; n = joints;
-// whitespace or commas; '#' comments). An Error "line N: ..." on a malformed line.
+// whitespace or commas; '#' comments). An ErrorMessage "line N: ..." on a malformed line.
 Result<std::vector<PlatformObservation>> ParsePlatformObservations(const std::string& text,
                                                                    int joints);
 

@@ -14,9 +14,9 @@ Result<int> ParsePositive(const std::string& text) {
   try {
     value = std::stoi(text);
   } catch (const std::exception&) {
-    return Error{"'" + text + "' is not a number"};
+    return ErrorMessage{"'" + text + "' is not a number"};
   }
-  if (value <= 0) return Error{"'" + text + "' must be positive"};
+  if (value <= 0) return ErrorMessage{"'" + text + "' must be positive"};
   return value;
 }
 
@@ -65,7 +65,7 @@ TEST(Result, ArrowReachesTheValuesMembers) {
 TEST(Result, AStringValueIsNotAnError) {
   const Result<std::string> empty = std::string();
   EXPECT_TRUE(empty.ok());
-  const Result<std::string> failed = Error{""};
+  const Result<std::string> failed = ErrorMessage{""};
   EXPECT_FALSE(failed.ok());
 }
 
