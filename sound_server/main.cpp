@@ -27,9 +27,9 @@ int Run(int argc, char** argv) {
     spdlog::error("{}", error);
     return 2;
   }
-  sound::ManifestResult manifest = sound::LoadManifest(settings.manifest);
-  if (!manifest.manifest) {
-    spdlog::error("{}", manifest.error);
+  igms::Result<sound::Manifest> manifest = sound::LoadManifest(settings.manifest);
+  if (!manifest.ok()) {
+    spdlog::error("{}", manifest.error());
     return 2;
   }
   sound::OutputResult output = sound::OpenOutput(settings.output);
@@ -40,7 +40,7 @@ int Run(int argc, char** argv) {
   }
   spdlog::info("playing on the {} output '{}' at {} Hz", output.output->output(),
                output.output->device_name(), output.output->sample_rate());
-  sound::EngineResult engine = sound::Engine::Create(std::move(*manifest.manifest),
+  sound::EngineResult engine = sound::Engine::Create(std::move(*manifest),
                                                      std::move(output.output), settings.engine);
   for (const std::string& warning : engine.warnings) spdlog::warn("{}", warning);
   if (!engine.engine) {
