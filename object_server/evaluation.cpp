@@ -5,20 +5,12 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/site/marks.h"
+#include "common/stats/percentile.h"
 #include "common/site/renderer.h"
 #include "object_server/debug_image.h"
 #include "object_server/solid_models.h"
 
 namespace igms::object {
-
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const double pos = q * (v.size() - 1);
-  const size_t i = static_cast<size_t>(std::floor(pos));
-  const double f = pos - i;
-  return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
-}
 
 std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
                                             uint64_t mark_seed, const LocateOptions& options,
@@ -116,18 +108,19 @@ Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& w
     }
   }
   s.found_rate = s.count ? double(s.found) / s.count : 0;
-  s.radius_median = Percentile(radius, 0.5);
-  s.radius_p90 = Percentile(radius, 0.9);
-  s.height_median = Percentile(height, 0.5);
-  s.height_p90 = Percentile(height, 0.9);
-  s.position_median = Percentile(position, 0.5);
-  s.position_p90 = Percentile(position, 0.9);
-  s.size_median = {Percentile(sx, 0.5), Percentile(sy, 0.5), Percentile(sz, 0.5)};
-  s.size_p90 = {Percentile(sx, 0.9), Percentile(sy, 0.9), Percentile(sz, 0.9)};
+  s.radius_median = stats::Percentile(radius, 0.5);
+  s.radius_p90 = stats::Percentile(radius, 0.9);
+  s.height_median = stats::Percentile(height, 0.5);
+  s.height_p90 = stats::Percentile(height, 0.9);
+  s.position_median = stats::Percentile(position, 0.5);
+  s.position_p90 = stats::Percentile(position, 0.9);
+  s.size_median = {stats::Median(sx), stats::Median(sy), stats::Median(sz)};
+  s.size_p90 = {stats::Percentile(sx, 0.9), stats::Percentile(sy, 0.9),
+                stats::Percentile(sz, 0.9)};
   s.within_2_sigma = z_count ? double(z_within) / z_count : 0;
-  s.axis_median_deg = Percentile(axis, 0.5);
-  s.axis_p90_deg = Percentile(axis, 0.9);
-  s.time_median_ms = Percentile(time, 0.5);
+  s.axis_median_deg = stats::Percentile(axis, 0.5);
+  s.axis_p90_deg = stats::Percentile(axis, 0.9);
+  s.time_median_ms = stats::Percentile(time, 0.5);
   return s;
 }
 

@@ -51,6 +51,5 @@ struct Summary {
 };
 // Statistics over the evaluations whose kind matches ("" = all; "upright", "lying", "box").
 Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& which);
-double Percentile(std::vector<double> v, double q);
 
 }  // namespace igms::object

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/base/json.h"
+
 namespace igms::object {
 namespace {
 
@@ -17,35 +19,6 @@ std::string Vec(const Eigen::Vector3d& v) {
 }
 
 }  // namespace
-
-std::string JsonEscape(const std::string& text) {
-  std::string out;
-  for (const char ch : text) {
-    switch (ch) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(ch) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", ch);
-          out += buf;
-        } else {
-          out += ch;
-        }
-    }
-  }
-  return out;
-}
 
 std::string ResultToJson(const LocateResult& r) {
   std::ostringstream o;

@@ -15,6 +15,5 @@
 namespace igms::object {
 
 std::string ResultToJson(const LocateResult& result);
-std::string JsonEscape(const std::string& text);
 
 }  // namespace igms::object

@@ -16,6 +16,7 @@
 #include <iostream>
 #include <thread>
 
+#include "common/base/json.h"
 #include "common/config/process_options.h"
 #include "common/net/client.h"
 #include "common/site/marks.h"
@@ -76,7 +77,7 @@ std::string Table(const std::vector<Row>& rows) {
 
 std::string Json(const std::vector<Row>& rows, uint64_t frame_id, const std::string& scene) {
   std::string j = fmt::format("{{\"frame_id\": {}, \"scene\": \"{}\", \"objects\": [\n", frame_id,
-                              igms::object::JsonEscape(scene));
+                              igms::JsonEscape(scene));
   for (size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
     j += fmt::format(
@@ -84,8 +85,8 @@ std::string Json(const std::vector<Row>& rows, uint64_t frame_id, const std::str
         "\"true_center\": {}, \"modelled_center\": {}, \"true_size\": {}, \"modelled_size\": {}, "
         "\"position_error\": {:.5f}, \"size_error\": {:.5f}, \"axis_error_deg\": {:.4f}, "
         "\"locate_ms\": {:.2f}, \"fetch_ms\": {:.2f}, \"round_trip_ms\": {:.2f}}}{}\n",
-        igms::object::JsonEscape(r.name), r.kind, r.found ? "true" : "false",
-        igms::object::JsonEscape(r.reason), Vec(r.true_center), Vec(r.found_center),
+        igms::JsonEscape(r.name), r.kind, r.found ? "true" : "false",
+        igms::JsonEscape(r.reason), Vec(r.true_center), Vec(r.found_center),
         Vec(r.true_size), Vec(r.found_size), r.position_error, r.size_error, r.axis_error_deg,
         r.locate_ms, r.fetch_ms, r.round_trip_ms, i + 1 < rows.size() ? "," : "");
   }

@@ -15,26 +15,26 @@ struct SndfileCloser {
 
 }  // namespace
 
-AudioFileResult ReadAudioFile(const std::filesystem::path& path) {
+Result<AudioClip> ReadAudioFile(const std::filesystem::path& path) {
   const std::string name = path.string();
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return {std::nullopt, name + ": file is missing"};
+  if (!std::filesystem::exists(path, ec)) return ErrorMessage{name + ": file is missing"};
   SF_INFO info{};
   std::unique_ptr<SNDFILE, SndfileCloser> file(sf_open(name.c_str(), SFM_READ, &info));
   if (!file)
-    return {std::nullopt, name + ": not a readable sound file (" + sf_strerror(nullptr) + ")"};
+    return ErrorMessage{name + ": not a readable sound file (" + sf_strerror(nullptr) + ")"};
   if (info.channels < 1 || info.samplerate < 1000 || info.samplerate > 384000) {
-    return {std::nullopt, name + ": unsupported channel count or sample rate"};
+    return ErrorMessage{name + ": unsupported channel count or sample rate"};
   }
-  if (info.frames <= 0) return {std::nullopt, name + ": holds no audio"};
+  if (info.frames <= 0) return ErrorMessage{name + ": holds no audio"};
   if (info.frames > static_cast<sf_count_t>(kMaxClipSeconds * info.samplerate)) {
-    return {std::nullopt, name + ": longer than the " + std::to_string(int(kMaxClipSeconds)) +
-                              " s a sound may last"};
+    return ErrorMessage{name + ": longer than the " + std::to_string(int(kMaxClipSeconds)) +
+                 " s a sound may last"};
   }
   std::vector<int16_t> interleaved(static_cast<size_t>(info.frames) * info.channels);
   const sf_count_t read = sf_readf_short(file.get(), interleaved.data(), info.frames);
   if (read <= 0) {
-    return {std::nullopt, name + ": cannot decode (" + sf_strerror(file.get()) + ")"};
+    return ErrorMessage{name + ": cannot decode (" + sf_strerror(file.get()) + ")"};
   }
   AudioClip clip;
   clip.sample_rate = info.samplerate;
@@ -44,7 +44,7 @@ AudioFileResult ReadAudioFile(const std::filesystem::path& path) {
     for (int c = 0; c < info.channels; ++c) sum += interleaved[frame * info.channels + c];
     clip.samples[frame] = static_cast<int16_t>(sum / info.channels);
   }
-  return {std::move(clip), ""};
+  return clip;
 }
 
 double RmsLevel(const std::vector<int16_t>& samples, size_t begin, size_t end) {

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "common/base/result.h"
+
 namespace igms::sound {
 
 struct AudioClip {
@@ -22,15 +24,11 @@ struct AudioClip {
   }
 };
 
-struct AudioFileResult {
-  std::optional<AudioClip> clip;
-  std::string error;
-};
-
 // Longest clip accepted, so a wrong file cannot fill memory.
 inline constexpr double kMaxClipSeconds = 120.0;
 
-AudioFileResult ReadAudioFile(const std::filesystem::path& path);
+// The clip, or what is wrong with the file (naming it).
+Result<AudioClip> ReadAudioFile(const std::filesystem::path& path);
 
 // Root-mean-square level of samples [begin, end) relative to full scale (0..1).
 double RmsLevel(const std::vector<int16_t>& samples, size_t begin, size_t end);

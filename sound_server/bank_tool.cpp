@@ -34,13 +34,13 @@ int main(int argc, char** argv) {
       return 0;
     }
     po::notify(vm);
-    const igms::sound::ManifestResult loaded = igms::sound::LoadManifest(manifest_path);
-    if (!loaded.manifest) {
-      spdlog::error("{}", loaded.error);
+    const igms::Result<igms::sound::Manifest> loaded = igms::sound::LoadManifest(manifest_path);
+    if (!loaded.ok()) {
+      spdlog::error("{}", loaded.error());
       return igms::kExitUsage;
     }
     const igms::sound::GenerateResult result =
-        igms::sound::GenerateBank(*loaded.manifest, out_dir, options);
+        igms::sound::GenerateBank(*loaded, out_dir, options);
     for (const std::string& error : result.errors) spdlog::error("{}", error);
     if (!result.ok()) return igms::kExitFailure;
     spdlog::info("generated {} sounds into {}", result.generated, out_dir);

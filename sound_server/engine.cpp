@@ -95,9 +95,9 @@ EngineResult Engine::Create(Manifest manifest, std::unique_ptr<AudioOutput> outp
   for (const SoundEntry& entry : engine->manifest_.sounds) {
     auto sound = std::make_unique<Sound>();
     sound->entry = entry;
-    AudioFileResult file = ReadAudioFile(engine->manifest_.FileOf(entry));
-    if (file.clip) {
-      const AudioClip& clip = *file.clip;
+    Result<AudioClip> file = ReadAudioFile(engine->manifest_.FileOf(entry));
+    if (file.ok()) {
+      const AudioClip& clip = *file;
       alGenBuffers(1, &sound->buffer);
       alBufferData(sound->buffer, AL_FORMAT_MONO16, clip.samples.data(),
                    static_cast<ALsizei>(clip.samples.size() * sizeof(int16_t)), clip.sample_rate);
@@ -109,7 +109,7 @@ EngineResult Engine::Create(Manifest manifest, std::unique_ptr<AudioOutput> outp
       sound->seconds = clip.Seconds();
       sound->sample_rate = clip.sample_rate;
     } else {
-      sound->error = file.error;
+      sound->error = file.error();
     }
     if (!sound->error.empty()) {
       result.warnings.push_back(Describe(entry) + " cannot be played: " + sound->error);

@@ -28,9 +28,9 @@ int Run(int argc, char** argv) {
     spdlog::error("{}", error);
     return igms::kExitUsage;
   }
-  sound::ManifestResult manifest = sound::LoadManifest(settings.manifest);
-  if (!manifest.manifest) {
-    spdlog::error("{}", manifest.error);
+  igms::Result<sound::Manifest> manifest = sound::LoadManifest(settings.manifest);
+  if (!manifest.ok()) {
+    spdlog::error("{}", manifest.error());
     return igms::kExitUsage;
   }
   if (process->check_only) return igms::config::CheckPassed(*process);
@@ -42,7 +42,7 @@ int Run(int argc, char** argv) {
   }
   spdlog::info("playing on the {} output '{}' at {} Hz", output.output->output(),
                output.output->device_name(), output.output->sample_rate());
-  sound::EngineResult engine = sound::Engine::Create(std::move(*manifest.manifest),
+  sound::EngineResult engine = sound::Engine::Create(std::move(*manifest),
                                                      std::move(output.output), settings.engine);
   for (const std::string& warning : engine.warnings) spdlog::warn("{}", warning);
   if (!engine.engine) {

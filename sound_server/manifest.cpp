@@ -102,15 +102,15 @@ const SoundEntry* Manifest::FindKey(const std::string& key) const {
   return nullptr;
 }
 
-ManifestResult ParseManifest(const std::string& text, const std::filesystem::path& path) {
+Result<Manifest> ParseManifest(const std::string& text, const std::filesystem::path& path) {
   const std::string where = "sound manifest " + path.string();
   YAML::Node root;
   try {
     root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    return {std::nullopt, where + ": not valid YAML: " + e.what()};
+    return ErrorMessage{where + ": not valid YAML: " + e.what()};
   }
-  if (!root.IsMap()) return {std::nullopt, where + ": expected a map at the top"};
+  if (!root.IsMap()) return ErrorMessage{where + ": expected a map at the top"};
   Manifest manifest;
   manifest.path = path;
   int format = 0;
@@ -120,15 +120,15 @@ ManifestResult ParseManifest(const std::string& text, const std::filesystem::pat
       !ReadOptional(root, "peak_db", manifest.peak_db, error) ||
       !ReadOptional(root, "voice", manifest.voice, error) ||
       !ReadOptional(root, "speed", manifest.speed, error)) {
-    return {std::nullopt, where + ": " + error};
+    return ErrorMessage{where + ": " + error};
   }
-  if (format != 1) return {std::nullopt, where + ": 'format' must be 1"};
+  if (format != 1) return ErrorMessage{where + ": 'format' must be 1"};
   if (manifest.sample_rate < 8000 || manifest.sample_rate > 192000) {
-    return {std::nullopt, where + ": 'sample_rate' must be 8000-192000"};
+    return ErrorMessage{where + ": 'sample_rate' must be 8000-192000"};
   }
   const YAML::Node sounds = root["sounds"];
   if (!sounds || !sounds.IsSequence() || sounds.size() == 0) {
-    return {std::nullopt, where + ": 'sounds' must be a non-empty list"};
+    return ErrorMessage{where + ": 'sounds' must be a non-empty list"};
   }
   std::set<uint32_t> ids;
   std::set<std::string> keys;
@@ -136,21 +136,21 @@ ManifestResult ParseManifest(const std::string& text, const std::filesystem::pat
     std::optional<SoundEntry> entry = ParseEntry(sounds[i], error);
     std::ostringstream name;
     name << where << ": sound #" << (i + 1);
-    if (!entry) return {std::nullopt, name.str() + " " + error};
+    if (!entry) return ErrorMessage{name.str() + " " + error};
     if (!ids.insert(entry->id).second) {
-      return {std::nullopt, name.str() + " repeats id " + std::to_string(entry->id)};
+      return ErrorMessage{name.str() + " repeats id " + std::to_string(entry->id)};
     }
     if (!keys.insert(entry->key).second) {
-      return {std::nullopt, name.str() + " repeats key '" + entry->key + "'"};
+      return ErrorMessage{name.str() + " repeats key '" + entry->key + "'"};
     }
     manifest.sounds.push_back(std::move(*entry));
   }
-  return {std::move(manifest), ""};
+  return manifest;
 }
 
-ManifestResult LoadManifest(const std::filesystem::path& path) {
+Result<Manifest> LoadManifest(const std::filesystem::path& path) {
   std::ifstream in(path);
-  if (!in) return {std::nullopt, "sound manifest " + path.string() + ": cannot be read"};
+  if (!in) return ErrorMessage{"sound manifest " + path.string() + ": cannot be read"};
   std::stringstream text;
   text << in.rdbuf();
   return ParseManifest(text.str(), path);

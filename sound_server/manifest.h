@@ -26,6 +26,8 @@
 #include <string>
 #include <vector>
 
+#include "common/base/result.h"
+
 namespace igms::sound {
 
 enum class SoundKind { kCue, kSpeech };
@@ -62,15 +64,11 @@ struct Manifest {
   const SoundEntry* FindKey(const std::string& key) const;
 };
 
-struct ManifestResult {
-  std::optional<Manifest> manifest;
-  std::string error;  // set when manifest is empty: what is wrong and where
-};
-
-// Parses a manifest file. See the file comment for the format and the checks made.
-ManifestResult LoadManifest(const std::filesystem::path& path);
+// Parses a manifest file: the manifest, or what is wrong and where. See the file comment for
+// the format and the checks made.
+Result<Manifest> LoadManifest(const std::filesystem::path& path);
 
 // Parses manifest text; `path` only names the file in messages and anchors relative files.
-ManifestResult ParseManifest(const std::string& text, const std::filesystem::path& path);
+Result<Manifest> ParseManifest(const std::string& text, const std::filesystem::path& path);
 
 }  // namespace igms::sound

@@ -9,6 +9,8 @@
 #include <opencv2/videoio.hpp>
 #include <thread>
 
+#include "common/base/clock.h"
+
 namespace igms::video {
 namespace {
 
@@ -94,7 +96,7 @@ class DeviceReader {
         SleepFor(options_.retry_interval);
         continue;
       }
-      const int64_t now = NowUnixNs();
+      const int64_t now = UnixNs();
       if (!options_.colour && frame.channels() != 1) {
         cv::Mat grey;
         cv::cvtColor(frame, grey, frame.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
@@ -163,7 +165,7 @@ class CameraCapture : public CaptureBackend {
 
   CaptureResult Capture(const PoseStamp& pose) override {
     const auto deadline = Clock::now() + options_.frame_timeout;
-    const int64_t since = NowUnixNs();
+    const int64_t since = UnixNs();
     StereoImages images;
     images.pose = pose;
     std::string error;

@@ -7,6 +7,8 @@
 #include <optional>
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/base/clock.h"
+
 namespace igms::video {
 namespace {
 
@@ -24,7 +26,7 @@ class FilesCapture : public CaptureBackend {
   }
 
   CaptureResult Capture(const PoseStamp& pose) override {
-    const int64_t now = NowUnixNs();
+    const int64_t now = UnixNs();
     StereoImages images;
     if (cached_) {
       // Copies, so a caller that keeps or edits the images never shares them with the cache.

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <tuple>
 
+#include "common/base/clock.h"
 #include "video_server/proto_convert.h"
 
 namespace igms::video {
@@ -147,7 +148,7 @@ void LiveStreamer::Run() {
                        left ? frame->mutable_left() : frame->mutable_right());
         }
       }
-      frame->set_send_unix_ns(NowUnixNs());
+      frame->set_send_unix_ns(UnixNs());
       if (!s->sink(*frame)) gone.push_back(s);
     }
     if (!gone.empty()) {

@@ -2,15 +2,10 @@
 
 #include <chrono>
 
+#include "common/base/clock.h"
 #include "video_server/capture_backend.h"
 
 namespace igms::video {
-
-int64_t NowUnixNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 std::string CheckStereoImages(const StereoImages& images) {
   if (images.left.empty() || images.right.empty()) return "an image of the pair is empty";
@@ -44,7 +39,7 @@ RenderCapture::RenderCapture(std::string description, RenderFunction render)
     : description_(std::move(description)), render_(std::move(render)) {}
 
 CaptureResult RenderCapture::Capture(const PoseStamp& pose) {
-  const int64_t start = NowUnixNs();
+  const int64_t start = UnixNs();
   CaptureResult result = render_(pose);
   if (!result.ok()) {
     if (result.error.empty()) result.error = "the renderer returned no images";

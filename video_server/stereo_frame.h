@@ -27,9 +27,6 @@ struct PoseStamp {
   bool IsZero() const { return joints_rad == std::array<double, 3>{0.0, 0.0, 0.0}; }
 };
 
-// Nanoseconds since the Unix epoch, from the system clock.
-int64_t NowUnixNs();
-
 struct StereoImages {
   cv::Mat left;
   cv::Mat right;

@@ -22,11 +22,12 @@
 #include <vector>
 
 #include "common/net/client.h"
+#include "common/stats/percentile.h"
 #include "device_daemons/joystick/flybox_sim.h"
 #include "device_daemons/joystick/gamepad.h"
 #include "device_daemons/platform/molly_sim.h"
 #include "device_daemons/ranger/ranger_sim.h"
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 #include "device_daemons/serial/pty_host.h"
 #include "device_daemons/serial/serial_link.h"
 #include "device_daemons/viewer/viewer_sim.h"
@@ -68,9 +69,8 @@ Figures Summarise(std::vector<double> latencies_ms, double seconds) {
   f.n = latencies_ms.size();
   f.rate = f.n / seconds;
   if (latencies_ms.empty()) return f;
-  std::sort(latencies_ms.begin(), latencies_ms.end());
-  f.p50_ms = latencies_ms[latencies_ms.size() / 2];
-  f.p99_ms = latencies_ms[std::min(latencies_ms.size() - 1, latencies_ms.size() * 99 / 100)];
+  f.p50_ms = igms::stats::Median(latencies_ms);
+  f.p99_ms = igms::stats::Percentile(latencies_ms, 0.99);
   return f;
 }
 
@@ -164,7 +164,7 @@ void RunDevice(const std::string& label, const std::string& program, std::vector
   std::vector<double> latencies, serial_part;
   bool measuring = false;
   client.Subscribe<Msg>(method, igms::devices::SubscribeRequest(), [&](const Msg& m) {
-    const int64_t now = MonotonicNs();
+    const int64_t now = igms::MonotonicNs();
     std::lock_guard lock(mutex);
     if (!measuring) return;
     const int64_t last_byte = times.LastBefore(m.stamp().receive_monotonic_ns());
@@ -215,7 +215,7 @@ void WriteEvents(int fd, double seconds, std::vector<int64_t>* times, std::mutex
     {
       // Stamped just before the write, so the reader never sees a value before its time.
       std::lock_guard lock(*mutex);
-      times->push_back(MonotonicNs());
+      times->push_back(igms::MonotonicNs());
     }
     if (::write(fd, e.data(), e.size()) != static_cast<ssize_t>(e.size())) {
       std::lock_guard lock(*mutex);
@@ -239,7 +239,7 @@ void RunGamepad(double seconds) {
       char buf[8];
       size_t i = 0;
       while (::read(fd, buf, sizeof buf) == static_cast<ssize_t>(sizeof buf)) {
-        const int64_t now = MonotonicNs();
+        const int64_t now = igms::MonotonicNs();
         std::lock_guard lock(mutex);
         if (i < times.size() && times[i] > 0) base.push_back((now - times[i]) / 1e6);
         ++i;
@@ -269,7 +269,7 @@ void RunGamepad(double seconds) {
   int last_index = 0;
   client.Subscribe<igms::devices::JoystickState>(
       "igms.devices.JoystickService.Live", igms::devices::SubscribeRequest(), [&](const igms::devices::JoystickState& m) {
-        const int64_t now = MonotonicNs();
+        const int64_t now = igms::MonotonicNs();
         std::lock_guard lock(mutex);
         ++readings;
         const int index = static_cast<int>(std::lround(m.x() * 32767.0));  // x = -axis

@@ -32,6 +32,7 @@
 #include "common/site/marks.h"
 #include "common/site/renderer.h"
 #include "common/site/testbed.h"
+#include "common/stats/percentile.h"
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"
 #include "object_server/evaluation.h"
@@ -103,8 +104,8 @@ igms::object::LocateRequest RequestFor(bool cylinder, const igms::site::Marks& m
 }
 
 void Row(const char* what, const std::vector<double>& v) {
-  std::printf("%-44s %5zu %8.2f %8.2f %8.2f\n", what, v.size(), igms::object::Percentile(v, 0.5),
-              igms::object::Percentile(v, 0.99),
+  std::printf("%-44s %5zu %8.2f %8.2f %8.2f\n", what, v.size(), igms::stats::Percentile(v, 0.5),
+              igms::stats::Percentile(v, 0.99),
               v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()));
 }
 

@@ -32,6 +32,7 @@
 #include <mutex>
 #include <thread>
 
+#include "common/stats/percentile.h"
 #include "sound_server/audio_file.h"
 #include "sound_server/engine.h"
 #include "sound_server/wave_capture.h"
@@ -136,12 +137,7 @@ Run Measure(const std::string& name, const std::filesystem::path& wave, int rate
   return run;
 }
 
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t i = std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5));
-  return v[i];
-}
+using stats::Percentile;
 
 void Print(const Run& run) {
   std::printf("%-44s %5zu %8.2f %8.2f %8.2f %8.2f %7d\n", run.name.c_str(), run.latencies_ms.size(),
@@ -191,15 +187,15 @@ int main(int argc, char** argv) {
   setenv("IGMS_BIN_DIR", (build / "bin").c_str(), 0);
   spdlog::set_level(spdlog::level::warn);
 
-  ManifestResult manifest = LoadManifest(testing::BankDir() / "manifest.yaml");
-  if (!manifest.manifest || manifest.manifest->FindKey(key) == nullptr) {
-    std::fprintf(stderr, "no bank or no sound '%s': %s\n", key.c_str(), manifest.error.c_str());
+  Result<Manifest> manifest = LoadManifest(testing::BankDir() / "manifest.yaml");
+  if (!manifest.ok() || manifest->FindKey(key) == nullptr) {
+    std::fprintf(stderr, "no bank or no sound '%s': %s\n", key.c_str(), manifest.error().c_str());
     return 1;
   }
-  AudioFileResult source =
-      ReadAudioFile(manifest.manifest->FileOf(*manifest.manifest->FindKey(key)));
-  if (!source.clip) return 1;
-  const AudioClip clip = *source.clip;
+  Result<AudioClip> source =
+      ReadAudioFile(manifest->FileOf(*manifest->FindKey(key)));
+  if (!source.ok()) return 1;
+  const AudioClip clip = *source;
   std::printf("request to first audio sample, '%s', %d plays a run, %d Hz wave output\n",
               key.c_str(), plays, clip.sample_rate);
   std::printf("%-44s %5s %8s %8s %8s %8s %7s\n", "run", "n", "min ms", "p50 ms", "p99 ms", "max ms",
@@ -219,7 +215,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", opened.error.c_str());
     return 1;
   }
-  EngineResult created = Engine::Create(*manifest.manifest, std::move(opened.output));
+  EngineResult created = Engine::Create(*manifest, std::move(opened.output));
   if (!created.engine) return 1;
   std::unique_ptr<Engine> engine = std::move(created.engine);
   PlayParams params;

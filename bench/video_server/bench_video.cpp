@@ -21,7 +21,9 @@
 #include <thread>
 #include <vector>
 
+#include "common/base/clock.h"
 #include "common/net/mailbox.h"
+#include "common/stats/percentile.h"
 #include "igms/video.pb.h"
 #include "tests/video_server/server_process.h"
 #include "video_server/edge_pipeline.h"
@@ -39,15 +41,8 @@ const std::string kData = "/usr/share/doc/opencv-doc/examples/data/";
 
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
-double Percentile(std::vector<double> v, double p) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[std::min(v.size() - 1, static_cast<size_t>(p * v.size()))];
-}
+using igms::stats::Median;
+using igms::stats::Percentile;
 
 cv::Mat Resized(const std::string& name, cv::Size size) {
   cv::Mat grey = cv::imread(kData + name, cv::IMREAD_GRAYSCALE), out;
@@ -87,7 +82,7 @@ void EdgeFigures(cv::Size size, int rounds) {
     StereoImages images;
     images.left = left.clone();
     images.right = right.clone();
-    images.left_capture_unix_ns = images.right_capture_unix_ns = NowUnixNs();
+    images.left_capture_unix_ns = images.right_capture_unix_ns = igms::UnixNs();
     capture.push_back(Ms(Clock::now() - t0));
     t0 = Clock::now();
     auto record = store.Insert(ids.Next(), std::move(images));
@@ -155,7 +150,7 @@ void LiveFigures(int subscribers, double seconds) {
                                          s->last_seq = frame.sequence();
                                          std::lock_guard lock(s->mutex);
                                          s->age_ms.push_back(
-                                             (NowUnixNs() - frame.capture_unix_ns()) / 1e6);
+                                             (igms::UnixNs() - frame.capture_unix_ns()) / 1e6);
                                        });
   }
   std::this_thread::sleep_for(1s + std::chrono::duration<double>(seconds));

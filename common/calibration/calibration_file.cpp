@@ -7,25 +7,21 @@
 #include <opencv2/core/eigen.hpp>
 #include <stdexcept>
 
+#include "common/base/result.h"
 #include "common/geometry/distortion.h"
 
 namespace igms::calibration {
 namespace {
 
 // Every reader returns false after writing "key: why" into *error.
-bool Fail(std::string* error, const std::string& key, const std::string& why) {
-  if (error) *error = key + ": " + why;
-  return false;
-}
-
 bool ReadMatrix(const cv::FileNode& node, const std::string& key, int rows, int cols,
                 Eigen::MatrixXd* out, std::string* error) {
-  if (node.empty() || node.isNone()) return Fail(error, key, "missing");
+  if (node.empty() || node.isNone()) return Fail(error, key + ": missing");
   cv::Mat m;
   if (node.isSeq()) {  // a plain list: read as a column
     std::vector<double> values;
     for (const auto& item : node) {
-      if (!item.isReal() && !item.isInt()) return Fail(error, key, "list holds a non-number");
+      if (!item.isReal() && !item.isInt()) return Fail(error, key + ": list holds a non-number");
       values.push_back(static_cast<double>(item));
     }
     m = cv::Mat(values, true);
@@ -33,28 +29,26 @@ bool ReadMatrix(const cv::FileNode& node, const std::string& key, int rows, int 
     try {
       node >> m;
     } catch (const cv::Exception& e) {
-      return Fail(error, key, "not a readable !!opencv-matrix (" + e.err + ")");
+      return Fail(error, key + ": not a readable !!opencv-matrix (" + e.err + ")");
     }
   } else {
-    return Fail(error, key, "expected a matrix");
+    return Fail(error, key + ": expected a matrix");
   }
-  if (m.empty()) return Fail(error, key, "empty or malformed matrix");
-  if (m.channels() != 1) return Fail(error, key, "matrix must have one channel");
+  if (m.empty()) return Fail(error, key + ": empty or malformed matrix");
+  if (m.channels() != 1) return Fail(error, key + ": matrix must have one channel");
   m.convertTo(m, CV_64F);
   if (cols < 0) {  // a vector of any length, either orientation
     if (m.rows != 1 && m.cols != 1) {
-      return Fail(
-          error, key,
-          "expected a vector, got " + std::to_string(m.rows) + "x" + std::to_string(m.cols));
+      return Fail(error, key + ": expected a vector, got " + std::to_string(m.rows) + "x" +
+                             std::to_string(m.cols));
     }
     m = m.reshape(1, static_cast<int>(m.total()));
   } else if (m.rows != rows || m.cols != cols) {
-    return Fail(error, key,
-                "expected a " + std::to_string(rows) + "x" + std::to_string(cols) +
-                    " matrix, got " + std::to_string(m.rows) + "x" + std::to_string(m.cols));
+    return Fail(error, key + ": expected a " + std::to_string(rows) + "x" + std::to_string(cols) +
+                           " matrix, got " + std::to_string(m.rows) + "x" + std::to_string(m.cols));
   }
   cv::cv2eigen(m, *out);
-  if (!out->allFinite()) return Fail(error, key, "matrix holds a non-finite value");
+  if (!out->allFinite()) return Fail(error, key + ": matrix holds a non-finite value");
   return true;
 }
 
@@ -62,30 +56,32 @@ bool ReadVector3(const cv::FileNode& node, const std::string& key, Eigen::Vector
                  std::string* error) {
   Eigen::MatrixXd m;
   if (!ReadMatrix(node, key, 3, -1, &m, error)) return false;
-  if (m.size() != 3) return Fail(error, key, "expected 3 numbers, got " + std::to_string(m.size()));
+  if (m.size() != 3) {
+    return Fail(error, key + ": expected 3 numbers, got " + std::to_string(m.size()));
+  }
   *out = Eigen::Map<Eigen::Vector3d>(m.data());
   return true;
 }
 
 bool ReadNumber(const cv::FileNode& node, const std::string& key, double* out, std::string* error) {
-  if (node.empty() || node.isNone()) return Fail(error, key, "missing");
-  if (!node.isReal() && !node.isInt()) return Fail(error, key, "expected a number");
+  if (node.empty() || node.isNone()) return Fail(error, key + ": missing");
+  if (!node.isReal() && !node.isInt()) return Fail(error, key + ": expected a number");
   *out = static_cast<double>(node);
-  if (!std::isfinite(*out)) return Fail(error, key, "not finite");
+  if (!std::isfinite(*out)) return Fail(error, key + ": not finite");
   return true;
 }
 
 bool ReadCamera(const cv::FileNode& node, const std::string& key, CameraCalibration* camera,
                 std::string* error) {
-  if (node.empty() || node.isNone()) return Fail(error, key, "missing");
-  if (!node.isMap()) return Fail(error, key, "expected a map with P and image_size");
+  if (node.empty() || node.isNone()) return Fail(error, key + ": missing");
+  if (!node.isMap()) return Fail(error, key + ": expected a map with P and image_size");
   Eigen::MatrixXd m;
   if (!ReadMatrix(node["P"], key + ".P", 3, 4, &m, error)) return false;
   camera->P = m;
   const cv::FileNode size = node["image_size"];
-  if (size.empty() || size.isNone()) return Fail(error, key + ".image_size", "missing");
+  if (size.empty() || size.isNone()) return Fail(error, key + ".image_size: missing");
   if (!size.isSeq() || size.size() != 2 || !size[0].isInt() || !size[1].isInt()) {
-    return Fail(error, key + ".image_size", "expected [width, height] as two integers");
+    return Fail(error, key + ".image_size: expected [width, height] as two integers");
   }
   camera->image_size = {static_cast<int>(size[0]), static_cast<int>(size[1])};
   if (!node["K"].empty() && !node["K"].isNone()) {
@@ -100,18 +96,18 @@ bool ReadCamera(const cv::FileNode& node, const std::string& key, CameraCalibrat
 }
 
 bool ReadPlatform(const cv::FileNode& node, geometry::PlatformModel* model, std::string* error) {
-  if (!node.isMap()) return Fail(error, "platform", "expected a map");
+  if (!node.isMap()) return Fail(error, "platform: expected a map");
   Eigen::MatrixXd m;
   if (!ReadMatrix(node["world_from_base"], "platform.world_from_base", 4, 4, &m, error)) {
     return false;
   }
   model->world_from_base.matrix() = m;
   const cv::FileNode joints = node["joints"];
-  if (!joints.isSeq()) return Fail(error, "platform.joints", "expected a list of joints");
+  if (!joints.isSeq()) return Fail(error, "platform.joints: expected a list of joints");
   for (int i = 0; i < static_cast<int>(joints.size()); ++i) {
     const cv::FileNode j = joints[i];
     const std::string key = "platform.joints[" + std::to_string(i) + "]";
-    if (!j.isMap()) return Fail(error, key, "expected a map");
+    if (!j.isMap()) return Fail(error, key + ": expected a map");
     geometry::DhJoint joint;
     if (j["name"].isString()) joint.name = static_cast<std::string>(j["name"]);
     if (!ReadNumber(j["theta_offset"], key + ".theta_offset", &joint.theta_offset, error) ||
@@ -125,34 +121,34 @@ bool ReadPlatform(const cv::FileNode& node, geometry::PlatformModel* model, std:
     model->joints.push_back(joint);
   }
   std::string why;
-  if (!model->Check(&why)) return Fail(error, "platform", why);
+  if (!model->Check(&why)) return Fail(error, "platform: " + why);
   return true;
 }
 
 bool ValidateCamera(const CameraCalibration& c, const std::string& key, std::string* error) {
-  if (!c.P.allFinite()) return Fail(error, key + ".P", "holds a non-finite value");
+  if (!c.P.allFinite()) return Fail(error, key + ".P: holds a non-finite value");
   const Eigen::Matrix3d M = c.P.leftCols<3>();
   const double scale = M.norm();
   if (!(scale > 0) || !(std::abs(M.determinant()) > 1e-12 * scale * scale * scale)) {
-    return Fail(error, key + ".P", "camera centre is not finite (left 3x3 block is singular)");
+    return Fail(error, key + ".P: camera centre is not finite (left 3x3 block is singular)");
   }
   if (!geometry::ProjectiveCamera(c.P, c.image_size).Center().allFinite()) {
-    return Fail(error, key + ".P", "camera centre is not finite");
+    return Fail(error, key + ".P: camera centre is not finite");
   }
   if (c.image_size.width <= 0 || c.image_size.height <= 0) {
-    return Fail(error, key + ".image_size", "width and height must be positive");
+    return Fail(error, key + ".image_size: width and height must be positive");
   }
   if (c.K) {
     const Eigen::Matrix3d& K = *c.K;
-    if (!K.allFinite()) return Fail(error, key + ".K", "holds a non-finite value");
+    if (!K.allFinite()) return Fail(error, key + ".K: holds a non-finite value");
     if (K(1, 0) != 0 || K(2, 0) != 0 || K(2, 1) != 0 || K(2, 2) == 0) {
-      return Fail(error, key + ".K", "must be upper triangular with K(2,2) non-zero");
+      return Fail(error, key + ".K: must be upper triangular with K(2,2) non-zero");
     }
-    if (!(std::abs(K.determinant()) > 0)) return Fail(error, key + ".K", "is singular");
+    if (!(std::abs(K.determinant()) > 0)) return Fail(error, key + ".K: is singular");
   }
-  if (!c.dist.empty() && !c.K) return Fail(error, key + ".dist", "needs " + key + ".K");
+  if (!c.dist.empty() && !c.K) return Fail(error, key + ".dist: needs " + key + ".K");
   std::string why;
-  if (!geometry::CheckDistortion(c.dist, &why)) return Fail(error, key + ".dist", why);
+  if (!geometry::CheckDistortion(c.dist, &why)) return Fail(error, key + ".dist: " + why);
   return true;
 }
 
@@ -186,13 +182,13 @@ bool ValidateCalibration(const StereoCalibration& c, std::string* error) {
     return false;
   }
   if (c.ranger) {
-    if (!c.ranger->origin.allFinite()) return Fail(error, "ranger.origin", "not finite");
+    if (!c.ranger->origin.allFinite()) return Fail(error, "ranger.origin: not finite");
     if (!c.ranger->axis.allFinite() || !(c.ranger->axis.norm() > 0)) {
-      return Fail(error, "ranger.axis", "must be finite and non-zero");
+      return Fail(error, "ranger.axis: must be finite and non-zero");
     }
   }
   std::string why;
-  if (c.platform && !c.platform->Check(&why)) return Fail(error, "platform", why);
+  if (c.platform && !c.platform->Check(&why)) return Fail(error, "platform: " + why);
   return true;
 }
 
@@ -202,7 +198,7 @@ std::optional<StereoCalibration> ParseCalibration(const std::string& yaml, std::
     cv::FileStorage fs(
         yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
     if (!fs.isOpened()) {
-      Fail(error, "calibration", "not a YAML document");
+      Fail(error, "calibration: not a YAML document");
       return std::nullopt;
     }
     if (!ReadCamera(fs["left"], "left", &c.left, error) ||
@@ -217,7 +213,7 @@ std::optional<StereoCalibration> ParseCalibration(const std::string& yaml, std::
         return std::nullopt;
       }
       if (!(r.axis.norm() > 0)) {
-        Fail(error, "ranger.axis", "must be non-zero");
+        Fail(error, "ranger.axis: must be non-zero");
         return std::nullopt;
       }
       r.axis.normalize();
@@ -230,7 +226,7 @@ std::optional<StereoCalibration> ParseCalibration(const std::string& yaml, std::
       c.platform = model;
     }
   } catch (const cv::Exception& e) {
-    Fail(error, "calibration", "YAML parse error: " + e.err);
+    Fail(error, "calibration: YAML parse error: " + e.err);
     return std::nullopt;
   }
   if (!ValidateCalibration(c, error)) return std::nullopt;

@@ -7,15 +7,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "common/base/result.h"
+
 namespace igms::calibration {
 namespace {
 
 using Corners = std::vector<cv::Point2f>;
-
-bool Fail(std::string* error, const std::string& why) {
-  if (error) *error = why;
-  return false;
-}
 
 std::optional<Corners> FindCorners(const cv::Mat& gray, cv::Size board) {
   Corners corners;
@@ -87,15 +84,14 @@ bool ChessboardOptions::Check(std::string* error) const {
   return true;
 }
 
-std::optional<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& left,
-                                                    const std::vector<std::string>& right,
-                                                    const ChessboardOptions& options,
-                                                    const Progress& progress, std::string* error) {
-  if (!options.Check(error)) return std::nullopt;
+Result<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& left,
+                                             const std::vector<std::string>& right,
+                                             const ChessboardOptions& options,
+                                             const Progress& progress) {
+  if (std::string why; !options.Check(&why)) return ErrorMessage{why};
   if (left.size() != right.size()) {
-    Fail(error, "got " + std::to_string(left.size()) + " left images but " +
-                    std::to_string(right.size()) + " right images");
-    return std::nullopt;
+    return ErrorMessage{"got " + std::to_string(left.size()) + " left images but " +
+                 std::to_string(right.size()) + " right images"};
   }
   const cv::Size board(options.cols, options.rows);
   ChessboardResult result;
@@ -111,13 +107,11 @@ std::optional<ChessboardResult> CalibrateChessboard(const std::vector<std::strin
     for (int k = 0; k < 2; ++k) {
       const cv::Mat img = cv::imread(*paths[k], cv::IMREAD_GRAYSCALE);
       if (img.empty()) {
-        Fail(error, *paths[k] + ": cannot read the image");
-        return std::nullopt;
+        return ErrorMessage{*paths[k] + ": cannot read the image"};
       }
       if (size.area() == 0) size = img.size();
       if (img.size() != size) {
-        Fail(error, *paths[k] + ": image size differs from the first image's");
-        return std::nullopt;
+        return ErrorMessage{*paths[k] + ": image size differs from the first image's"};
       }
       found[k] = FindCorners(img, board);
     }
@@ -131,9 +125,8 @@ std::optional<ChessboardResult> CalibrateChessboard(const std::vector<std::strin
   }
   result.pairs_used = static_cast<int>(corners[0].size());
   if (result.pairs_used < 3) {
-    Fail(error, "only " + std::to_string(result.pairs_used) +
-                    " pairs show the board in both images; at least 3 are needed");
-    return std::nullopt;
+    return ErrorMessage{"only " + std::to_string(result.pairs_used) +
+                 " pairs show the board in both images; at least 3 are needed"};
   }
   const std::vector<std::vector<cv::Point3f>> object(result.pairs_used, BoardPoints(options));
   cv::Mat K[2], dist[2];
@@ -170,8 +163,7 @@ std::optional<ChessboardResult> CalibrateChessboard(const std::vector<std::strin
   result.calibration.right = ToCamera(K[1], dist[1], result.R, result.t, size);
   std::string why;
   if (!ValidateCalibration(result.calibration, &why)) {
-    Fail(error, "calibration came out invalid: " + why);
-    return std::nullopt;
+    return ErrorMessage{"calibration came out invalid: " + why};
   }
   return result;
 }

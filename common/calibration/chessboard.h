@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/result.h"
 #include "common/calibration/calibration_file.h"
 
 namespace igms::calibration {
@@ -63,13 +64,12 @@ struct ChessboardResult {
 // Progress messages ("corners 3/13: left03.jpg") for long runs; may be empty.
 using Progress = std::function<void(const std::string&)>;
 
-// Calibrates from left/right image files (paired by position). Fails (nullopt, `error`) on
-// bad options, unequal list lengths, an unreadable image, images of different sizes, or
+// Calibrates from left/right image files (paired by position). Fails (an ErrorMessage saying
+// why) on bad options, unequal list lengths, an unreadable image, images of different sizes, or
 // fewer than 3 usable pairs.
-std::optional<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& left,
-                                                    const std::vector<std::string>& right,
-                                                    const ChessboardOptions& options,
-                                                    const Progress& progress = {},
-                                                    std::string* error = nullptr);
+Result<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& left,
+                                             const std::vector<std::string>& right,
+                                             const ChessboardOptions& options,
+                                             const Progress& progress = {});
 
 }  // namespace igms::calibration

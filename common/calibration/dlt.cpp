@@ -5,13 +5,10 @@
 #include <limits>
 #include <sstream>
 
+#include "common/base/result.h"
+
 namespace igms::calibration {
 namespace {
-
-bool Fail(std::string* error, const std::string& why) {
-  if (error) *error = why;
-  return false;
-}
 
 bool CheckInput(std::span<const Correspondence> points, std::string* error) {
   if (points.size() < 6) {
@@ -35,8 +32,7 @@ bool CheckInput(std::span<const Correspondence> points, std::string* error) {
   return true;
 }
 
-std::optional<geometry::Matrix34> SolveThesis(std::span<const Correspondence> points,
-                                              std::string* error) {
+Result<geometry::Matrix34> SolveThesis(std::span<const Correspondence> points) {
   const int n = static_cast<int>(points.size());
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 11);
   Eigen::VectorXd b(2 * n);
@@ -55,8 +51,7 @@ std::optional<geometry::Matrix34> SolveThesis(std::span<const Correspondence> po
   // The normal equations of the thesis, solved through QR for accuracy (same minimiser).
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
   if (qr.rank() < 11) {
-    Fail(error, "the linear system is rank deficient (degenerate point configuration)");
-    return std::nullopt;
+    return ErrorMessage{"the linear system is rank deficient (degenerate point configuration)"};
   }
   const Eigen::VectorXd c = qr.solve(b);
   geometry::Matrix34 P;
@@ -81,8 +76,7 @@ Eigen::Matrix<double, D + 1, D + 1> Normalizer(const std::vector<Eigen::Matrix<d
   return T;
 }
 
-std::optional<geometry::Matrix34> SolveNormalized(std::span<const Correspondence> points,
-                                                  std::string* error) {
+Result<geometry::Matrix34> SolveNormalized(std::span<const Correspondence> points) {
   std::vector<Eigen::Vector3d> X;
   std::vector<Eigen::Vector2d> x;
   for (const auto& p : points) {
@@ -105,14 +99,13 @@ std::optional<geometry::Matrix34> SolveNormalized(std::span<const Correspondence
   const Eigen::VectorXd sv = svd.singularValues();
   // One null direction is the answer; a second (near-)null one means the points do not pin P.
   if (!(sv[10] > 1e-9 * sv[0])) {
-    Fail(error, "the linear system is rank deficient (degenerate point configuration)");
-    return std::nullopt;
+    return ErrorMessage{"the linear system is rank deficient (degenerate point configuration)"};
   }
   const Eigen::VectorXd p = svd.matrixV().col(11);
   geometry::Matrix34 Pn;
   Pn << p.segment<4>(0).transpose(), p.segment<4>(4).transpose(), p.segment<4>(8).transpose();
   geometry::Matrix34 P = S.inverse() * Pn * T;
-  return P / P.norm();
+  return geometry::Matrix34(P / P.norm());
 }
 
 }  // namespace
@@ -133,15 +126,12 @@ std::vector<double> ReprojectionResiduals(const geometry::Matrix34& P,
   return r;
 }
 
-std::optional<DltResult> CalibrateDlt(std::span<const Correspondence> points, DltMethod method,
-                                      std::string* error) {
-  if (!CheckInput(points, error)) return std::nullopt;
-  const auto P =
-      method == DltMethod::kThesis ? SolveThesis(points, error) : SolveNormalized(points, error);
-  if (!P) return std::nullopt;
+Result<DltResult> CalibrateDlt(std::span<const Correspondence> points, DltMethod method) {
+  if (std::string why; !CheckInput(points, &why)) return ErrorMessage{why};
+  const auto P = method == DltMethod::kThesis ? SolveThesis(points) : SolveNormalized(points);
+  if (!P.ok()) return ErrorMessage{P.error()};
   if (!P->allFinite()) {
-    Fail(error, "the solution is not finite");
-    return std::nullopt;
+    return ErrorMessage{"the solution is not finite"};
   }
   DltResult result;
   result.P = *P;
@@ -155,8 +145,7 @@ std::optional<DltResult> CalibrateDlt(std::span<const Correspondence> points, Dl
   return result;
 }
 
-std::optional<std::vector<Correspondence>> ParseCorrespondences(const std::string& text,
-                                                                std::string* error) {
+Result<std::vector<Correspondence>> ParseCorrespondences(const std::string& text) {
   std::vector<Correspondence> out;
   std::istringstream in(text);
   std::string line;
@@ -174,16 +163,15 @@ std::optional<std::vector<Correspondence>> ParseCorrespondences(const std::strin
       char* end = nullptr;
       const double v = std::strtod(token.c_str(), &end);
       if (end == token.c_str() || *end != '\0' || !std::isfinite(v)) {
-        Fail(error, "line " + std::to_string(number) + ": '" + token + "' is not a finite number");
-        return std::nullopt;
+        return ErrorMessage{"line " + std::to_string(number) + ": '" + token +
+                            "' is not a finite number"};
       }
       values.push_back(v);
     }
     if (values.empty()) continue;
     if (values.size() != 5) {
-      Fail(error, "line " + std::to_string(number) + ": expected 5 numbers (x y z u v), got " +
-                      std::to_string(values.size()));
-      return std::nullopt;
+      return ErrorMessage{"line " + std::to_string(number) +
+                          ": expected 5 numbers (x y z u v), got " + std::to_string(values.size())};
     }
     out.push_back({{values[0], values[1], values[2]}, {values[3], values[4]}});
   }

@@ -12,18 +12,18 @@
 // Both minimise an algebraic error; residuals are reported geometrically: the pixel
 // distance between each observed pixel and the reprojected world point.
 //
-// Input is refused (nullopt with a message) when there are fewer than six correspondences,
+// Input is refused (an ErrorMessage saying why) when there are fewer than six correspondences,
 // a value is not finite, the world points are coplanar or collinear (the smallest singular
 // value of their centred spread under 1e-6 of the largest: a plane does not determine P), or
 // the linear system is rank deficient.
 #pragma once
 
 #include <Eigen/Core>
-#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "common/base/result.h"
 #include "common/geometry/camera.h"
 
 namespace igms::calibration {
@@ -43,8 +43,7 @@ struct DltResult {
   double max = 0;
 };
 
-std::optional<DltResult> CalibrateDlt(std::span<const Correspondence> points, DltMethod method,
-                                      std::string* error = nullptr);
+Result<DltResult> CalibrateDlt(std::span<const Correspondence> points, DltMethod method);
 
 // Residuals of any P against correspondences (pixel distance; infinity for a point on P's
 // focal plane).
@@ -52,8 +51,7 @@ std::vector<double> ReprojectionResiduals(const geometry::Matrix34& P,
                                           std::span<const Correspondence> points);
 
 // Reads "x y z u v" lines (whitespace or commas between numbers; '#' starts a comment;
-// blank lines skipped). nullopt with "line N: ..." on a malformed line.
-std::optional<std::vector<Correspondence>> ParseCorrespondences(const std::string& text,
-                                                                std::string* error = nullptr);
+// blank lines skipped). An ErrorMessage "line N: ..." on a malformed line.
+Result<std::vector<Correspondence>> ParseCorrespondences(const std::string& text);
 
 }  // namespace igms::calibration

@@ -5,15 +5,12 @@
 #include <limits>
 #include <sstream>
 
+#include "common/base/result.h"
+
 namespace igms::calibration {
 namespace {
 
 using geometry::PlatformModel;
-
-bool Fail(std::string* error, const std::string& why) {
-  if (error) *error = why;
-  return false;
-}
 
 // The free parameters as a vector, applied on top of the initial model.
 class Parameterization {
@@ -87,49 +84,42 @@ std::vector<double> PlatformResiduals(const geometry::Matrix34& left_P0,
   return out;
 }
 
-std::optional<PlatformCalibrationResult> CalibratePlatform(
+Result<PlatformCalibrationResult> CalibratePlatform(
     const geometry::Matrix34& left_P0, const geometry::Matrix34& right_P0,
     const PlatformModel& initial, std::span<const PlatformObservation> observations,
-    const PlatformCalibrationOptions& options, const PlatformProgress& progress,
-    std::string* error) {
-  if (!options.Check(error)) return std::nullopt;
+    const PlatformCalibrationOptions& options, const PlatformProgress& progress) {
   std::string why;
+  if (!options.Check(&why)) return ErrorMessage{why};
   if (!initial.Check(&why)) {
-    Fail(error, "initial platform model: " + why);
-    return std::nullopt;
+    return ErrorMessage{"initial platform model: " + why};
   }
   if (initial.joints.size() < 2) {
-    Fail(error, "platform calibration needs at least two joints");
-    return std::nullopt;
+    return ErrorMessage{"platform calibration needs at least two joints"};
   }
   if (!left_P0.allFinite() || !right_P0.allFinite()) {
-    Fail(error, "camera matrices must be finite");
-    return std::nullopt;
+    return ErrorMessage{"camera matrices must be finite"};
   }
   for (size_t i = 0; i < observations.size(); ++i) {
     const auto& o = observations[i];
     const std::string where = "observation " + std::to_string(i + 1) + ": ";
     if (o.camera != 0 && o.camera != 1) {
-      Fail(error, where + "camera must be 0 (left) or 1 (right)");
-      return std::nullopt;
+      return ErrorMessage{where + "camera must be 0 (left) or 1 (right)"};
     }
     if (o.ticks.size() != initial.joints.size()) {
-      Fail(error, where + "expected " + std::to_string(initial.joints.size()) + " joint values");
-      return std::nullopt;
+      return ErrorMessage{where + "expected " + std::to_string(initial.joints.size()) +
+                          " joint values"};
     }
     bool finite = o.world.allFinite() && o.pixel.allFinite();
     for (double t : o.ticks) finite = finite && std::isfinite(t);
     if (!finite) {
-      Fail(error, where + "not finite");
-      return std::nullopt;
+      return ErrorMessage{where + "not finite"};
     }
   }
   const Parameterization param(initial, options.estimate_scales);
   const int np = param.size();
   if (static_cast<int>(2 * observations.size()) < np) {
-    Fail(error, "need at least " + std::to_string((np + 1) / 2) + " observations for " +
-                    std::to_string(np) + " parameters, got " + std::to_string(observations.size()));
-    return std::nullopt;
+    return ErrorMessage{"need at least " + std::to_string((np + 1) / 2) + " observations for " +
+                    std::to_string(np) + " parameters, got " + std::to_string(observations.size())};
   }
   const geometry::Matrix34 P0[2] = {left_P0, right_P0};
   auto residuals = [&](const Eigen::VectorXd& x) {
@@ -157,8 +147,7 @@ std::optional<PlatformCalibrationResult> CalibratePlatform(
     const Eigen::VectorXd g = J.transpose() * r;
     const Eigen::VectorXd diag = JtJ.diagonal().cwiseMax(1e-12 * JtJ.diagonal().maxCoeff());
     if (!(JtJ.diagonal().maxCoeff() > 0)) {
-      Fail(error, "the observations do not constrain the platform (zero Jacobian)");
-      return std::nullopt;
+      return ErrorMessage{"the observations do not constrain the platform (zero Jacobian)"};
     }
     bool improved = false;
     double new_cost = cost;
@@ -198,10 +187,9 @@ std::optional<PlatformCalibrationResult> CalibratePlatform(
     }
     const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues();
     if (!(sv[np - 1] > 1e-9 * sv[0])) {
-      Fail(error,
-           "the observations do not determine the platform (vary every joint, use "
-           "several poses)");
-      return std::nullopt;
+      return ErrorMessage{
+          "the observations do not determine the platform (vary every joint, use several "
+          "poses)"};
     }
   }
   result.model = param.Apply(x);
@@ -214,9 +202,8 @@ std::optional<PlatformCalibrationResult> CalibratePlatform(
   return result;
 }
 
-std::optional<std::vector<PlatformObservation>> ParsePlatformObservations(const std::string& text,
-                                                                          int joints,
-                                                                          std::string* error) {
+Result<std::vector<PlatformObservation>> ParsePlatformObservations(const std::string& text,
+                                                                   int joints) {
   std::vector<PlatformObservation> out;
   std::istringstream in(text);
   std::string line;
@@ -237,8 +224,7 @@ std::optional<std::vector<PlatformObservation>> ParsePlatformObservations(const 
     } else if (camera == "right" || camera == "1") {
       o.camera = 1;
     } else {
-      Fail(error, where + "camera must be left, right, 0 or 1, got '" + camera + "'");
-      return std::nullopt;
+      return ErrorMessage{where + "camera must be left, right, 0 or 1, got '" + camera + "'"};
     }
     std::vector<double> v;
     std::string token;
@@ -246,16 +232,14 @@ std::optional<std::vector<PlatformObservation>> ParsePlatformObservations(const 
       char* end = nullptr;
       const double value = std::strtod(token.c_str(), &end);
       if (end == token.c_str() || *end != '\0' || !std::isfinite(value)) {
-        Fail(error, where + "'" + token + "' is not a finite number");
-        return std::nullopt;
+        return ErrorMessage{where + "'" + token + "' is not a finite number"};
       }
       v.push_back(value);
     }
     if (static_cast<int>(v.size()) != joints + 5) {
-      Fail(error, where + "expected camera, " + std::to_string(joints) +
+      return ErrorMessage{where + "expected camera, " + std::to_string(joints) +
                       " joint values, x y z u v (" + std::to_string(joints + 5) +
-                      " numbers), got " + std::to_string(v.size()));
-      return std::nullopt;
+                      " numbers), got " + std::to_string(v.size())};
     }
     o.ticks.assign(v.begin(), v.begin() + joints);
     o.world = Eigen::Vector3d(v[joints], v[joints + 1], v[joints + 2]);

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/result.h"
 #include "common/geometry/camera.h"
 #include "common/geometry/platform.h"
 
@@ -53,15 +54,14 @@ struct PlatformCalibrationResult {
 
 using PlatformProgress = std::function<void(int iteration, double rms)>;
 
-// Fails (nullopt, `error`) when the options or initial model are bad, fewer than two joints,
-// an observation names a bad camera, has the wrong tick count or a non-finite value, there
-// are fewer residuals than parameters, or the problem is singular (e.g. all observations at
-// one pose).
-std::optional<PlatformCalibrationResult> CalibratePlatform(
+// Fails (an ErrorMessage saying why) when the options or initial model are bad, fewer than
+// two joints, an observation names a bad camera, has the wrong tick count or a non-finite
+// value, there are fewer residuals than parameters, or the problem is singular (e.g. all
+// observations at one pose).
+Result<PlatformCalibrationResult> CalibratePlatform(
     const geometry::Matrix34& left_P0, const geometry::Matrix34& right_P0,
     const geometry::PlatformModel& initial, std::span<const PlatformObservation> observations,
-    const PlatformCalibrationOptions& options = {}, const PlatformProgress& progress = {},
-    std::string* error = nullptr);
+    const PlatformCalibrationOptions& options = {}, const PlatformProgress& progress = {});
 
 // Pixel residual per observation of a model.
 std::vector<double> PlatformResiduals(const geometry::Matrix34& left_P0,
@@ -70,8 +70,8 @@ std::vector<double> PlatformResiduals(const geometry::Matrix34& left_P0,
                                       std::span<const PlatformObservation> observations);
 
 // Reads "camera t1 t2 ... tn x y z u v" lines (camera "left", "right", 0 or 1; n = joints;
-// whitespace or commas; '#' comments). nullopt with "line N: ..." on a malformed line.
-std::optional<std::vector<PlatformObservation>> ParsePlatformObservations(
-    const std::string& text, int joints, std::string* error = nullptr);
+// whitespace or commas; '#' comments). An ErrorMessage "line N: ..." on a malformed line.
+Result<std::vector<PlatformObservation>> ParsePlatformObservations(const std::string& text,
+                                                                   int joints);
 
 }  // namespace igms::calibration

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/base/result.h"
+
 namespace igms::geometry {
 
 bool ValidDistortionSize(size_t size) {
@@ -11,19 +13,15 @@ bool ValidDistortionSize(size_t size) {
 }
 
 bool CheckDistortion(std::span<const double> coeffs, std::string* error) {
-  auto fail = [&](const std::string& why) {
-    if (error) *error = why;
-    return false;
-  };
   if (!ValidDistortionSize(coeffs.size())) {
-    return fail("expected 0, 4, 5, 8, 12 or 14 distortion coefficients, got " +
-                std::to_string(coeffs.size()));
+    return Fail(error, "expected 0, 4, 5, 8, 12 or 14 distortion coefficients, got " +
+                           std::to_string(coeffs.size()));
   }
   for (double c : coeffs) {
-    if (!std::isfinite(c)) return fail("distortion coefficient is not finite");
+    if (!std::isfinite(c)) return Fail(error, "distortion coefficient is not finite");
   }
   if (coeffs.size() == 14 && (coeffs[12] != 0.0 || coeffs[13] != 0.0)) {
-    return fail("the tilted-sensor model (tau_x, tau_y non-zero) is not supported");
+    return Fail(error, "the tilted-sensor model (tau_x, tau_y non-zero) is not supported");
   }
   return true;
 }

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 
+#include "common/base/result.h"
 #include "common/geometry/inverse_perspective.h"
 
 namespace igms::geometry {
@@ -12,11 +13,6 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d s;
   s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
   return s;
-}
-
-bool Fail(std::string* error, const std::string& why) {
-  if (error) *error = why;
-  return false;
 }
 
 }  // namespace

@@ -3,13 +3,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/base/result.h"
+
 namespace igms::geometry {
 namespace {
-
-bool Fail(std::string* error, const std::string& why) {
-  if (error) *error = why;
-  return false;
-}
 
 void CheckSize(const PlatformModel& model, std::span<const double> values) {
   if (values.size() != model.joints.size()) {

@@ -5,15 +5,12 @@
 #include <array>
 #include <cmath>
 
+#include "common/base/result.h"
+
 namespace igms::geometry {
 namespace {
 
 using Pixels = Eigen::Vector4d;  // left u, left v, right u, right v
-
-bool Fail(std::string* error, const std::string& why) {
-  if (error) *error = why;
-  return false;
-}
 
 std::optional<Eigen::Vector3d> Linear(const Matrix34& L, const Matrix34& R, const Pixels& x) {
   Eigen::Matrix4d A;

@@ -17,7 +17,7 @@
 #include <mutex>
 #include <sys/socket.h>
 
-#include "common/net/clock.h"
+#include "common/base/clock.h"
 #include "common/net/framing.h"
 #include "common/net/read_buffer.h"
 

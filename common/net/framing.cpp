@@ -1,6 +1,6 @@
 #include "common/net/framing.h"
 
-#include "common/net/clock.h"
+#include "common/base/clock.h"
 
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/wire_format_lite.h>
@@ -22,7 +22,7 @@ igms::Envelope MakeEnvelope(igms::Envelope::Kind kind, std::uint64_t correlation
   auto* h = e.mutable_header();
   h->set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
   h->set_correlation_id(correlation_id);
-  h->set_send_time_unix_ns(UnixNanos());
+  h->set_send_time_unix_ns(UnixNs());
   return e;
 }
 

@@ -12,7 +12,7 @@
 #include <future>
 #include <stdexcept>
 
-#include "common/net/clock.h"
+#include "common/base/clock.h"
 #include "common/net/framing.h"
 #include "common/net/session.h"
 #include "common/version/version.h"

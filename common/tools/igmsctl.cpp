@@ -19,11 +19,12 @@
 #include <thread>
 #include <vector>
 
+#include "common/base/clock.h"
 #include "common/config/exit_codes.h"
 #include "common/config/lab_config.h"
 #include "common/log/log.h"
 #include "common/net/client.h"
-#include "common/net/clock.h"
+#include "common/stats/percentile.h"
 #include "common/version/version.h"
 
 namespace igms::tools {
@@ -118,13 +119,6 @@ std::string Describe(const pb::Descriptor* d) {
            " " + f->name();
   }
   return out + " }";
-}
-
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const std::size_t i = static_cast<std::size_t>(std::min<double>(v.size() - 1, p * v.size()));
-  return v[i];
 }
 
 std::atomic<bool> g_interrupted{false};
@@ -297,7 +291,7 @@ int IgmsctlMain(int argc, char** argv) {
     client.SubscribeRaw(
         method->full_name(), request->SerializeAsString(),
         [&](std::string_view payload, std::int64_t sent_ns) {
-          const std::int64_t now = net::UnixNanos();
+          const std::int64_t now = igms::UnixNs();
           std::lock_guard lock(m);
           if (count > 0 && received >= count) return;
           ++received;
@@ -329,8 +323,8 @@ int IgmsctlMain(int argc, char** argv) {
       std::cerr << "igmsctl: " << received << " messages";
       if (received > 1 && span_s > 0) std::cerr << ", " << (received - 1) / span_s << " per second";
       if (!latencies_ms.empty()) {
-        std::cerr << ", latency p50 " << Percentile(latencies_ms, 0.5) << " ms, p99 "
-                  << Percentile(latencies_ms, 0.99) << " ms";
+        std::cerr << ", latency p50 " << stats::Percentile(latencies_ms, 0.5) << " ms, p99 "
+                  << stats::Percentile(latencies_ms, 0.99) << " ms";
       }
       std::cerr << "\n";
     }

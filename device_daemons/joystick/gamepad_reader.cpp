@@ -8,7 +8,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 
 namespace igms::devices {
 

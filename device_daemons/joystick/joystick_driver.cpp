@@ -6,7 +6,7 @@
 
 #include <algorithm>
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 
 namespace igms::devices {
 

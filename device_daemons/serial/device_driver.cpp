@@ -4,7 +4,7 @@
 
 #include <boost/asio/post.hpp>
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 
 namespace igms::devices {
 

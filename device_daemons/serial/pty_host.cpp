@@ -8,11 +8,20 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 
 namespace igms::devices {
+namespace {
+
+// Time one character takes on an asynchronous line (start bit, 8 data bits, stop bit).
+std::chrono::nanoseconds ByteTime(unsigned baud) {
+  return std::chrono::nanoseconds(10'000'000'000LL / (baud == 0 ? 1 : baud));
+}
+
+}  // namespace
 
 bool PtyHostOptions::Check(std::string* error) const {
   if (link_path.empty()) {

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "common/net/server.h"
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 #include "device_daemons/serial/recording.h"
 #include "igms/devices.pb.h"
 

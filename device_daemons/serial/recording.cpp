@@ -7,7 +7,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 
 namespace igms::devices {
 

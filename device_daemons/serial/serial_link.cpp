@@ -3,7 +3,7 @@
 #include <boost/asio/post.hpp>
 #include <boost/asio/write.hpp>
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 
 namespace igms::devices {
 

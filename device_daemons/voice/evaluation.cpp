@@ -6,6 +6,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include "common/stats/percentile.h"
+
 namespace igms::voice {
 namespace {
 
@@ -137,11 +139,7 @@ void EvaluationReport::Append(const EvaluationReport& other) {
 }
 
 double EvaluationReport::decode_ms_quantile(double q) const {
-  if (decode_ms.empty()) return 0.0;
-  std::vector<double> sorted = decode_ms;
-  std::sort(sorted.begin(), sorted.end());
-  const size_t i = static_cast<size_t>(std::lround(q * (sorted.size() - 1)));
-  return sorted[std::min(i, sorted.size() - 1)];
+  return decode_ms.empty() ? 0.0 : stats::Percentile(decode_ms, q);
 }
 
 std::string EvaluationReport::Summary() const {

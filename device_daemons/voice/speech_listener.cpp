@@ -2,7 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 #include "device_daemons/voice/audio.h"
 #include "device_daemons/voice/microphone.h"
 #include "device_daemons/voice/speech_synth.h"
@@ -166,7 +166,7 @@ void SpeechListener::ListenToMicrophone() {
 }
 
 void SpeechListener::Decode(Utterance u) {
-  const int64_t heard_ns = devices::MonotonicNs();
+  const int64_t heard_ns = igms::MonotonicNs();
   {
     std::lock_guard lock(mutex_);
     if (requested_state_) recognizer_->SetState(*requested_state_);
@@ -204,8 +204,8 @@ void SpeechListener::Decode(Utterance u) {
   }
   devices::Stamp* stamp = reading.mutable_stamp();
   stamp->set_device_time_us(static_cast<uint64_t>(heard_ns / 1000));
-  stamp->set_receive_monotonic_ns(devices::MonotonicNs());
-  stamp->set_receive_unix_ns(devices::UnixNs());
+  stamp->set_receive_monotonic_ns(igms::MonotonicNs());
+  stamp->set_receive_unix_ns(igms::UnixNs());
   reading.set_command(ToProto(*r.command));
   reading.set_confidence(r.confidence);
   reading.set_text(std::string(Phrase(*r.command)));

@@ -1,6 +1,6 @@
 #include "device_daemons/voice/voice_daemon.h"
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 #include "device_daemons/voice/dragon_sim.h"
 #include "device_daemons/voice/voice_proto.h"
 
@@ -78,7 +78,7 @@ devices::LinkStatus VoiceDaemon::DeviceStatus() const {
 bool VoiceDaemon::InjectInput(const devices::SimInjectRequest& request,
                               devices::SimulatedDevice& sim, std::string* error) {
   auto& dragon = static_cast<DragonSim&>(sim);
-  const int64_t now = devices::MonotonicNs();
+  const int64_t now = igms::MonotonicNs();
   if (request.input_case() == devices::SimInjectRequest::kVoice) {
     const auto command = FromProto(request.voice());
     if (!command) {

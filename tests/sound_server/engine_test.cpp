@@ -25,15 +25,15 @@ class EngineTest : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new std::filesystem::path(testing::ScratchDir("engine"));
     wave_ = new std::filesystem::path(*dir_ / "capture.wav");
-    ManifestResult manifest = LoadManifest(testing::DamagedBank(*dir_));
-    ASSERT_TRUE(manifest.manifest) << manifest.error;
+    Result<Manifest> manifest = LoadManifest(testing::DamagedBank(*dir_));
+    ASSERT_TRUE(manifest.ok()) << manifest.error();
     OutputOptions out;
     out.output = "wave";
     out.wave_file = wave_->string();
     out.wave_rate = kRate;
     OutputResult opened = OpenOutput(out);
     ASSERT_TRUE(opened.output) << opened.error;
-    EngineResult created = Engine::Create(*manifest.manifest, std::move(opened.output));
+    EngineResult created = Engine::Create(*manifest, std::move(opened.output));
     ASSERT_TRUE(created.engine) << created.error;
     warnings_ = new std::vector<std::string>(created.warnings);
     engine_ = created.engine.release();
@@ -48,10 +48,10 @@ class EngineTest : public ::testing::Test {
   }
 
   static AudioClip Source(const std::string& key) {
-    AudioFileResult file =
+    Result<AudioClip> file =
         ReadAudioFile(engine_->manifest().FileOf(*engine_->manifest().FindKey(key)));
-    EXPECT_TRUE(file.clip) << file.error;
-    return file.clip.value_or(AudioClip{});
+    EXPECT_TRUE(file.ok()) << file.error();
+    return file.ok() ? *file : AudioClip{};
   }
   static void WaitIdle(std::chrono::milliseconds limit = 10s) {
     const auto end = std::chrono::steady_clock::now() + limit;

@@ -7,7 +7,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  const igms::sound::ManifestResult r = igms::sound::ParseManifest(text, "fuzz.yaml");
-  if (!r.manifest && r.error.empty()) __builtin_trap();
+  const igms::Result<igms::sound::Manifest> r = igms::sound::ParseManifest(text, "fuzz.yaml");
+  if (!r.ok() && r.error().empty()) __builtin_trap();
   return 0;
 }

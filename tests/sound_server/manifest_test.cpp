@@ -21,15 +21,15 @@ sounds:
 )";
 
 TEST(Manifest, ParsesEntriesAndDefaultsFiles) {
-  ManifestResult r = ParseManifest(kGood, "/bank/manifest.yaml");
-  ASSERT_TRUE(r.manifest) << r.error;
-  EXPECT_EQ(r.manifest->sample_rate, 16000);
-  ASSERT_EQ(r.manifest->sounds.size(), 2u);
-  EXPECT_EQ(r.manifest->FindKey("click")->file, "cues/click.wav");
-  EXPECT_EQ(r.manifest->FindId(7)->kind, SoundKind::kSpeech);
-  EXPECT_EQ(r.manifest->FileOf(*r.manifest->FindId(7)), "/bank/other/hi.wav");
-  EXPECT_EQ(r.manifest->FindId(2), nullptr);
-  EXPECT_EQ(r.manifest->FindKey("nope"), nullptr);
+  Result<Manifest> r = ParseManifest(kGood, "/bank/manifest.yaml");
+  ASSERT_TRUE(r.ok()) << r.error();
+  EXPECT_EQ(r->sample_rate, 16000);
+  ASSERT_EQ(r->sounds.size(), 2u);
+  EXPECT_EQ(r->FindKey("click")->file, "cues/click.wav");
+  EXPECT_EQ(r->FindId(7)->kind, SoundKind::kSpeech);
+  EXPECT_EQ(r->FileOf(*r->FindId(7)), "/bank/other/hi.wav");
+  EXPECT_EQ(r->FindId(2), nullptr);
+  EXPECT_EQ(r->FindKey("nope"), nullptr);
 }
 
 struct Bad {
@@ -61,21 +61,21 @@ TEST(Manifest, RejectsBadManifestsWithAReason) {
        "repeats key 'a'"},
   };
   for (const Bad& bad : cases) {
-    ManifestResult r = ParseManifest(bad.text, "m.yaml");
-    EXPECT_FALSE(r.manifest) << bad.text;
-    EXPECT_NE(r.error.find(bad.expect), std::string::npos) << r.error;
-    EXPECT_NE(r.error.find("m.yaml"), std::string::npos) << r.error;
+    Result<Manifest> r = ParseManifest(bad.text, "m.yaml");
+    EXPECT_FALSE(r.ok()) << bad.text;
+    EXPECT_NE(r.error().find(bad.expect), std::string::npos) << r.error();
+    EXPECT_NE(r.error().find("m.yaml"), std::string::npos) << r.error();
   }
-  EXPECT_NE(LoadManifest("/nonexistent/manifest.yaml").error.find("cannot be read"),
+  EXPECT_NE(LoadManifest("/nonexistent/manifest.yaml").error().find("cannot be read"),
             std::string::npos);
 }
 
 // Every sound tables 2.5 and 2.6 name, and one message per failure reason, is in the lab's
 // bank and was generated as a readable, audible file.
 TEST(LabBank, HoldsEverySoundOfTheThesisAndTheFailureReasons) {
-  ManifestResult r = LoadManifest(testing::BankDir() / "manifest.yaml");
-  ASSERT_TRUE(r.manifest) << r.error;
-  const Manifest& m = *r.manifest;
+  Result<Manifest> r = LoadManifest(testing::BankDir() / "manifest.yaml");
+  ASSERT_TRUE(r.ok()) << r.error();
+  const Manifest& m = *r;
   for (const char* key :
        {"camera_click", "ricochet", "woodblock", "bell_tree", "introduction_music"}) {
     ASSERT_NE(m.FindKey(key), nullptr) << key;
@@ -100,24 +100,24 @@ TEST(LabBank, HoldsEverySoundOfTheThesisAndTheFailureReasons) {
     EXPECT_NE(m.FindKey(key), nullptr) << key;
   }
   for (const SoundEntry& e : m.sounds) {
-    AudioFileResult file = ReadAudioFile(m.FileOf(e));
-    ASSERT_TRUE(file.clip) << file.error;
-    EXPECT_EQ(file.clip->sample_rate, m.sample_rate) << e.key;
-    EXPECT_GT(file.clip->Seconds(), 0.05) << e.key;
-    EXPECT_LT(file.clip->Seconds(), 5.0) << e.key;
-    EXPECT_GT(RmsLevel(file.clip->samples, 0, SIZE_MAX), 0.03) << e.key;
+    Result<AudioClip> file = ReadAudioFile(m.FileOf(e));
+    ASSERT_TRUE(file.ok()) << file.error();
+    EXPECT_EQ(file->sample_rate, m.sample_rate) << e.key;
+    EXPECT_GT(file->Seconds(), 0.05) << e.key;
+    EXPECT_LT(file->Seconds(), 5.0) << e.key;
+    EXPECT_GT(RmsLevel(file->samples, 0, SIZE_MAX), 0.03) << e.key;
   }
 }
 
 TEST(AudioFile, MissingCorruptAndEmptyFilesAreErrors) {
   const std::filesystem::path dir = testing::ScratchDir("audiofile");
-  EXPECT_NE(ReadAudioFile(dir / "none.wav").error.find("missing"), std::string::npos);
+  EXPECT_NE(ReadAudioFile(dir / "none.wav").error().find("missing"), std::string::npos);
   std::ofstream(dir / "junk.wav") << "RIFF????WAVEjunk";
-  AudioFileResult junk = ReadAudioFile(dir / "junk.wav");
-  EXPECT_FALSE(junk.clip);
-  EXPECT_NE(junk.error.find("not a readable sound file"), std::string::npos) << junk.error;
+  Result<AudioClip> junk = ReadAudioFile(dir / "junk.wav");
+  EXPECT_FALSE(junk.ok());
+  EXPECT_NE(junk.error().find("not a readable sound file"), std::string::npos) << junk.error();
   std::ofstream(dir / "empty.wav");
-  EXPECT_FALSE(ReadAudioFile(dir / "empty.wav").clip);
+  EXPECT_FALSE(ReadAudioFile(dir / "empty.wav").ok());
   std::filesystem::remove_all(dir);
 }
 
@@ -130,23 +130,23 @@ TEST(BankGenerator, MakesEachEntryAndReportsTheOnesItCannot) {
          "  - {id: 1, key: beep, kind: cue, sox: \"synth 0.25 sine 660\"}\n"
          "  - {id: 2, key: broken, kind: cue, sox: \"synth 0.25 no-such-wave\"}\n"
          "  - {id: 3, key: hello, kind: speech, text: \"Hello.\"}\n";
-  ManifestResult m = LoadManifest(dir / "manifest.yaml");
-  ASSERT_TRUE(m.manifest) << m.error;
-  const GenerateResult result = GenerateBank(*m.manifest, dir / "out");
+  Result<Manifest> m = LoadManifest(dir / "manifest.yaml");
+  ASSERT_TRUE(m.ok()) << m.error();
+  const GenerateResult result = GenerateBank(*m, dir / "out");
   EXPECT_EQ(result.generated, 2);
   ASSERT_EQ(result.errors.size(), 1u);
   EXPECT_NE(result.errors[0].find("sound 2 'broken'"), std::string::npos) << result.errors[0];
   EXPECT_FALSE(std::filesystem::exists(dir / "out/cues/broken.wav"));
   EXPECT_TRUE(std::filesystem::exists(dir / "out/manifest.yaml"));
-  AudioFileResult beep = ReadAudioFile(dir / "out/cues/beep.wav");
-  ASSERT_TRUE(beep.clip) << beep.error;
-  EXPECT_EQ(beep.clip->sample_rate, 16000);
-  EXPECT_NEAR(beep.clip->Seconds(), 0.25, 0.001);
+  Result<AudioClip> beep = ReadAudioFile(dir / "out/cues/beep.wav");
+  ASSERT_TRUE(beep.ok()) << beep.error();
+  EXPECT_EQ(beep->sample_rate, 16000);
+  EXPECT_NEAR(beep->Seconds(), 0.25, 0.001);
   // A sine normalised to -6 dBFS peaks at 0.5 and has an RMS of 0.5 / sqrt(2).
-  EXPECT_NEAR(RmsLevel(beep.clip->samples, 0, SIZE_MAX), 0.5 / std::sqrt(2.0), 0.01);
-  AudioFileResult hello = ReadAudioFile(dir / "out/speech/hello.wav");
-  ASSERT_TRUE(hello.clip) << hello.error;
-  EXPECT_GT(hello.clip->Seconds(), 0.3);
+  EXPECT_NEAR(RmsLevel(beep->samples, 0, SIZE_MAX), 0.5 / std::sqrt(2.0), 0.01);
+  Result<AudioClip> hello = ReadAudioFile(dir / "out/speech/hello.wav");
+  ASSERT_TRUE(hello.ok()) << hello.error();
+  EXPECT_GT(hello->Seconds(), 0.3);
   std::filesystem::remove_all(dir);
 }
 

@@ -49,17 +49,17 @@ void PlayEachAndCompare(const std::string& name,
   std::optional<Capture> capture = ReadCapture(wave);
   ASSERT_TRUE(capture);
   const std::filesystem::path folder = std::filesystem::path(bank.value.manifest()).parent_path();
-  ManifestResult manifest = LoadManifest(bank.value.manifest());
-  ASSERT_TRUE(manifest.manifest) << manifest.error;
+  Result<Manifest> manifest = LoadManifest(bank.value.manifest());
+  ASSERT_TRUE(manifest.ok()) << manifest.error();
   for (const Played& p : played) {
-    AudioFileResult source =
-        ReadAudioFile(manifest.manifest->FileOf(*manifest.manifest->FindId(p.entry.id())));
-    ASSERT_TRUE(source.clip) << source.error;
-    ASSERT_EQ(source.clip->sample_rate, capture->sample_rate);
+    Result<AudioClip> source =
+        ReadAudioFile(manifest->FileOf(*manifest->FindId(p.entry.id())));
+    ASSERT_TRUE(source.ok()) << source.error();
+    ASSERT_EQ(source->sample_rate, capture->sample_rate);
     const std::vector<int16_t> window(
         capture->samples.begin() + p.from,
         capture->samples.begin() + std::min<int64_t>(p.to, capture->samples.size()));
-    testing::ExpectSameSound(window, *source.clip, 1.0, p.entry.key());
+    testing::ExpectSameSound(window, *source, 1.0, p.entry.key());
   }
   std::filesystem::remove_all(dir);
 }

@@ -15,9 +15,9 @@ namespace {
 using namespace std::chrono_literals;
 
 AudioClip Source(const std::string& relative) {
-  AudioFileResult file = ReadAudioFile(testing::BankDir() / relative);
-  EXPECT_TRUE(file.clip) << file.error;
-  return file.clip.value_or(AudioClip{});
+  Result<AudioClip> file = ReadAudioFile(testing::BankDir() / relative);
+  EXPECT_TRUE(file.ok()) << file.error();
+  return file.ok() ? *file : AudioClip{};
 }
 
 class ServerTest : public ::testing::Test {

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <thread>
 
+#include "common/base/clock.h"
 #include "tests/video_server/test_data.h"
 #include "video_server/camera_capture.h"
 #include "video_server/files_capture.h"
@@ -31,7 +32,7 @@ TEST(FilesCapture, SinglePairIsReturnedOnEveryGrabWithTimeAndPose) {
   pose.joints_rad = {0.25, 0.0, 0.0};
   pose.from_platform = true;
   for (int i = 0; i < 3; ++i) {
-    const int64_t before = NowUnixNs();
+    const int64_t before = UnixNs();
     CaptureResult grab = open.backend->Capture(pose);
     ASSERT_TRUE(grab.ok()) << grab.error;
     EXPECT_EQ(grab.images->left.type(), CV_8UC1);
@@ -39,7 +40,7 @@ TEST(FilesCapture, SinglePairIsReturnedOnEveryGrabWithTimeAndPose) {
     EXPECT_TRUE(SameImage(grab.images->left, left));
     EXPECT_TRUE(SameImage(grab.images->right, right));
     EXPECT_GE(grab.images->left_capture_unix_ns, before);
-    EXPECT_LE(grab.images->left_capture_unix_ns, NowUnixNs());
+    EXPECT_LE(grab.images->left_capture_unix_ns, UnixNs());
     EXPECT_EQ(grab.images->pose.joints_rad[0], 0.25);
     EXPECT_TRUE(grab.images->pose.from_platform);
   }
@@ -125,7 +126,7 @@ TEST(RenderCapture, StampsTimeAndPoseAndRejectsBadOutput) {
   });
   PoseStamp pose;
   pose.joints_rad = {0.5, 0.0, 0.0};
-  const int64_t before = NowUnixNs();
+  const int64_t before = UnixNs();
   CaptureResult grab = good.Capture(pose);
   ASSERT_TRUE(grab.ok()) << grab.error;
   EXPECT_EQ(calls, 1);
@@ -162,7 +163,7 @@ TEST(CameraCapture, ReadsTwoVideoDevicesWithFreshTimestamps) {
   ASSERT_TRUE(camera) << error;
   int64_t previous = 0;
   for (int i = 0; i < 5; ++i) {
-    const int64_t before = NowUnixNs();
+    const int64_t before = UnixNs();
     CaptureResult grab = camera->Capture({});
     ASSERT_TRUE(grab.ok()) << grab.error;
     EXPECT_EQ(grab.images->left.type(), CV_8UC1);

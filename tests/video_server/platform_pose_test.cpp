@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "common/base/clock.h"
 #include "common/calibration/calibration_file.h"
 #include "common/geometry/platform.h"
 #include "common/site/renderer.h"
@@ -184,7 +185,7 @@ TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
     return !s.moving() && s.yaw_ticks() == 543 && s.pitch_ticks() == 57;
   })) << watch.last().DebugString();
   const devices::PlatformState reached = watch.last();
-  const int64_t before_grab = NowUnixNs();
+  const int64_t before_grab = UnixNs();
   Grabbed panned;
   ASSERT_TRUE(WaitFor([&] {
     panned = Grab(video);
@@ -200,7 +201,7 @@ TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
   EXPECT_NEAR(q[0], reached.yaw_deg() * M_PI / 180, 1e-12);
   EXPECT_NEAR(q[1], reached.pitch_deg() * M_PI / 180, 1e-12);
   EXPECT_GT(panned.pose.time_unix_ns(), 0);
-  EXPECT_LE(panned.pose.time_unix_ns(), NowUnixNs());
+  EXPECT_LE(panned.pose.time_unix_ns(), UnixNs());
   EXPECT_GT(panned.pose.time_unix_ns(), before_grab - 2'000'000'000LL);
 
   // The image: the sphere's blob sits where CameraAtPose projects its centre, in both

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "common/base/clock.h"
 #include "common/net/mailbox.h"
 #include "igms/video.pb.h"
 #include "tests/video_server/server_process.h"
@@ -72,7 +73,7 @@ class VideoServerTest : public ::testing::Test {
 
 TEST_F(VideoServerTest, GrabThenImagesWholeAndByRegion) {
   Start();
-  const int64_t before = NowUnixNs();
+  const int64_t before = UnixNs();
   const GrabResponse first = Grab();
   const GrabResponse second = Grab();
   EXPECT_EQ(second.frame_id(), first.frame_id() + 1);
@@ -242,7 +243,7 @@ TEST_F(VideoServerTest, LiveVideoToAFastAndASlowSubscriber) {
     if (!Same(DecodeProtoImage(frame.left()), expected_left)) left_matches = false;
     std::lock_guard lock(fast.mutex);
     fast.sequences.push_back(frame.sequence());
-    fast.age_ms.push_back((NowUnixNs() - frame.capture_unix_ns()) / 1e6);
+    fast.age_ms.push_back((UnixNs() - frame.capture_unix_ns()) / 1e6);
   });
   // A slow subscriber as a real client is written: its network thread hands frames to a
   // one-frame mailbox, and a render loop that needs 250 ms a frame takes the newest.
@@ -264,7 +265,7 @@ TEST_F(VideoServerTest, LiveVideoToAFastAndASlowSubscriber) {
       {
         std::lock_guard lock(slow.mutex);
         slow.sequences.push_back(frame->sequence());
-        slow.age_ms.push_back((NowUnixNs() - frame->capture_unix_ns()) / 1e6);
+        slow.age_ms.push_back((UnixNs() - frame->capture_unix_ns()) / 1e6);
       }
       std::this_thread::sleep_for(250ms);
     }

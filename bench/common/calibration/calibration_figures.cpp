@@ -66,10 +66,9 @@ void Chessboard() {
   for (const auto& [proc, name] : runs) {
     ic::ChessboardOptions options;
     options.procedure = proc;
-    std::string why;
-    const auto r = ic::CalibrateChessboard(left, right, options, {}, &why);
-    if (!r) {
-      std::printf("  %-34s failed: %s\n", name, why.c_str());
+    const auto r = ic::CalibrateChessboard(left, right, options);
+    if (!r.ok()) {
+      std::printf("  %-34s failed: %s\n", name, r.error().c_str());
       continue;
     }
     std::printf("  %-34s %6d %10.3f %10.3f %11.3f %12.3f\n", name, r->pairs_used, r->left_rms,

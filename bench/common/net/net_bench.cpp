@@ -26,6 +26,7 @@
 #include "common/net/client.h"
 #include "common/net/framing.h"
 #include "common/net/server.h"
+#include "common/stats/percentile.h"
 
 namespace asio = boost::asio;
 using asio::ip::tcp;
@@ -40,10 +41,9 @@ struct Stats {
 
 // Throughput from the median time: on a shared machine a few descheduled calls would
 // otherwise decide the figure.
-Stats Summarise(std::vector<double> us, std::size_t bytes_each) {
-  std::sort(us.begin(), us.end());
-  const double p50 = us[us.size() / 2];
-  return {p50, us[us.size() * 99 / 100], bytes_each / p50};
+Stats Summarise(const std::vector<double>& us, std::size_t bytes_each) {
+  const double p50 = igms::stats::Median(us);
+  return {p50, igms::stats::Percentile(us, 0.99), bytes_each / p50};
 }
 
 // Raw baseline: the client writes `request` bytes, the server reads them and writes `reply`

@@ -12,19 +12,17 @@
 
 #include "common/site/renderer.h"
 #include "common/site/testbed.h"
+#include "common/stats/percentile.h"
 
 namespace {
+
+using igms::stats::Median;
 
 // CPU time of this thread: the machine is shared, so wall time alone overstates the cost.
 double CpuMs() {
   timespec t;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace

@@ -17,7 +17,8 @@
 #include <mutex>
 
 #include "common/net/client.h"
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
+#include "common/stats/percentile.h"
 #include "device_daemons/serial/pty_host.h"
 #include "device_daemons/voice/dragon_sim.h"
 #include "igms/devices.pb.h"
@@ -72,12 +73,6 @@ double RssMb(pid_t pid) {
   return 0;
 }
 
-double Quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -113,7 +108,7 @@ int main(int argc, char** argv) {
   client.Subscribe<devices::VoiceState>("igms.devices.VoiceService.Live",
                                         devices::SubscribeRequest(),
                                         [&](const devices::VoiceState& s) {
-                                          const int64_t now = devices::MonotonicNs();
+                                          const int64_t now = igms::MonotonicNs();
                                           std::lock_guard lock(mutex);
                                           received.emplace_back(s.stamp().sequence(), now);
                                         });
@@ -129,7 +124,7 @@ int main(int argc, char** argv) {
   while (std::chrono::steady_clock::now() - start < std::chrono::duration<double>(seconds)) {
     host.WithDevice([&](devices::SimulatedDevice&) {
       dragon->sim.Say(said % 2 ? voice::Command::kSolid : voice::Command::kWireframe,
-                      devices::MonotonicNs());
+                      igms::MonotonicNs());
     });
     ++said;
     std::this_thread::sleep_for(std::chrono::milliseconds(period_ms));
@@ -154,7 +149,8 @@ int main(int argc, char** argv) {
   std::printf("voice, Dragon line at 9600 baud: %d commands said, %zu received (%.1f a second)\n",
               said, got, got / seconds);
   std::printf("  last byte -> subscriber: p50 %.2f ms, p99 %.2f ms, max %.2f ms over %zu\n",
-              Quantile(latency_ms, 0.5), Quantile(latency_ms, 0.99), Quantile(latency_ms, 1.0),
+              stats::Percentile(latency_ms, 0.5), stats::Percentile(latency_ms, 0.99),
+              stats::Percentile(latency_ms, 1.0),
               latency_ms.size());
   std::printf("  igms-voiced resident memory: %.1f MB\n", rss);
 

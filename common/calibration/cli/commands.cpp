@@ -100,11 +100,10 @@ int Points(int argc, const char* const argv[], std::ostream& out, std::ostream& 
   for (const char* side : {"left", "right"}) {
     if (!vm.count(side)) continue;
     const std::string path = vm[side].as<std::string>();
-    std::string why;
-    const auto points = ParseCorrespondences(ReadFile(path), &why);
-    if (!points) throw BadInput(path + ": " + why);
-    const auto result = CalibrateDlt(*points, method, &why);
-    if (!result) throw BadInput(path + ": " + why);
+    const auto points = ParseCorrespondences(ReadFile(path));
+    if (!points.ok()) throw BadInput(path + ": " + points.error());
+    const auto result = CalibrateDlt(*points, method);
+    if (!result.ok()) throw BadInput(path + ": " + result.error());
     CameraCalibration& camera = std::string(side) == "left" ? cal.left : cal.right;
     camera.P = result->P;
     camera.image_size = {w, h};
@@ -162,11 +161,10 @@ int Chessboard(int argc, const char* const argv[], std::ostream& out, std::ostre
   } else {
     throw BadInput("--procedure must be joint, fixed or opencv-sample");
   }
-  std::string why;
   const auto r = CalibrateChessboard(
       vm["left"].as<std::vector<std::string>>(), vm["right"].as<std::vector<std::string>>(),
-      options, [&](const std::string& msg) { err << "igms calibrate: " << msg << "\n"; }, &why);
-  if (!r) throw BadInput(why);
+      options, [&](const std::string& msg) { err << "igms calibrate: " << msg << "\n"; });
+  if (!r.ok()) throw BadInput(r.error());
   for (const auto& s : r->skipped) err << "igms calibrate: skipped " << s << "\n";
   if (vm.count("output")) Save(r->calibration, vm["output"].as<std::string>(), err);
   if (vm.count("json")) {
@@ -346,8 +344,8 @@ int Platform(int argc, const char* const argv[], std::ostream& out, std::ostream
     if (!(noise >= 0) || !std::isfinite(noise)) throw BadInput("--noise must be >= 0");
     const auto s = MakePlatformScenario(noise, 1);
     const auto r =
-        CalibratePlatform(s.P0[0], s.P0[1], s.nominal, s.observations, options, progress, &why);
-    if (!r) throw BadInput(why);
+        CalibratePlatform(s.P0[0], s.P0[1], s.nominal, s.observations, options, progress);
+    if (!r.ok()) throw BadInput(r.error());
     const auto before = CompareToTruth(s, s.nominal, 2);
     const auto after = CompareToTruth(s, r->model, 2);
     if (vm.count("json")) {
@@ -388,11 +386,11 @@ int Platform(int argc, const char* const argv[], std::ostream& out, std::ostream
   }
   const std::string obs_path = vm["observations"].as<std::string>();
   const auto obs = ParsePlatformObservations(ReadFile(obs_path),
-                                             static_cast<int>(cal->platform->joints.size()), &why);
-  if (!obs) throw BadInput(obs_path + ": " + why);
+                                             static_cast<int>(cal->platform->joints.size()));
+  if (!obs.ok()) throw BadInput(obs_path + ": " + obs.error());
   const auto r =
-      CalibratePlatform(cal->left.P, cal->right.P, *cal->platform, *obs, options, progress, &why);
-  if (!r) throw BadInput(obs_path + ": " + why);
+      CalibratePlatform(cal->left.P, cal->right.P, *cal->platform, *obs, options, progress);
+  if (!r.ok()) throw BadInput(obs_path + ": " + r.error());
   cal->platform = r->model;
   if (vm.count("output")) Save(*cal, vm["output"].as<std::string>(), err);
   if (vm.count("json")) {

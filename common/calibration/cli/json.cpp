@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/base/json.h"
+
 namespace igms::calibration::cli {
 
 Json& Json::Add(const std::string& key, const std::string& raw) {
@@ -30,34 +32,7 @@ std::string Json::Number(double v) {
   return buf;
 }
 
-std::string Json::String(const std::string& s) {
-  std::string out = "\"";
-  for (unsigned char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (c < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += static_cast<char>(c);
-        }
-    }
-  }
-  return out + "\"";
-}
+std::string Json::String(const std::string& s) { return JsonQuote(s); }
 
 std::string Json::Vector(const Eigen::VectorXd& v) {
   Json a = Array();

@@ -37,11 +37,11 @@ TEST(Chessboard, BeatsOpenCvSampleOnRealPairs) {
   ASSERT_TRUE(std::filesystem::exists(left[0])) << "install opencv-doc (deploy/install-deps.sh)";
   ChessboardOptions options;
   std::string why;
-  auto ours = CalibrateChessboard(left, right, options, {}, &why);
-  ASSERT_TRUE(ours) << why;
+  auto ours = CalibrateChessboard(left, right, options);
+  ASSERT_TRUE(ours.ok()) << ours.error();
   options.procedure = ChessboardOptions::Procedure::kOpenCvSample;
-  auto sample = CalibrateChessboard(left, right, options, {}, &why);
-  ASSERT_TRUE(sample) << why;
+  auto sample = CalibrateChessboard(left, right, options);
+  ASSERT_TRUE(sample.ok()) << sample.error();
 
   EXPECT_EQ(ours->pairs_used, 13);
   EXPECT_TRUE(ours->skipped.empty());
@@ -95,15 +95,19 @@ TEST(Chessboard, RefusesBadInput) {
   std::vector<std::string> left, right;
   Pairs(&left, &right);
   std::string why;
-  EXPECT_FALSE(CalibrateChessboard(left, {right[0]}, {}, {}, &why));
+  why = CalibrateChessboard(left, {right[0]}, {}).error();
+  EXPECT_NE(why, "");
   EXPECT_NE(why.find("13 left images but 1 right"), std::string::npos);
-  EXPECT_FALSE(CalibrateChessboard({"/nonexistent.jpg"}, {right[0]}, {}, {}, &why));
+  why = CalibrateChessboard({"/nonexistent.jpg"}, {right[0]}, {}).error();
+  EXPECT_NE(why, "");
   EXPECT_NE(why.find("cannot read"), std::string::npos);
   ChessboardOptions square;
   square.cols = square.rows = 6;
-  EXPECT_FALSE(CalibrateChessboard(left, right, square, {}, &why));
-  EXPECT_FALSE(CalibrateChessboard({left[0], left[1]}, {right[0], right[1]},
-                                   {.cols = 5, .rows = 12}, {}, &why));
+  why = CalibrateChessboard(left, right, square).error();
+  EXPECT_NE(why, "");
+  why = CalibrateChessboard({left[0], left[1]}, {right[0], right[1]}, {.cols = 5, .rows = 12})
+            .error();
+  EXPECT_NE(why, "");
   EXPECT_NE(why.find("at least 3"), std::string::npos);
 }
 

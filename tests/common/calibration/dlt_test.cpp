@@ -57,9 +57,8 @@ TEST(Dlt, ExactDataGivesTheCamera) {
   const auto cam = TestCamera();
   const auto points = Synthetic(cam, 6, 0.0, 50);
   for (auto method : {DltMethod::kThesis, DltMethod::kNormalized}) {
-    std::string why;
-    auto r = CalibrateDlt(points, method, &why);
-    ASSERT_TRUE(r) << why;
+    auto r = CalibrateDlt(points, method);
+    ASSERT_TRUE(r.ok()) << r.error();
     EXPECT_LT(r->rms, 1e-6) << ToString(method);
     EXPECT_LT(PixelError(r->P, cam.P(), 51), 1e-5) << ToString(method);
   }
@@ -74,7 +73,7 @@ TEST(Dlt, HalfPixelNoiseOnTwentyPoints) {
     const auto points = Synthetic(cam, 20, 0.5, 100 + t);
     for (int m = 0; m < 2; ++m) {
       auto r = CalibrateDlt(points, m == 0 ? DltMethod::kThesis : DltMethod::kNormalized);
-      ASSERT_TRUE(r);
+      ASSERT_TRUE(r.ok()) << r.error();
       ASSERT_EQ(r->residuals.size(), 20u);
       rms[m] += r->rms / trials;
       err[m] += PixelError(r->P, cam.P(), t) / trials;
@@ -94,34 +93,40 @@ TEST(Dlt, RefusesDegenerateInput) {
   auto points = Synthetic(cam, 12, 0.0, 60);
   std::string why;
   for (auto method : {DltMethod::kThesis, DltMethod::kNormalized}) {
-    EXPECT_FALSE(CalibrateDlt(std::span(points).first(5), method, &why));
+    why = CalibrateDlt(std::span(points).first(5), method).error();
+    EXPECT_NE(why, "");
     EXPECT_NE(why.find("at least 6"), std::string::npos);
     auto flat = points;
     for (auto& p : flat) {
       p.world.z() = 0;
       p.pixel = *cam.Project(p.world);
     }
-    EXPECT_FALSE(CalibrateDlt(flat, method, &why));
+    why = CalibrateDlt(flat, method).error();
+    EXPECT_NE(why, "");
     EXPECT_NE(why.find("coplanar"), std::string::npos) << why;
     auto bad = points;
     bad[3].pixel.x() = NAN;
-    EXPECT_FALSE(CalibrateDlt(bad, method, &why));
+    why = CalibrateDlt(bad, method).error();
+    EXPECT_NE(why, "");
     EXPECT_NE(why.find("correspondence 4"), std::string::npos);
   }
 }
 
 TEST(Dlt, ParsesCorrespondenceText) {
   std::string why;
-  auto pts = ParseCorrespondences("# x y z u v\n1 2 3 4 5\n\n6,7,8,9,10  # note\n", &why);
-  ASSERT_TRUE(pts) << why;
+  auto pts = ParseCorrespondences("# x y z u v\n1 2 3 4 5\n\n6,7,8,9,10  # note\n");
+  ASSERT_TRUE(pts.ok()) << pts.error();
   ASSERT_EQ(pts->size(), 2u);
   EXPECT_EQ((*pts)[1].world, Eigen::Vector3d(6, 7, 8));
   EXPECT_EQ((*pts)[1].pixel, Eigen::Vector2d(9, 10));
-  EXPECT_FALSE(ParseCorrespondences("1 2 3 4\n", &why));
+  why = ParseCorrespondences("1 2 3 4\n").error();
+  EXPECT_NE(why, "");
   EXPECT_NE(why.find("line 1: expected 5 numbers"), std::string::npos);
-  EXPECT_FALSE(ParseCorrespondences("1 2 3 4 5\n1 2 x 4 5\n", &why));
+  why = ParseCorrespondences("1 2 3 4 5\n1 2 x 4 5\n").error();
+  EXPECT_NE(why, "");
   EXPECT_NE(why.find("line 2"), std::string::npos);
-  EXPECT_FALSE(ParseCorrespondences("1 2 3 4 nan\n", &why));
+  why = ParseCorrespondences("1 2 3 4 nan\n").error();
+  EXPECT_NE(why, "");
 }
 
 }  // namespace

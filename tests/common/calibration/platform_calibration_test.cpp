@@ -31,11 +31,10 @@ TEST(PlatformCalibration, RecoversKnownParametersFromNoisyData) {
   ASSERT_GT(s.observations.size(), 1000u);
   const auto before = CompareToTruth(s, s.nominal, 3);
   for (bool scales : {false, true}) {
-    std::string why;
     PlatformCalibrationOptions options;
     options.estimate_scales = scales;
-    auto r = CalibratePlatform(s.P0[0], s.P0[1], s.nominal, s.observations, options, {}, &why);
-    ASSERT_TRUE(r) << why;
+    auto r = CalibratePlatform(s.P0[0], s.P0[1], s.nominal, s.observations, options);
+    ASSERT_TRUE(r.ok()) << r.error();
     const auto after = CompareToTruth(s, r->model, 3);
     std::printf(
         "scales %d: rms %.3f -> %.3f px in %d iterations; axes %.4f deg, %.4f in; scale %.2e; "
@@ -69,34 +68,39 @@ TEST(PlatformCalibration, RefusesDegenerateData) {
     if (o.ticks[0] == 0 && o.ticks[1] == 0 && o.ticks[2] == 0) still.push_back(o);
   }
   ASSERT_GT(still.size(), 20u);
-  EXPECT_FALSE(CalibratePlatform(s.P0[0], s.P0[1], s.nominal, still, {}, {}, &why));
+  why = CalibratePlatform(s.P0[0], s.P0[1], s.nominal, still, {}).error();
+  EXPECT_NE(why, "");
   EXPECT_NE(why.find("do not"), std::string::npos) << why;
-  EXPECT_FALSE(CalibratePlatform(s.P0[0], s.P0[1], s.nominal, std::span(s.observations).first(3),
-                                 {}, {}, &why));
+  why = CalibratePlatform(s.P0[0], s.P0[1], s.nominal, std::span(s.observations).first(3), {})
+            .error();
+  EXPECT_NE(why, "");
   EXPECT_NE(why.find("at least"), std::string::npos);
   auto bad = s.observations;
   bad[5].ticks.pop_back();
-  EXPECT_FALSE(CalibratePlatform(s.P0[0], s.P0[1], s.nominal, bad, {}, {}, &why));
+  why = CalibratePlatform(s.P0[0], s.P0[1], s.nominal, bad, {}).error();
+  EXPECT_NE(why, "");
   EXPECT_NE(why.find("observation 6"), std::string::npos);
   bad = s.observations;
   bad[2].camera = 2;
-  EXPECT_FALSE(CalibratePlatform(s.P0[0], s.P0[1], s.nominal, bad, {}, {}, &why));
+  why = CalibratePlatform(s.P0[0], s.P0[1], s.nominal, bad, {}).error();
+  EXPECT_NE(why, "");
 }
 
 TEST(PlatformCalibration, ParsesObservationText) {
   std::string why;
   auto obs = ParsePlatformObservations(
-      "# cam pan tilt roll x y z u v\nleft 100 -20 0 40 1 2 250.5 239\n1,0,0,0,50,0,0,10,20\n", 3,
-      &why);
-  ASSERT_TRUE(obs) << why;
+      "# cam pan tilt roll x y z u v\nleft 100 -20 0 40 1 2 250.5 239\n1,0,0,0,50,0,0,10,20\n", 3);
+  ASSERT_TRUE(obs.ok()) << obs.error();
   ASSERT_EQ(obs->size(), 2u);
   EXPECT_EQ((*obs)[0].camera, 0);
   EXPECT_EQ((*obs)[0].ticks[0], 100);
   EXPECT_EQ((*obs)[1].camera, 1);
   EXPECT_EQ((*obs)[1].pixel, Eigen::Vector2d(10, 20));
-  EXPECT_FALSE(ParsePlatformObservations("middle 0 0 0 1 2 3 4 5\n", 3, &why));
+  why = ParsePlatformObservations("middle 0 0 0 1 2 3 4 5\n", 3).error();
+  EXPECT_NE(why, "");
   EXPECT_NE(why.find("line 1"), std::string::npos);
-  EXPECT_FALSE(ParsePlatformObservations("left 0 0 1 2 3 4 5\n", 3, &why));
+  why = ParsePlatformObservations("left 0 0 1 2 3 4 5\n", 3).error();
+  EXPECT_NE(why, "");
   EXPECT_NE(why.find("expected"), std::string::npos);
 }
 

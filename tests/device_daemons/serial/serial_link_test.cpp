@@ -7,7 +7,7 @@
 #include <atomic>
 #include <mutex>
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 #include "device_daemons/serial/pty_host.h"
 #include "tests/device_daemons/test_util.h"
 

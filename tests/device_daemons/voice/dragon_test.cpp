@@ -2,7 +2,7 @@
 // simulator over a real pseudo-terminal.
 #include <gtest/gtest.h>
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 #include "device_daemons/serial/pty_host.h"
 #include "device_daemons/voice/dragon_driver.h"
 #include "device_daemons/voice/dragon_protocol.h"
@@ -138,7 +138,7 @@ TEST(DragonPty, CodesArriveStateFollowsAndGarbageIsSurvived) {
   ASSERT_TRUE(
       devices::testing::WaitFor([&] { return driver.status().state() == devices::CONNECTED; }));
   const auto say = [&](const std::string& phrase) {
-    host.WithDevice([&](devices::SimulatedDevice&) { raw->Say(phrase, devices::MonotonicNs()); });
+    host.WithDevice([&](devices::SimulatedDevice&) { raw->Say(phrase, igms::MonotonicNs()); });
   };
   say("freeze");
   ASSERT_TRUE(devices::testing::WaitFor([&] { return got.size() == 1; }));
