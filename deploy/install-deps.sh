@@ -9,7 +9,7 @@ PACKAGES=(
   # libraries the build links
   libeigen3-dev libopencv-dev libboost-dev libboost-system-dev libboost-program-options-dev
   libprotobuf-dev protobuf-compiler libyaml-cpp-dev libspdlog-dev
-  libglfw3-dev libopenal-dev libsndfile1-dev libsqlite3-dev
+  libglfw3-dev libopenal-dev libsndfile1-dev libsqlite3-dev libssl-dev
   libpocketsphinx-dev pocketsphinx pocketsphinx-en-us sphinxtrain
   # real recorded speech (none of it a command): the recogniser's rejection test
   pocketsphinx-testdata

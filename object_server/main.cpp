@@ -1,6 +1,6 @@
 // igms-object-server: locates cylinders and boxes from the operator's marks on a video
 // server's grab (docs/protocol-object.md). Configuration, processes.NAME:
-//   object: {port: 7302, video: video, fetch_timeout_ms: 5000, cache_frames: 4}
+//   object: {port: 7302, video: video, fetch_timeout_ms: 2000, cache_frames: 4}
 // and lab.calibration (required) for the cameras.
 #include <spdlog/spdlog.h>
 
@@ -13,6 +13,7 @@
 #include "common/calibration/calibration_file.h"
 #include "common/config/exit_codes.h"
 #include "common/config/lab_ports.h"
+#include "common/calibration/calibration_hash.h"
 #include "common/config/process_options.h"
 #include "common/net/client.h"
 #include "common/net/process_server.h"
@@ -45,11 +46,14 @@ int main(int argc, char** argv) {
       spdlog::critical("lab.calibration: {}", error);
       return igms::kExitUsage;
     }
-    options.fetch_timeout = std::chrono::milliseconds(process->Get<int>("fetch_timeout_ms", 5000));
+    options.fetch_timeout = std::chrono::milliseconds(
+        process->Get<int>("fetch_timeout_ms", static_cast<int>(options.fetch_timeout.count())));
     options.cache_frames = static_cast<size_t>(std::max(0, process->Get<int>("cache_frames", 4)));
     options.ranger = igms::object::RangerInWorld(*calibration);
     options.platform = calibration->platform;
     options.ranger_mount = calibration->ranger;
+    options.calibration_file = process->config.ResolvePath(calibration_file);
+    options.calibration_sha256 = igms::calibration::CalibrationHash(*calibration);
     if (std::string problem; !options.Check(&problem)) {
       spdlog::critical("{}: {}", process->Key(""), problem);
       return igms::kExitUsage;
@@ -66,6 +70,10 @@ int main(int argc, char** argv) {
     video_options.port = video_port;
     video_options.token = process->Token();
     video_options.max_frame_bytes = 64u << 20;  // a raw colour pair is about 1.5 MB
+    // Locates fail at once while the video server is down, so a restarted one is retried
+    // within a second rather than the client's default 5 s.
+    video_options.max_backoff = std::chrono::milliseconds(1000);
+    options.video = video_options.host + ":" + std::to_string(video_options.port);
     igms::net::Client video(io, video_options);
 
     igms::net::Server server(io, igms::net::ServerOptionsFor(*process, igms::config::ports::kObject));

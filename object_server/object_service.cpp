@@ -17,7 +17,7 @@ namespace igms::object {
 config::Keys ObjectKeys(ObjectServiceOptions* options) {
   using config::KeyType;
   config::Keys keys = net::ServerKeys();
-  keys.Add("fetch_timeout_ms", KeyType::kInt, "5000", "one GetImages call to the video server");
+  keys.Add("fetch_timeout_ms", KeyType::kInt, "2000", "one GetImages call to the video server");
   keys.Add("cache_frames", KeyType::kInt, "4", "grabs' images kept");
   keys.Bind("workers", &options->workers, "locates run at once");
   keys.Bind("camera_blur_px", &options->locate.camera_blur_px,
@@ -152,6 +152,17 @@ ObjectService::ObjectService(net::Client& video, geometry::ProjectiveCamera left
       left_camera_(std::move(left)),
       right_camera_(std::move(right)),
       options_(std::move(options)) {
+  // A fetch while the video server is down fails at once (VideoUp) rather than waiting out
+  // fetch_timeout for a connection the client retries in the background.
+  if (video_.connected()) link_->state = net::ConnectionState::kConnected;
+  video_.OnStateChange([link = link_](net::ConnectionState state, const std::string& reason) {
+    {
+      std::lock_guard lock(link->mutex);
+      link->state = state;
+      link->reason = reason;
+    }
+    link->changed.notify_all();
+  });
   for (int i = 0; i < options_.workers; ++i) workers_.emplace_back([this] { Work(); });
 }
 
@@ -167,6 +178,22 @@ ObjectService::~ObjectService() {
 void ObjectService::Register(net::Server& server) {
   using igms::object::LocateRequest;
   using igms::object::LocateResponse;
+  server.Handle<igms::object::StatusRequest, igms::object::StatusResponse>(
+      "igms.object.ObjectService.Status",
+      [this](const igms::object::StatusRequest&, igms::object::StatusResponse& out) {
+        out.set_calibration_file(options_.calibration_file);
+        out.set_calibration_sha256(options_.calibration_sha256);
+        out.set_calibration_has_platform(options_.platform.has_value());
+        out.set_calibration_has_ranger(options_.ranger_mount.has_value());
+        out.set_video(options_.video);
+        out.set_video_connected(video_.connected());
+        if (!out.video_connected()) {
+          std::lock_guard lock(link_->mutex);
+          out.set_video_detail(link_->reason);
+        }
+        out.set_fetch_timeout_ms(static_cast<uint32_t>(options_.fetch_timeout.count()));
+        return net::Status::Ok();
+      });
   server.HandleAsync<LocateRequest, LocateResponse>(
       "igms.object.ObjectService.Locate",
       [this](const LocateRequest& request, net::Reply<LocateResponse> reply) {
@@ -226,6 +253,12 @@ net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_
   // Fetched without the lock, so a cached frame's locate need not wait for this one; two
   // workers wanting the same new frame may both fetch it, and the cache keeps one.
   const auto start = Clock::now();
+  if (std::string why; !VideoUp(&why)) {
+    *fetch_ms = Ms(Clock::now() - start);
+    return net::Status::Error(igms::UNAVAILABLE, "cannot fetch frame " + std::to_string(frame_id) +
+                                                     ": the video server at " + options_.video +
+                                                     " is not connected: " + why);
+  }
   igms::video::GetImagesRequest request;
   request.set_frame_id(frame_id);
   request.set_side(igms::video::BOTH);
@@ -239,9 +272,10 @@ net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_
                                                      std::to_string(frame_id) + ": " +
                                                      got.status.message);
     }
-    return net::Status::Error(igms::UNAVAILABLE,
-                              "cannot fetch frame " + std::to_string(frame_id) +
-                                  " from the video server: " + got.status.message);
+    return net::Status::Error(igms::UNAVAILABLE, "cannot fetch frame " +
+                                                     std::to_string(frame_id) +
+                                                     " from the video server at " +
+                                                     options_.video + ": " + got.status.message);
   }
   Frame fetched;
   fetched.id = frame_id;
@@ -263,6 +297,19 @@ net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_
   }
   *frame = std::move(fetched);
   return net::Status::Ok();
+}
+
+bool ObjectService::VideoUp(std::string* why) {
+  if (video_.connected()) return true;
+  std::unique_lock lock(link_->mutex);
+  link_->changed.wait_for(lock, options_.fetch_timeout, [this] {
+    return link_->state != net::ConnectionState::kConnecting;
+  });
+  if (video_.connected()) return true;
+  *why = link_->state == net::ConnectionState::kConnecting
+             ? "no connection within " + std::to_string(options_.fetch_timeout.count()) + " ms"
+             : link_->reason;
+  return false;
 }
 
 void MarksToProto(const std::array<Eigen::Vector3d, 4>& marks,
@@ -302,10 +349,8 @@ void ObjectService::Run(const igms::object::LocateRequest& request,
     input.left_camera = CameraAtPose(left_camera_, *options_.platform, frame.joints_rad);
     input.right_camera = CameraAtPose(right_camera_, *options_.platform, frame.joints_rad);
     if (options_.ranger_mount) {
-      calibration::StereoCalibration mount;
-      mount.platform = options_.platform;
-      mount.ranger = options_.ranger_mount;
-      ranger = RangerInWorld(mount, frame.joints_rad);
+      ranger = geometry::RangerBeamAt(options_.ranger_mount->origin, options_.ranger_mount->axis,
+                                      options_.platform, frame.joints_rad);
     }
   } else if (posed) {
     spdlog::warn(

@@ -6,9 +6,13 @@
 //
 // Errors (envelope ERROR): BAD_REQUEST for a request that is not four finite marks and a
 // known type; NOT_FOUND for a frame the video server does not hold; UNAVAILABLE when the
-// video server does not answer within fetch_timeout (the video client reconnects by itself,
+// video server does not answer within fetch_timeout, or at once when its connection is
+// refused or lost, naming the video server and why (the video client reconnects by itself,
 // so a later request succeeds once the video server is back). A locate that runs and finds
 // nothing is a normal response with found = false and a reason.
+//
+// igms.object.ObjectService.Status answers the calibration's file and hash and the video
+// server's address and connection, so a client can check it shares both.
 #pragma once
 
 #include <array>
@@ -18,8 +22,10 @@
 #include <deque>
 #include <functional>
 #include <list>
+#include <memory>
 #include <mutex>
 #include <span>
+#include <string>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -37,7 +43,10 @@
 namespace igms::object {
 
 struct ObjectServiceOptions {
-  std::chrono::milliseconds fetch_timeout{5000};  // one GetImages call to the video server
+  // One GetImages call to the video server; shorter than the callers' own timeouts
+  // (igmsctl's 5 s), so that a video server that hangs is reported as such, not as the
+  // caller's timeout.
+  std::chrono::milliseconds fetch_timeout{2000};
   size_t cache_frames = 4;                        // grabs' images kept
   size_t max_queue = 16;                          // locates waiting; more are UNAVAILABLE
   int workers = 2;                                // locates run at once
@@ -51,6 +60,11 @@ struct ObjectServiceOptions {
   // world points. Without a model such a frame is located at the zero pose, with a warning.
   std::optional<geometry::PlatformModel> platform;
   std::optional<calibration::RangerCalibration> ranger_mount;
+  // For Status and messages: the calibration's file and its CalibrationHash
+  // (common/calibration/calibration_hash.h), and the video server's host:port.
+  std::string calibration_file;
+  std::string calibration_sha256;
+  std::string video = "the video server";
   // False, with what is wrong in *error, when invalid.
   bool Check(std::string* error) const;
 };
@@ -76,7 +90,8 @@ void MarksToProto(const std::array<Eigen::Vector3d, 4>& marks,
 
 class ObjectService {
  public:
-  // `video` must outlive the service and be started; its calls are made from the worker.
+  // `video` must outlive the service; its calls are made from the workers. The service sets
+  // its OnStateChange, to know at once when the video server is down.
   ObjectService(net::Client& video, geometry::ProjectiveCamera left,
                 geometry::ProjectiveCamera right, ObjectServiceOptions options);
   ~ObjectService();  // finishes the locate running, answers the queued ones SHUTTING_DOWN
@@ -97,8 +112,20 @@ class ObjectService {
            net::Reply<igms::object::LocateResponse> reply);
   // The frame's images from the cache or the video server; status NOT_FOUND / UNAVAILABLE.
   net::Status Fetch(uint64_t frame_id, Frame* frame, double* fetch_ms);
+  // True when the video client is connected, waiting (within fetch_timeout) for a
+  // connection being made; false with why when it is down.
+  bool VideoUp(std::string* why);
+
+  // The video client's connection as it last changed, shared with its state callback.
+  struct VideoLink {
+    std::mutex mutex;
+    std::condition_variable changed;
+    net::ConnectionState state = net::ConnectionState::kConnecting;
+    std::string reason;
+  };
 
   net::Client& video_;
+  std::shared_ptr<VideoLink> link_ = std::make_shared<VideoLink>();
   geometry::ProjectiveCamera left_camera_, right_camera_;
   ObjectServiceOptions options_;
   std::mutex cache_mutex_;

@@ -5,21 +5,12 @@
 #include <cmath>
 #include <limits>
 
-#include "common/geometry/platform.h"
-
 namespace igms::object {
 
 std::optional<RangerPose> RangerInWorld(const calibration::StereoCalibration& cal,
                                         std::span<const double> q) {
   if (!cal.ranger) return std::nullopt;
-  RangerPose pose{cal.ranger->origin, cal.ranger->axis.normalized()};
-  if (cal.platform) {
-    std::vector<double> zeros(cal.platform->joints.size(), 0.0);
-    const auto world_from_end = geometry::WorldFromEnd(*cal.platform, q.empty() ? zeros : q);
-    pose.origin = world_from_end * pose.origin;
-    pose.axis = (world_from_end.linear() * pose.axis).normalized();
-  }
-  return pose;
+  return geometry::RangerBeamAt(cal.ranger->origin, cal.ranger->axis, cal.platform, q);
 }
 
 std::vector<Eigen::Vector3d> CylinderSurface(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,

@@ -13,17 +13,17 @@
 #include <vector>
 
 #include "common/calibration/calibration_file.h"
+#include "common/geometry/ranger_beam.h"
 
 namespace igms::object {
 
-struct RangerPose {
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // world units, world frame
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();   // unit
-};
+// The beam's origin and unit axis in the world (common/geometry/ranger_beam.h).
+using RangerPose = geometry::RangerBeam;
 
 // The ranger of the calibration (its `ranger` map, in the platform's end frame) in the world
-// at joint angles `q` (radians; empty = every joint at zero). Without a platform model the
-// end frame is the world. nullopt when the calibration has no ranger.
+// at joint angles `q` (radians; empty = every joint at zero), by geometry::RangerBeamAt.
+// Without a platform model the end frame is the world. nullopt when the calibration has no
+// ranger.
 std::optional<RangerPose> RangerInWorld(const calibration::StereoCalibration& calibration,
                                         std::span<const double> q = {});
 

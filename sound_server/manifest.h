@@ -13,7 +13,8 @@
 //   sox      cue only, required: the sox effects that synthesise it from silence
 //   channels cue only, optional (default 1): channels the sox effects synthesise, mixed down
 //   meaning  optional: what the sound tells the operator (Cooke, tables 2.5 and 2.6)
-//   reason   optional: the object server's failure reason code this message speaks
+//   reason   optional: the object server's failure reason this message speaks, by its exact
+//            enum value name in igms/object.proto ("FAILURE_MARKS_DEGENERATE")
 //
 // LoadManifest never throws on bad input: a missing file, bad YAML, a missing or mistyped
 // field, a duplicate id or key all come back as an error message naming the file and the

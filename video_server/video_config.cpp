@@ -1,5 +1,9 @@
 #include "video_server/video_config.h"
 
+#include <spdlog/spdlog.h>
+
+#include "common/calibration/calibration_file.h"
+#include "common/calibration/calibration_hash.h"
 #include "common/net/process_server.h"
 #include "video_server/camera_capture.h"
 #include "video_server/files_capture.h"
@@ -112,6 +116,20 @@ VideoServiceOptions ConfiguredServiceOptions(const config::ProcessOptions& proce
   options.default_encoding = encoding == "png" ? ImageEncoding::kPng : ImageEncoding::kRaw;
   const std::string overlay = process.Get<std::string>("overlay_file", "");
   options.overlay_path = overlay.empty() ? "" : process.config.ResolvePath(overlay);
+  // The calibration's identity for GetStatus. The sim backend and the platform pose read
+  // the file themselves and refuse a bad one; the other backends do not need it, so a file
+  // that does not load only goes unreported.
+  const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
+  if (!calibration_file.empty()) {
+    const std::string path = process.config.ResolvePath(calibration_file);
+    std::string why;
+    if (const auto calibration = calibration::LoadCalibration(path, &why)) {
+      options.calibration_file = path;
+      options.calibration_sha256 = calibration::CalibrationHash(*calibration);
+    } else {
+      spdlog::warn("lab.calibration: {}; GetStatus reports no calibration", why);
+    }
+  }
   if (std::string problem; !options.Check(&problem)) {
     *error = process.Key("") + " " + problem;
   }

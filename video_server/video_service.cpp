@@ -228,6 +228,8 @@ StatusResponse VideoService::Status() const {
   if (auto newest = store_.Newest()) status.set_newest_frame_id(newest->id());
   status.set_live_subscribers(static_cast<uint32_t>(live_.subscribers()));
   ToProto(options_.edges, status.mutable_edge_parameters());
+  status.set_calibration_file(options_.calibration_file);
+  status.set_calibration_sha256(options_.calibration_sha256);
   return status;
 }
 

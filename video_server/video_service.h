@@ -43,6 +43,10 @@ struct VideoServiceOptions {
   std::string overlay_path;
   // Threads that encode images and edge maps for responses.
   int encode_threads = 2;
+  // The lab's calibration as loaded, for GetStatus: its file and CalibrationHash
+  // (common/calibration/calibration_hash.h); empty when there is none.
+  std::string calibration_file;
+  std::string calibration_sha256;
 
   bool Check(std::string* error) const;
 };

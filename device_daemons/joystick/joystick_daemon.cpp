@@ -92,7 +92,8 @@ LinkStatus JoystickDaemon::DeviceStatus() const {
   return driver_ ? driver_->status() : LinkStatus();
 }
 
-bool JoystickDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) {
+bool JoystickDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice& sim,
+                                 SimInjectResponse*, std::string* error) {
   if (!request.has_joystick()) {
     *error = "the joystick simulator takes a JoystickState (or a fault)";
     return false;

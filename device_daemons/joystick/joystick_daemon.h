@@ -40,7 +40,8 @@ class JoystickDaemon : public DaemonBase<JoystickState> {
   bool StartDevice(const SerialLinkOptions& link, std::string* error) override;
   void StopDevice() override;
   LinkStatus DeviceStatus() const override;
-  bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) override;
+  bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim,
+                   SimInjectResponse* response, std::string* error) override;
 
   JoystickDaemonOptions joystick_;
   std::unique_ptr<JoystickDriver> driver_;

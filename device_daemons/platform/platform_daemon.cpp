@@ -37,7 +37,8 @@ void PlatformDaemon::StopDevice() {
 
 LinkStatus PlatformDaemon::DeviceStatus() const { return driver_ ? driver_->status() : LinkStatus(); }
 
-bool PlatformDaemon::InjectInput(const SimInjectRequest&, SimulatedDevice&, std::string* error) {
+bool PlatformDaemon::InjectInput(const SimInjectRequest&, SimulatedDevice&, SimInjectResponse*,
+                                 std::string* error) {
   *error = "the platform simulator takes faults only; move it with PlatformService.SetOrientation";
   return false;
 }

@@ -24,7 +24,8 @@ class PlatformDaemon : public DaemonBase<PlatformState> {
   bool StartDevice(const SerialLinkOptions& link, std::string* error) override;
   void StopDevice() override;
   LinkStatus DeviceStatus() const override;
-  bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) override;
+  bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim,
+                   SimInjectResponse* response, std::string* error) override;
   void RegisterMethods(net::Server& server) override;
 
   MollySimOptions sim_options_;

@@ -72,7 +72,8 @@ void RangerDaemon::StopDevice() {
 
 LinkStatus RangerDaemon::DeviceStatus() const { return driver_ ? driver_->status() : LinkStatus(); }
 
-bool RangerDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) {
+bool RangerDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice& sim,
+                               SimInjectResponse*, std::string* error) {
   auto& ranger = static_cast<RangerSim&>(sim);
   if (request.has_platform()) {
     ranger.SetPlatform(request.platform());

@@ -41,7 +41,8 @@ class RangerDaemon : public DaemonBase<RangerState> {
   bool StartDevice(const SerialLinkOptions& link, std::string* error) override;
   void StopDevice() override;
   LinkStatus DeviceStatus() const override;
-  bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) override;
+  bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim,
+                   SimInjectResponse* response, std::string* error) override;
   void RegisterMethods(net::Server& server) override;
 
   RangerDaemonOptions ranger_;

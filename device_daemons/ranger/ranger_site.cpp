@@ -42,14 +42,7 @@ RangerMount RangerMount::FromCalibration(const calibration::StereoCalibration& c
 }
 
 RangerBeam RangerMount::BeamAt(std::span<const double> q) const {
-  RangerBeam beam{sensor.origin, sensor.axis.normalized()};
-  if (!platform) return beam;
-  std::vector<double> angles(platform->joints.size(), 0.0);
-  std::copy_n(q.begin(), std::min(q.size(), angles.size()), angles.begin());
-  const Eigen::Isometry3d world_from_end = geometry::WorldFromEnd(*platform, angles);
-  beam.origin = world_from_end * sensor.origin;
-  beam.axis = (world_from_end.linear() * sensor.axis).normalized();
-  return beam;
+  return geometry::RangerBeamAt(sensor.origin, sensor.axis, platform, q);
 }
 
 std::vector<double> RangerMount::AnglesOf(const PlatformState& reading) const {

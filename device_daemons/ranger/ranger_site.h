@@ -25,15 +25,13 @@
 
 #include "common/calibration/calibration_file.h"
 #include "common/geometry/platform.h"
+#include "common/geometry/ranger_beam.h"
 #include "common/site/scene.h"
 #include "igms/devices.pb.h"
 
 namespace igms::devices {
 
-struct RangerBeam {
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // world
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();   // world, unit length
-};
+using RangerBeam = geometry::RangerBeam;  // common/geometry/ranger_beam.h
 
 struct RangerMount {
   calibration::RangerCalibration sensor;  // in the end frame (the world without a platform)
@@ -41,8 +39,9 @@ struct RangerMount {
 
   // The mount of a calibration, as above.
   static RangerMount FromCalibration(const calibration::StereoCalibration& calibration);
-  // The beam at joint angles q in radians, in the platform model's joint order. Missing
-  // angles count as zero, extra ones are ignored; without a platform model q is ignored.
+  // The beam at joint angles q in radians, in the platform model's joint order
+  // (geometry::RangerBeamAt: missing angles count as zero, extra ones are ignored; without
+  // a platform model q is ignored).
   RangerBeam BeamAt(std::span<const double> q) const;
   // Joint angles of a platform reading: its encoder ticks (yaw, pitch, roll) through the
   // model's tick scales, as many as the model has joints. Empty without a platform model.

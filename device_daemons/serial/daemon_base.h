@@ -93,9 +93,11 @@ class DaemonBase {
   virtual bool StartDevice(const SerialLinkOptions& link, std::string* error) = 0;
   virtual void StopDevice() = 0;
   virtual LinkStatus DeviceStatus() const = 0;
-  // Operator input for the simulator (runs under the simulator's lock). False with a
-  // message when the request holds no input this device takes.
-  virtual bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) = 0;
+  // Operator input for the simulator (runs under the simulator's lock); `response` says
+  // what the device made of it, where it has something to say. False with a message when
+  // the request holds no input this device takes.
+  virtual bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim,
+                           SimInjectResponse* response, std::string* error) = 0;
   virtual void RegisterMethods(net::Server&) {}
 
   boost::asio::io_context& io_;
@@ -127,7 +129,8 @@ class DaemonBase {
           return net::Status::Ok();
         });
     server_.Handle<SimInjectRequest, SimInjectResponse>(
-        "igms.devices.SimService.Inject", [this](const SimInjectRequest& req, SimInjectResponse&) {
+        "igms.devices.SimService.Inject",
+        [this](const SimInjectRequest& req, SimInjectResponse& response) {
           if (!sim_) {
             return net::Status::Error(igms::UNAVAILABLE, "the " + device_ + " is not simulated (start with --simulate)");
           }
@@ -144,7 +147,7 @@ class DaemonBase {
           }
           std::string error;
           bool ok = false;
-          sim_->WithDevice([&](SimulatedDevice& d) { ok = InjectInput(req, d, &error); });
+          sim_->WithDevice([&](SimulatedDevice& d) { ok = InjectInput(req, d, &response, &error); });
           return ok ? net::Status::Ok() : net::Status::Error(igms::BAD_REQUEST, error);
         });
   }

@@ -60,9 +60,16 @@ void ViewerDaemon::StopDevice() {
 
 LinkStatus ViewerDaemon::DeviceStatus() const { return driver_ ? driver_->status() : LinkStatus(); }
 
-bool ViewerDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) {
+bool ViewerDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice& sim,
+                               SimInjectResponse*, std::string* error) {
+  auto& viewer = static_cast<ViewerSim&>(sim);
+  if (request.has_viewer_buttons()) {  // the buttons alone: the pose or path goes on
+    viewer.SetButtons(request.viewer_buttons().button_left(),
+                      request.viewer_buttons().button_right());
+    return true;
+  }
   if (!request.has_viewer()) {
-    *error = "the viewer simulator takes a ViewerState (or a fault)";
+    *error = "the viewer simulator takes a ViewerState or ViewerButtons (or a fault)";
     return false;
   }
   const ViewerState& v = request.viewer();
@@ -73,7 +80,6 @@ bool ViewerDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice&
   pose.yaw_deg = v.yaw_deg();
   pose.pitch_deg = v.pitch_deg();
   pose.roll_deg = v.roll_deg();
-  auto& viewer = static_cast<ViewerSim&>(sim);
   viewer.SetSteady(pose);
   viewer.SetButtons(v.button_left(), v.button_right());
   return true;

@@ -31,7 +31,8 @@ class ViewerDaemon : public DaemonBase<ViewerState> {
   bool StartDevice(const SerialLinkOptions& link, std::string* error) override;
   void StopDevice() override;
   LinkStatus DeviceStatus() const override;
-  bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim, std::string* error) override;
+  bool InjectInput(const SimInjectRequest& request, SimulatedDevice& sim,
+                   SimInjectResponse* response, std::string* error) override;
 
   ViewerDaemonOptions viewer_;
   std::unique_ptr<ViewerDriver> driver_;

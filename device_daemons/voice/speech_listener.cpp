@@ -62,6 +62,18 @@ void SpeechListener::Stop() {
   }
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
+  std::deque<Utterance> left;
+  {
+    std::lock_guard lock(mutex_);
+    left.swap(queue_);
+  }
+  for (Utterance& u : left) {
+    if (!u.heard) continue;
+    devices::SimHeard heard;
+    heard.set_text(u.say);
+    heard.set_detail("the recogniser stopped before hearing it");
+    u.heard(heard);
+  }
 }
 
 void SpeechListener::SetState(OperatorState state) {
@@ -70,7 +82,7 @@ void SpeechListener::SetState(OperatorState state) {
   state_ = state;
 }
 
-bool SpeechListener::Say(const std::string& phrase, std::string* error) {
+bool SpeechListener::Say(const std::string& phrase, std::string* error, HeardFn heard) {
   if (phrase.empty() || phrase.size() > kMaxPhrase) {
     *error = "a spoken phrase must have 1 to " + std::to_string(kMaxPhrase) + " characters";
     return false;
@@ -81,7 +93,7 @@ bool SpeechListener::Say(const std::string& phrase, std::string* error) {
       *error = "the recogniser is busy: " + std::to_string(queue_.size()) + " utterances waiting";
       return false;
     }
-    queue_.push_back({{}, phrase, "spoken \"" + phrase + "\""});
+    queue_.push_back({{}, phrase, "spoken \"" + phrase + "\"", std::move(heard)});
   }
   wake_.notify_all();
   return true;
@@ -90,7 +102,7 @@ bool SpeechListener::Say(const std::string& phrase, std::string* error) {
 void SpeechListener::Hear(std::vector<int16_t> samples) {
   {
     std::lock_guard lock(mutex_);
-    queue_.push_back({std::move(samples), {}, "audio"});
+    queue_.push_back({std::move(samples), {}, "audio", nullptr});
   }
   wake_.notify_all();
 }
@@ -130,7 +142,7 @@ void SpeechListener::Run() {
       }
     }
     if (next_file < file_audio_.size() && std::chrono::steady_clock::now() >= file_due) {
-      Decode({file_audio_[next_file], {}, options_.files[next_file]});
+      Decode({file_audio_[next_file], {}, options_.files[next_file], nullptr});
       ++next_file;
       file_due += options_.file_interval;
     }
@@ -162,7 +174,7 @@ void SpeechListener::ListenToMicrophone() {
     microphone_failed_ = true;
     return;
   }
-  for (auto& u : endpointer_->Feed(samples)) Decode({std::move(u), {}, "microphone"});
+  for (auto& u : endpointer_->Feed(samples)) Decode({std::move(u), {}, "microphone", nullptr});
 }
 
 void SpeechListener::Decode(Utterance u) {
@@ -180,14 +192,34 @@ void SpeechListener::Decode(Utterance u) {
     auto audio = Synthesize(request, &error);
     if (!audio) {
       spdlog::error("voice: cannot speak \"{}\": {}", u.say, error);
-      std::lock_guard lock(mutex_);
-      ++rejected_;
-      last_rejection_ = u.source + ": " + error;
+      {
+        std::lock_guard lock(mutex_);
+        ++rejected_;
+        last_rejection_ = u.source + ": " + error;
+      }
+      if (u.heard) {
+        devices::SimHeard heard;
+        heard.set_text(u.say);
+        heard.set_detail("cannot speak it: " + error);
+        u.heard(heard);
+      }
       return;
     }
     u.samples = std::move(audio->samples);
   }
   const Recognition r = recognizer_->Recognize(u.samples);
+  // Say's caller learns what the recogniser heard, accepted or not.
+  auto tell = [&] {
+    if (!u.heard) return;
+    devices::SimHeard heard;
+    heard.set_accepted(r.accepted);
+    if (r.command) heard.set_command(ToProto(*r.command));
+    heard.set_text(r.hypothesis);
+    heard.set_state(ToProto(r.state));
+    heard.set_confidence(r.confidence);
+    heard.set_detail(r.message);
+    u.heard(heard);
+  };
   devices::VoiceState reading;
   {
     std::lock_guard lock(mutex_);
@@ -197,10 +229,14 @@ void SpeechListener::Decode(Utterance u) {
       last_rejection_ = u.source + ": " + r.message;
       spdlog::info("voice: rejected {} in state {}: {} ({:.0f} ms)", u.source, StateName(r.state),
                    r.message, r.decode_ms);
-      return;
+    } else {
+      ++accepted_;
+      reading.mutable_stamp()->set_sequence(++sequence_);
     }
-    ++accepted_;
-    reading.mutable_stamp()->set_sequence(++sequence_);
+  }
+  if (!r.accepted) {
+    tell();
+    return;
   }
   devices::Stamp* stamp = reading.mutable_stamp();
   stamp->set_device_time_us(static_cast<uint64_t>(heard_ns / 1000));
@@ -213,6 +249,7 @@ void SpeechListener::Decode(Utterance u) {
   spdlog::info("voice: accepted \"{}\" (code {}, confidence {:.2f}, {:.0f} ms) from {}",
                Phrase(*r.command), Code(*r.command), r.confidence, r.decode_ms, u.source);
   on_reading_(reading);
+  tell();
 }
 
 }  // namespace igms::voice

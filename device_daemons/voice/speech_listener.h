@@ -61,9 +61,13 @@ class SpeechListener {
   void Stop();
 
   void SetState(OperatorState state);
+  // What the recogniser made of a phrase given to Say.
+  using HeardFn = std::function<void(const devices::SimHeard&)>;
   // Queues a phrase to be spoken and heard. False, with *error set, for an empty or
-  // overlong phrase or when too many are waiting.
-  bool Say(const std::string& phrase, std::string* error);
+  // overlong phrase or when too many are waiting. `heard`, when given, is called once on the
+  // listener's thread when the phrase has been decoded (after any VoiceState it gave was
+  // published), or when the listener stops first.
+  bool Say(const std::string& phrase, std::string* error, HeardFn heard = nullptr);
   // Queues 16 kHz mono audio as one utterance.
   void Hear(std::vector<int16_t> samples);
 
@@ -78,6 +82,7 @@ class SpeechListener {
     std::vector<int16_t> samples;
     std::string say;  // when not empty, synthesise this first
     std::string source;
+    HeardFn heard;  // Say's caller, told what was heard
   };
   SpeechListener(SpeechListenerOptions options, ReadingFn on_reading);
   void Run();

@@ -1,5 +1,7 @@
 #include "device_daemons/voice/voice_daemon.h"
 
+#include <optional>
+
 #include "common/base/clock.h"
 #include "device_daemons/voice/dragon_sim.h"
 #include "device_daemons/voice/voice_proto.h"
@@ -76,28 +78,45 @@ devices::LinkStatus VoiceDaemon::DeviceStatus() const {
 }
 
 bool VoiceDaemon::InjectInput(const devices::SimInjectRequest& request,
-                              devices::SimulatedDevice& sim, std::string* error) {
+                              devices::SimulatedDevice& sim, devices::SimInjectResponse* response,
+                              std::string* error) {
   auto& dragon = static_cast<DragonSim&>(sim);
   const int64_t now = igms::MonotonicNs();
+  std::optional<Command> command;
+  std::string text;
   if (request.input_case() == devices::SimInjectRequest::kVoice) {
-    const auto command = FromProto(request.voice());
+    command = FromProto(request.voice());
     if (!command) {
       *error = "not a voice command: " + std::to_string(request.voice());
       return false;
     }
-    dragon.Say(*command, now);
-    return true;
-  }
-  if (request.has_spoken()) {
+    text = std::string(Phrase(*command));
+  } else if (request.has_spoken()) {
     if (request.spoken().empty() || request.spoken().size() > 200) {
       *error = "a spoken phrase must have 1 to 200 characters";
       return false;
     }
-    dragon.Say(request.spoken(), now);
-    return true;
+    text = request.spoken();
+    command = CommandFromPhrase(text);
+  } else {
+    *error = "the voice simulator takes a VoiceCommand or a spoken phrase (or a fault)";
+    return false;
   }
-  *error = "the voice simulator takes a VoiceCommand or a spoken phrase (or a fault)";
-  return false;
+  // The Dragon hears the words as they are; what it makes of them depends on the state.
+  const OperatorState state = dragon.state();
+  const Heard heard = command ? dragon.Say(*command, now) : dragon.Say(text, now);
+  devices::SimHeard* out = response->mutable_heard();
+  out->set_accepted(heard == Heard::kSent);
+  if (command) out->set_command(ToProto(*command));
+  out->set_text(text);
+  out->set_state(ToProto(state));
+  if (heard == Heard::kNotACommand) {
+    out->set_detail("\"" + text + "\" is no command");
+  } else if (heard == Heard::kNotValidInState) {
+    out->set_detail("\"" + std::string(Phrase(*command)) + "\" is not valid in state " +
+                    std::string(StateName(state)));
+  }
+  return true;
 }
 
 void VoiceDaemon::RegisterMethods(net::Server& server) {
@@ -122,25 +141,32 @@ void VoiceDaemon::RegisterMethods(net::Server& server) {
       });
   if (!listener_) return;
   // The recogniser is no simulator, but it can hear a phrase spoken by espeak-ng: this
-  // replaces the base's Inject, which would answer UNAVAILABLE.
-  server.Handle<devices::SimInjectRequest, devices::SimInjectResponse>(
+  // replaces the base's Inject, which would answer UNAVAILABLE. It answers once the phrase
+  // is decoded, with what was heard.
+  server.HandleAsync<devices::SimInjectRequest, devices::SimInjectResponse>(
       "igms.devices.SimService.Inject",
-      [this](const devices::SimInjectRequest& req, devices::SimInjectResponse&) {
+      [this](const devices::SimInjectRequest& req,
+             net::Reply<devices::SimInjectResponse> reply) {
         std::string phrase;
         if (req.has_spoken()) {
           phrase = req.spoken();
         } else if (req.input_case() == devices::SimInjectRequest::kVoice) {
           const auto command = FromProto(req.voice());
-          if (!command) return net::Status::Error(igms::BAD_REQUEST, "not a voice command");
+          if (!command) return reply(net::Status::Error(igms::BAD_REQUEST, "not a voice command"));
           phrase = std::string(Phrase(*command));
         } else {
-          return net::Status::Error(igms::BAD_REQUEST,
-                                    "the recogniser takes a spoken phrase or a VoiceCommand (no "
-                                    "faults: it has no serial line)");
+          return reply(net::Status::Error(
+              igms::BAD_REQUEST,
+              "the recogniser takes a spoken phrase or a VoiceCommand (no faults: it has no "
+              "serial line)"));
         }
         std::string error;
-        if (!listener_->Say(phrase, &error)) return net::Status::Error(igms::BAD_REQUEST, error);
-        return net::Status::Ok();
+        const bool queued = listener_->Say(phrase, &error, [reply](const devices::SimHeard& h) {
+          devices::SimInjectResponse response;
+          *response.mutable_heard() = h;
+          reply(net::Status::Ok(), response);
+        });
+        if (!queued) reply(net::Status::Error(igms::BAD_REQUEST, error));
       });
 }
 

@@ -3,7 +3,8 @@
 //   Status(GetStatusRequest) -> LinkStatus (rejections are in its message)
 //   SetOperatorState(SetOperatorStateRequest): the control client's word on the system's
 //     state; the grammar follows it from the next utterance (the thesis's flaw fixed)
-// and igms.devices.SimService.Inject, which takes a VoiceCommand or a spoken phrase.
+// and igms.devices.SimService.Inject, which takes a VoiceCommand or a spoken phrase and
+// answers what was heard (SimInjectResponse.heard).
 //
 // The device is one of
 //   - a Dragon speech PC on a serial port (--serial), or its simulator on a
@@ -45,7 +46,7 @@ class VoiceDaemon : public devices::DaemonBase<devices::VoiceState> {
   void StopDevice() override;
   devices::LinkStatus DeviceStatus() const override;
   bool InjectInput(const devices::SimInjectRequest& request, devices::SimulatedDevice& sim,
-                   std::string* error) override;
+                   devices::SimInjectResponse* response, std::string* error) override;
   void RegisterMethods(net::Server& server) override;
 
   VoiceDaemonOptions voice_;

@@ -8,7 +8,12 @@
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
 
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include "common/calibration/calibration_file.h"
+#include "common/calibration/calibration_hash.h"
 #include "common/site/marks.h"
 #include "common/site/testbed.h"
 #include "igms/object.pb.h"
@@ -240,6 +245,99 @@ TEST_F(ObjectServerTest, VideoServerGoneIsUnavailableAndItsReturnIsNoticed) {
     if (!found) std::this_thread::sleep_for(500ms);
   }
   EXPECT_TRUE(found) << got.status.message;
+}
+
+// Both servers report the hash of the calibration file they loaded, the library's, and the
+// object server names the video server it fetches from.
+TEST_F(ObjectServerTest, BothServersReportTheHashOfTheirCalibration) {
+  std::string why;
+  const auto calibration = calibration::LoadCalibration(Calibration(), &why);
+  ASSERT_TRUE(calibration) << why;
+  const std::string hash = calibration::CalibrationHash(*calibration);
+  ASSERT_EQ(hash.size(), 64u);
+
+  TestClient video(video_port_);
+  auto video_status = video->CallSync<video::StatusResponse>("igms.video.VideoService.GetStatus",
+                                                             video::StatusRequest(), 10s);
+  ASSERT_TRUE(video_status.ok()) << video_status.status.message;
+  EXPECT_EQ(video_status.value.calibration_sha256(), hash);
+  EXPECT_EQ(std::filesystem::path(video_status.value.calibration_file()).lexically_normal(),
+            std::filesystem::path(Calibration()).lexically_normal());
+
+  TestClient object(object_port_);
+  StatusResponse status;
+  ASSERT_TRUE(igms::testing::WaitUntil([&] {
+    auto got = object->CallSync<StatusResponse>("igms.object.ObjectService.Status",
+                                                StatusRequest(), 10s);
+    status = got.value;
+    return got.ok() && status.video_connected();
+  })) << status.video_detail();
+  EXPECT_EQ(status.calibration_sha256(), hash);
+  EXPECT_EQ(std::filesystem::path(status.calibration_file()).lexically_normal(),
+            std::filesystem::path(Calibration()).lexically_normal());
+  EXPECT_TRUE(status.calibration_has_platform());
+  EXPECT_TRUE(status.calibration_has_ranger());
+  EXPECT_EQ(status.video(), "127.0.0.1:" + std::to_string(video_port_));
+  EXPECT_EQ(status.fetch_timeout_ms(), 1500u);
+}
+
+// A TCP port where nothing listens: a socket bound to it but not listening, so a connection
+// to it is refused for as long as the socket is open.
+class RefusingPort {
+ public:
+  RefusingPort() {
+    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof address;
+    if (fd_ >= 0 && ::bind(fd_, reinterpret_cast<sockaddr*>(&address), length) == 0 &&
+        ::getsockname(fd_, reinterpret_cast<sockaddr*>(&address), &length) == 0) {
+      port_ = ntohs(address.sin_port);
+    }
+  }
+  ~RefusingPort() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  uint16_t port() const { return port_; }
+
+ private:
+  int fd_ = -1;
+  uint16_t port_ = 0;
+};
+
+// The video server down: a Locate is answered UNAVAILABLE at once, naming the video server
+// and why. The fetch timeout (20 s) is far past the caller's own (2 s), so an answer that
+// waited for either would come as the caller's TIMEOUT instead.
+TEST(ObjectServerWithoutVideo, LocateIsUnavailableAtOnceNamingTheVideoServer) {
+  RefusingPort video;
+  ASSERT_NE(video.port(), 0);
+  const std::string where = "127.0.0.1:" + std::to_string(video.port());
+  Process object("igms-object-server",
+                 {"--name", "object", "--port", "0", "--set",
+                  "processes.video.port=" + std::to_string(video.port()), "--set",
+                  "processes.object.fetch_timeout_ms=20000", "--set",
+                  "lab.calibration=" + Calibration()});
+  const uint16_t port = object.WaitPort();
+  ASSERT_NE(port, 0) << object.Log();
+  TestClient client(port);
+  const site::Scene scene = site::DefaultTestbedScene();
+  for (int attempt = 0; attempt < 3; ++attempt) {  // each one answered, none left to time out
+    auto got = client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[0].shape, 7, 1),
+                                                2s);
+    EXPECT_EQ(got.status.code, igms::UNAVAILABLE) << got.status.ToString();
+    EXPECT_NE(got.status.message.find("video server at " + where), std::string::npos)
+        << got.status.message;
+    EXPECT_NE(got.status.message.find("refused"), std::string::npos) << got.status.message;
+    EXPECT_NE(got.status.message.find("frame 7"), std::string::npos) << got.status.message;
+  }
+  auto status = client->CallSync<StatusResponse>("igms.object.ObjectService.Status",
+                                                 StatusRequest(), 2s);
+  ASSERT_TRUE(status.ok()) << status.status.ToString();
+  EXPECT_FALSE(status.value.video_connected());
+  EXPECT_EQ(status.value.video(), where);
+  EXPECT_NE(status.value.video_detail().find("refused"), std::string::npos)
+      << status.value.video_detail();
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 
+#include "igms/object.pb.h"
 #include "sound_server/audio_file.h"
 #include "sound_server/bank_generator.h"
 #include "tests/sound_server/test_bank.h"
@@ -77,7 +78,7 @@ TEST(LabBank, HoldsEverySoundOfTheThesisAndTheFailureReasons) {
   ASSERT_TRUE(r.ok()) << r.error();
   const Manifest& m = *r;
   for (const char* key :
-       {"camera_click", "ricochet", "woodblock", "bell_tree", "introduction_music"}) {
+       {"camera_click", "ricochet", "woodblock", "bell_tree", "introduction_music", "unmark"}) {
     ASSERT_NE(m.FindKey(key), nullptr) << key;
     EXPECT_EQ(m.FindKey(key)->kind, SoundKind::kCue);
   }
@@ -95,9 +96,10 @@ TEST(LabBank, HoldsEverySoundOfTheThesisAndTheFailureReasons) {
         "Is object a box or a cylinder?"}) {
     EXPECT_TRUE(texts.count(text)) << text;
   }
-  EXPECT_EQ(reasons.size(), 7u);
-  for (const char* key : {"server_lost", "device_lost", "device_back"}) {
-    EXPECT_NE(m.FindKey(key), nullptr) << key;
+  EXPECT_EQ(reasons.size(), 10u);
+  for (const char* key : {"no_echo", "server_lost", "server_back", "device_lost", "device_back"}) {
+    ASSERT_NE(m.FindKey(key), nullptr) << key;
+    EXPECT_EQ(m.FindKey(key)->kind, SoundKind::kSpeech) << key;
   }
   for (const SoundEntry& e : m.sounds) {
     Result<AudioClip> file = ReadAudioFile(m.FileOf(e));
@@ -106,6 +108,35 @@ TEST(LabBank, HoldsEverySoundOfTheThesisAndTheFailureReasons) {
     EXPECT_GT(file->Seconds(), 0.05) << e.key;
     EXPECT_LT(file->Seconds(), 5.0) << e.key;
     EXPECT_GT(RmsLevel(file->samples, 0, SIZE_MAX), 0.03) << e.key;
+  }
+}
+
+// The control client speaks the message whose `reason` is the failure's reason code by its
+// enum value name: every FailureReason of igms/object.proto but FAILURE_NONE has exactly one
+// spoken message, and no message names a reason the enum does not have.
+TEST(LabBank, HasOneMessageForEveryFailureReasonByItsEnumName) {
+  ManifestResult r = LoadManifest(testing::BankDir() / "manifest.yaml");
+  ASSERT_TRUE(r.manifest) << r.error;
+  const google::protobuf::EnumDescriptor* reasons = igms::object::FailureReason_descriptor();
+  ASSERT_GT(reasons->value_count(), 1);
+  for (int i = 0; i < reasons->value_count(); ++i) {
+    const google::protobuf::EnumValueDescriptor* reason = reasons->value(i);
+    int messages = 0;
+    for (const SoundEntry& e : r.manifest->sounds) {
+      if (e.reason != reason->name()) continue;
+      ++messages;
+      EXPECT_EQ(e.kind, SoundKind::kSpeech) << e.key;
+    }
+    if (reason->number() == igms::object::FAILURE_NONE) {
+      EXPECT_EQ(messages, 0) << reason->name() << " is no failure";
+    } else {
+      EXPECT_EQ(messages, 1) << reason->name() << " needs exactly one message in the bank";
+    }
+  }
+  for (const SoundEntry& e : r.manifest->sounds) {
+    if (e.reason.empty()) continue;
+    EXPECT_NE(reasons->FindValueByName(e.reason), nullptr)
+        << e.key << ": reason '" << e.reason << "' is no FailureReason of igms/object.proto";
   }
 }
 

@@ -71,7 +71,7 @@ TEST(ServerPlayback, CuesAndTheThesisMessages) {
     count += pick ? 1 : 0;
     return pick;
   });
-  EXPECT_EQ(count, 16);  // tables 2.5 and 2.6
+  EXPECT_EQ(count, 18);  // tables 2.5 and 2.6, unmark and no_echo
 }
 
 TEST(ServerPlayback, FailureAndHealthMessages) {
@@ -81,7 +81,7 @@ TEST(ServerPlayback, FailureAndHealthMessages) {
     count += pick ? 1 : 0;
     return pick;
   });
-  EXPECT_EQ(count, 10);
+  EXPECT_EQ(count, 14);  // ten failure reasons, four health messages
 }
 
 }  // namespace

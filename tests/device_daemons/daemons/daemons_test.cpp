@@ -203,6 +203,60 @@ TEST(ViewerDaemon, InjectedPoseAndButtonsAt70Hz) {
   EXPECT_EQ(daemon.Stop(), 0);
 }
 
+// SimInjectRequest.viewer_buttons sets the two buttons alone: a steady pose stays where it
+// was, and a path goes on moving.
+TEST(ViewerDaemon, InjectedButtonsLeaveThePoseAlone) {
+  {
+    DaemonProcess daemon("igms-viewerd", {"--simulate", "--port", "0"});
+    const uint16_t port = daemon.WaitForPort();
+    ASSERT_NE(port, 0) << daemon.Log();
+    Connected client(port);
+    SimInjectRequest pose;
+    pose.mutable_viewer()->set_x_m(0.3);
+    pose.mutable_viewer()->set_yaw_deg(-120);
+    pose.mutable_viewer()->set_button_left(true);
+    pose.mutable_viewer()->set_button_right(true);
+    ASSERT_TRUE(WaitFor([&] { return Inject(*client, pose).ok(); }));
+    Stream<ViewerState> all;
+    client->Subscribe<ViewerState>("igms.devices.ViewerService.Live", SubscribeRequest(),
+                                   all.Sink());
+    ASSERT_TRUE(WaitFor([&] { return all.size() > 0 && all.last().button_left(); }));
+    SimInjectRequest buttons;
+    buttons.mutable_viewer_buttons()->set_button_right(true);  // table 2.1: 01, freeze
+    ASSERT_TRUE(Inject(*client, buttons).ok());
+    ASSERT_TRUE(WaitFor([&] { return !all.last().button_left(); }));
+    const ViewerState s = all.last();
+    EXPECT_TRUE(s.button_right());
+    EXPECT_NEAR(s.x_m(), 0.3, 0.0005);
+    EXPECT_NEAR(s.yaw_deg(), -120, 0.05);
+    EXPECT_EQ(daemon.Stop(), 0);
+  }
+  // A head turning 90 degrees in 10 s and back.
+  const std::string path = testing::TempPath("turn.path");
+  testing::WriteFile(path, "0 0 0 0 0 0 0
+10 0 0 0 90 0 0
+20 0 0 0 0 0 0
+");
+  DaemonProcess daemon("igms-viewerd", {"--simulate", "--port", "0", "--path", path});
+  const uint16_t port = daemon.WaitForPort();
+  ASSERT_NE(port, 0) << daemon.Log();
+  Connected client(port);
+  Stream<ViewerState> all;
+  client->Subscribe<ViewerState>("igms.devices.ViewerService.Live", SubscribeRequest(),
+                                 all.Sink());
+  SimInjectRequest buttons;
+  buttons.mutable_viewer_buttons()->set_button_left(true);
+  ASSERT_TRUE(WaitFor([&] { return Inject(*client, buttons).ok(); }));
+  ASSERT_TRUE(WaitFor([&] { return all.size() > 0 && all.last().button_left(); }));
+  const double yaw = all.last().yaw_deg();
+  ASSERT_TRUE(WaitFor([&] { return std::abs(all.last().yaw_deg() - yaw) > 1.0; }))
+      << "the path stopped";
+  EXPECT_TRUE(all.last().button_left());
+  EXPECT_FALSE(all.last().button_right());
+  EXPECT_EQ(daemon.Stop(), 0);
+  std::filesystem::remove(path);
+}
+
 // The simulator as a pose tracker of the site: powered up 1 m along the site's x, turned
 // 90 degrees left, a head pose in the site is reported relative to that.
 TEST(ViewerDaemon, ReportsHeadPosesInTheSiteRelativeToPowerUp) {
