@@ -1,21 +1,25 @@
 // The joystick driver against the FlyBox simulator on a real pseudo-terminal.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <mutex>
 
 #include "device_daemons/joystick/flybox_sim.h"
 #include "device_daemons/joystick/joystick_driver.h"
 #include "device_daemons/serial/pty_host.h"
-#include "tests/device_daemons/test_util.h"
+#include "tests/support/files.h"
+#include "tests/support/io_thread.h"
+#include "tests/support/readings.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::devices {
 namespace {
 
-using testing::IoThread;
-using testing::TempPath;
-using testing::WaitFor;
+using igms::testing::IoThread;
+using igms::testing::TempPath;
+using igms::testing::WaitFor;
 
-using Collected = testing::Collected<JoystickState>;
+using Collected = igms::testing::Collected<JoystickState>;
 
 class JoystickPty : public ::testing::Test {
  protected:
@@ -39,6 +43,9 @@ class JoystickPty : public ::testing::Test {
     return std::make_unique<JoystickDriver>(io.io(), options,
                                             [&got](const JoystickState& s) { got.Add(s); });
   }
+  std::mutex written_mutex_;
+  // When the host wrote each chunk; declared before host_, so they outlive its thread.
+  std::vector<int64_t> written_;
   FlyBoxSim* sim_ = nullptr;
   std::unique_ptr<PtyHost> host_;
 };
@@ -56,14 +63,9 @@ TEST_F(JoystickPty, PolledReadingsArriveAtTheRateWithTheRightValues) {
   Collected got;
   auto driver = MakeDriver(io, got, 25.0, false);
   driver->Start();
-  ASSERT_TRUE(WaitFor([&] { return got.size() >= 3; }));
-  const size_t first = got.size();
-  const auto start = std::chrono::steady_clock::now();
-  std::this_thread::sleep_for(std::chrono::seconds(1));
-  const double rate =
-      (got.size() - first) /
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  EXPECT_NEAR(rate, 25.0, 3.0);
+  ASSERT_TRUE(WaitFor("the first three readings", [&] { return got.size() >= 3; }));
+  // 25 readings, a second of the driver's polling, timed by their own stamps.
+  EXPECT_NEAR(got.StampedRate(25), 25.0, 2.5);
   const JoystickState last = got.last();
   EXPECT_NEAR(last.x(), 0.75, 1e-3);
   EXPECT_NEAR(last.y(), -0.25, 1e-3);
@@ -80,21 +82,42 @@ TEST_F(JoystickPty, PolledReadingsArriveAtTheRateWithTheRightValues) {
   s.set_trigger(false);
   Set(s);
   ASSERT_TRUE(
-      WaitFor([&] { return std::abs(got.last().x() + 0.5) < 1e-3; }, std::chrono::seconds(2)));
+      WaitFor("a reading with the stick moved", [&] { return std::abs(got.last().x() + 0.5) < 1e-3; },
+              std::chrono::seconds(2)));
   EXPECT_FALSE(got.last().trigger());
   driver->Stop();
   io.Stop();
 }
 
 TEST_F(JoystickPty, ContinuousModeStreamsAtTheBoxRate) {
+  // When the box finished writing each report to the line: the box's own clock. A starved
+  // simulator may fall behind its 50 a second; the driver must keep up with what it sends.
+  host_->SetOnChunkWritten([this](int64_t at_ns) {
+    std::lock_guard lock(written_mutex_);
+    written_.push_back(at_ns);
+  });
   IoThread io;
   Collected got;
   auto driver = MakeDriver(io, got, 50.0, true);
   driver->Start();
-  ASSERT_TRUE(WaitFor([&] { return got.size() >= 3; }));
+  ASSERT_TRUE(WaitFor("the first three readings", [&] { return got.size() >= 3; }));
+  // A second of the stream, timed by the readings' own stamps, against the box's rate over
+  // the same reports.
   const size_t first = got.size();
-  std::this_thread::sleep_for(std::chrono::seconds(1));
-  EXPECT_NEAR(static_cast<double>(got.size() - first), 50.0, 6.0);
+  const double received = got.StampedRate(50);
+  double sent = 0;
+  {
+    std::scoped_lock lock(written_mutex_, got.mutex);
+    const int64_t from = got.readings[first - 1].stamp().receive_monotonic_ns();
+    const int64_t to = got.readings[first + 49].stamp().receive_monotonic_ns();
+    const auto begin = std::lower_bound(written_.begin(), written_.end(), from - 10'000'000);
+    const auto end = std::upper_bound(written_.begin(), written_.end(), to);
+    ASSERT_GE(end - begin, 2);
+    sent = (end - begin - 1) / ((*(end - 1) - *begin) * 1e-9);
+  }
+  EXPECT_LE(sent, FlyBoxSim::kMaxRateHz * 1.02);
+  EXPECT_GT(sent, FlyBoxSim::kMaxRateHz * 0.5);
+  EXPECT_NEAR(received, sent, 0.1 * sent);
   driver->Stop();
   io.Stop();
 }
@@ -107,23 +130,24 @@ TEST_F(JoystickPty, GarbageTruncationAndAVanishingPortAreSurvived) {
   Collected got;
   auto driver = MakeDriver(io, got, 50.0, false);
   driver->Start();
-  ASSERT_TRUE(WaitFor([&] { return got.size() >= 5; }));
+  ASSERT_TRUE(WaitFor("the first five readings", [&] { return got.size() >= 5; }));
 
   host_->InjectGarbage(40);
   host_->TruncateNext();
-  ASSERT_TRUE(WaitFor([&] {
+  ASSERT_TRUE(WaitFor("a bad frame and garbage counted", [&] {
     const LinkStatus st = driver->status();
     return st.bad_frames() >= 1 && st.garbage_bytes() >= 1;
   }));
   size_t before = got.size();
-  ASSERT_TRUE(WaitFor([&] { return got.size() >= before + 10; }));
+  ASSERT_TRUE(WaitFor("ten more readings", [&] { return got.size() >= before + 10; }));
   EXPECT_NEAR(got.last().y(), 0.5, 1e-3);
 
   host_->Vanish(std::chrono::milliseconds(400));
-  ASSERT_TRUE(WaitFor([&] { return driver->status().reopens() >= 1; }));
+  ASSERT_TRUE(WaitFor("the port reopened", [&] { return driver->status().reopens() >= 1; }));
   before = got.size();
   // The driver reopens, identifies and configures the box again, and polling resumes.
-  ASSERT_TRUE(WaitFor([&] { return got.size() >= before + 10; }, std::chrono::seconds(15)));
+  ASSERT_TRUE(WaitFor("ten readings after reopening", [&] { return got.size() >= before + 10; },
+                      std::chrono::seconds(15)));
   EXPECT_EQ(driver->status().state(), CONNECTED);
   EXPECT_NEAR(got.last().y(), 0.5, 1e-3);
   driver->Stop();

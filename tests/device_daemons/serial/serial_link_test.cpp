@@ -9,14 +9,16 @@
 
 #include "device_daemons/serial/clock.h"
 #include "device_daemons/serial/pty_host.h"
-#include "tests/device_daemons/test_util.h"
+#include "tests/support/files.h"
+#include "tests/support/io_thread.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::devices {
 namespace {
 
-using testing::IoThread;
-using testing::TempPath;
-using testing::WaitFor;
+using igms::testing::IoThread;
+using igms::testing::TempPath;
+using igms::testing::WaitFor;
 
 // Echoes every input byte back, and when streaming sends 'S' chunks of 10 bytes.
 class EchoDevice : public SimulatedDevice {
@@ -41,6 +43,7 @@ class EchoDevice : public SimulatedDevice {
 struct Received {
   std::mutex mutex;
   std::string bytes;
+  std::vector<int64_t> stamps_ns;  // when each chunk of bytes came in (CLOCK_MONOTONIC)
   std::vector<LinkState> states;
   size_t size() {
     std::lock_guard lock(mutex);
@@ -59,26 +62,28 @@ TEST(SerialLink, EchoIsPacedLikeA9600BaudLine) {
   IoThread io;
   Received rx;
   SerialLink link(io.io(), {host.port()},
-                  [&](const uint8_t* d, size_t n, int64_t) {
+                  [&](const uint8_t* d, size_t n, int64_t at_ns) {
                     std::lock_guard lock(rx.mutex);
                     rx.bytes.append(reinterpret_cast<const char*>(d), n);
+                    rx.stamps_ns.push_back(at_ns);
                   },
                   [&](LinkState s, const std::string&) {
                     std::lock_guard lock(rx.mutex);
                     rx.states.push_back(s);
                   });
   link.Start();
-  ASSERT_TRUE(WaitFor([&] { return rx.saw(CONNECTING); }));
+  ASSERT_TRUE(WaitFor("the link opening", [&] { return rx.saw(CONNECTING); }));
   const std::string message(96, 'x');
-  const auto start = std::chrono::steady_clock::now();
   link.Write(message);
-  ASSERT_TRUE(WaitFor([&] { return rx.size() >= message.size(); }));
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // 96 bytes at 960 bytes/s take 0.1 s; a pseudo-terminal alone would take microseconds.
-  EXPECT_GE(seconds, 0.095);
-  EXPECT_LT(seconds, 1.0);
+  ASSERT_TRUE(WaitFor("the whole message echoed", [&] { return rx.size() >= message.size(); }));
   {
     std::lock_guard lock(rx.mutex);
+    // 96 bytes at 960 bytes/s take 0.1 s; a pseudo-terminal alone would take microseconds.
+    // Timed by the link's stamps of the echo's first and last chunk: 0.1 s less the first.
+    ASSERT_GE(rx.stamps_ns.size(), 2u);
+    const double seconds = (rx.stamps_ns.back() - rx.stamps_ns.front()) * 1e-9;
+    EXPECT_GE(seconds, 0.085);
+    EXPECT_LT(seconds, 1.0);
     EXPECT_EQ(rx.bytes, message);
   }
   link.Stop();
@@ -105,16 +110,16 @@ TEST(SerialLink, SilenceGoesStaleAndVanishingPortIsReopened) {
                     rx.states.push_back(s);
                   });
   link.Start();
-  ASSERT_TRUE(WaitFor([&] { return rx.saw(CONNECTED) && rx.size() > 50; }));
+  ASSERT_TRUE(WaitFor("the link up and 50 bytes in", [&] { return rx.saw(CONNECTED) && rx.size() > 50; }));
 
   host.Stall(std::chrono::milliseconds(250));
-  ASSERT_TRUE(WaitFor([&] { return rx.saw(STALE); }, std::chrono::seconds(5)));
+  ASSERT_TRUE(WaitFor("the link gone stale", [&] { return rx.saw(STALE); }, std::chrono::seconds(5)));
 
   const size_t before = rx.size();
   host.Vanish(std::chrono::milliseconds(300));
-  ASSERT_TRUE(WaitFor([&] { return rx.saw(REOPENING); }, std::chrono::seconds(5)));
+  ASSERT_TRUE(WaitFor("the link reopening", [&] { return rx.saw(REOPENING); }, std::chrono::seconds(5)));
   // Back: bytes flow again through a new pseudo-terminal behind the same link path.
-  ASSERT_TRUE(WaitFor([&] { return rx.size() > before + 100; }, std::chrono::seconds(10)));
+  ASSERT_TRUE(WaitFor("100 bytes after reopening", [&] { return rx.size() > before + 100; }, std::chrono::seconds(10)));
   EXPECT_GE(link.reopens(), 1u);
   EXPECT_GE(host.stats().vanishes, 1u);
   link.Stop();
@@ -132,7 +137,7 @@ TEST(SerialLink, MissingPortKeepsRetryingWithoutCrashing) {
                     if (s == REOPENING) ++reopenings;
                   });
   link.Start();
-  EXPECT_TRUE(WaitFor([&] { return link.reopens() >= 4; }, std::chrono::seconds(5)));
+  EXPECT_TRUE(WaitFor("four reopen attempts", [&] { return link.reopens() >= 4; }, std::chrono::seconds(5)));
   EXPECT_EQ(reopenings.load(), 1);  // reported once, not on every retry
   link.Stop();
   io.Stop();

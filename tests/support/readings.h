@@ -1,0 +1,54 @@
+// Readings a device driver or a daemon's stream delivered on its io thread, read from the
+// test's thread; and their rate, measured on the stamps the daemon put in them (the time it
+// received each from the device), not on the test's clock, so a test thread that is late to
+// look does not change the figure.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <vector>
+
+#include "tests/support/wait.h"
+
+namespace igms::testing {
+
+template <class Reading>
+struct Collected {
+  std::mutex mutex;
+  std::vector<Reading> readings;
+
+  void Add(const Reading& r) {
+    std::lock_guard lock(mutex);
+    readings.push_back(r);
+  }
+  // A callback that adds to this collection.
+  std::function<void(const Reading&)> Sink() {
+    return [this](const Reading& r) { Add(r); };
+  }
+  std::size_t size() {
+    std::lock_guard lock(mutex);
+    return readings.size();
+  }
+  Reading last() {
+    std::lock_guard lock(mutex);
+    return readings.back();
+  }
+
+  // Waits for `count` more readings (up to `limit`), then returns their rate per second on
+  // their own receive stamps: `count` intervals over the span from the last reading before
+  // to the last one of them. 0 when they did not all arrive in time.
+  double StampedRate(std::size_t count,
+                     std::chrono::milliseconds limit = std::chrono::seconds(20)) {
+    const std::size_t from = size();
+    if (from == 0 || count == 0) return 0.0;
+    if (!WaitUntil([&] { return size() >= from + count; }, limit)) return 0.0;
+    std::lock_guard lock(mutex);
+    const int64_t span_ns = readings[from - 1 + count].stamp().receive_monotonic_ns() -
+                            readings[from - 1].stamp().receive_monotonic_ns();
+    return span_ns > 0 ? count / (span_ns * 1e-9) : 0.0;
+  }
+};
+
+}  // namespace igms::testing
