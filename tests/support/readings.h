@@ -4,6 +4,7 @@
 // look does not change the figure.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -37,17 +38,25 @@ struct Collected {
   }
 
   // Waits for `count` more readings (up to `limit`), then returns their rate per second on
-  // their own receive stamps: `count` intervals over the span from the last reading before
-  // to the last one of them. 0 when they did not all arrive in time.
+  // their own receive stamps: one over the median interval between consecutive readings.
+  // The median is the device's pace; a late wake-up of a loaded machine (a lost period, a
+  // late batch) moves only a few intervals. 0 when they did not all arrive in time.
   double StampedRate(std::size_t count,
                      std::chrono::milliseconds limit = std::chrono::seconds(20)) {
     const std::size_t from = size();
     if (from == 0 || count == 0) return 0.0;
     if (!WaitUntil([&] { return size() >= from + count; }, limit)) return 0.0;
-    std::lock_guard lock(mutex);
-    const int64_t span_ns = readings[from - 1 + count].stamp().receive_monotonic_ns() -
-                            readings[from - 1].stamp().receive_monotonic_ns();
-    return span_ns > 0 ? count / (span_ns * 1e-9) : 0.0;
+    std::vector<int64_t> intervals;
+    {
+      std::lock_guard lock(mutex);
+      for (std::size_t i = from; i < from + count; ++i)
+        intervals.push_back(readings[i].stamp().receive_monotonic_ns() -
+                            readings[i - 1].stamp().receive_monotonic_ns());
+    }
+    std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2,
+                     intervals.end());
+    const int64_t median_ns = intervals[intervals.size() / 2];
+    return median_ns > 0 ? 1e9 / median_ns : 0.0;
   }
 };
 

@@ -1,7 +1,6 @@
 // The joystick driver against the FlyBox simulator on a real pseudo-terminal.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <mutex>
 
 #include "device_daemons/joystick/flybox_sim.h"
@@ -43,9 +42,6 @@ class JoystickPty : public ::testing::Test {
     return std::make_unique<JoystickDriver>(io.io(), options,
                                             [&got](const JoystickState& s) { got.Add(s); });
   }
-  std::mutex written_mutex_;
-  // When the host wrote each chunk; declared before host_, so they outlive its thread.
-  std::vector<int64_t> written_;
   FlyBoxSim* sim_ = nullptr;
   std::unique_ptr<PtyHost> host_;
 };
@@ -90,34 +86,13 @@ TEST_F(JoystickPty, PolledReadingsArriveAtTheRateWithTheRightValues) {
 }
 
 TEST_F(JoystickPty, ContinuousModeStreamsAtTheBoxRate) {
-  // When the box finished writing each report to the line: the box's own clock. A starved
-  // simulator may fall behind its 50 a second; the driver must keep up with what it sends.
-  host_->SetOnChunkWritten([this](int64_t at_ns) {
-    std::lock_guard lock(written_mutex_);
-    written_.push_back(at_ns);
-  });
   IoThread io;
   Collected got;
   auto driver = MakeDriver(io, got, 50.0, true);
   driver->Start();
   ASSERT_TRUE(WaitFor("the first three readings", [&] { return got.size() >= 3; }));
-  // A second of the stream, timed by the readings' own stamps, against the box's rate over
-  // the same reports.
-  const size_t first = got.size();
-  const double received = got.StampedRate(50);
-  double sent = 0;
-  {
-    std::scoped_lock lock(written_mutex_, got.mutex);
-    const int64_t from = got.readings[first - 1].stamp().receive_monotonic_ns();
-    const int64_t to = got.readings[first + 49].stamp().receive_monotonic_ns();
-    const auto begin = std::lower_bound(written_.begin(), written_.end(), from - 10'000'000);
-    const auto end = std::upper_bound(written_.begin(), written_.end(), to);
-    ASSERT_GE(end - begin, 2);
-    sent = (end - begin - 1) / ((*(end - 1) - *begin) * 1e-9);
-  }
-  EXPECT_LE(sent, FlyBoxSim::kMaxRateHz * 1.02);
-  EXPECT_GT(sent, FlyBoxSim::kMaxRateHz * 0.5);
-  EXPECT_NEAR(received, sent, 0.1 * sent);
+  // A second of the box's stream, paced on the readings' own stamps.
+  EXPECT_NEAR(got.StampedRate(50), FlyBoxSim::kMaxRateHz, 5.0);
   driver->Stop();
   io.Stop();
 }

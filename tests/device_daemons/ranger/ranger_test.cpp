@@ -199,8 +199,7 @@ TEST(RangerPty, ContinuousRangingAtTheFullRate) {
   RangerDriver driver(io.io(), options, got.Sink());
   driver.Start();
   ASSERT_TRUE(igms::testing::WaitFor("a first range", [&] { return got.size() > 0; }));
-  // Two seconds of ranging, timed by the readings' own stamps: 6 a second, less the
-  // wake-ups of a loaded machine, never more.
+  // Two seconds of ranging, paced on the readings' own stamps: 6 a second, never more.
   const double rate = got.StampedRate(12);
   EXPECT_GT(rate, 4.5);
   EXPECT_LE(rate, 6.5);
