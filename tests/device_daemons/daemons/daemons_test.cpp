@@ -87,8 +87,12 @@ TEST(JoystickDaemon, ReadingsFaultsRecordAndReplay) {
     client->Subscribe<JoystickState>("igms.devices.JoystickService.Live", ten, slow.Sink());
     ASSERT_TRUE(WaitFor("readings with the injected stick",
                         [&] { return all.size() > 5 && std::abs(all.last().x() - 0.5) < 1e-3; }));
-    // A second of each stream, timed by the readings' stamps.
-    EXPECT_NEAR(all.StampedRate(50), 50.0, 10.0);
+    // A second of each stream, paced on the readings' stamps. 50 polls a second nearly fill
+    // the 9600-baud line, so a loaded machine's late polls are not all made up: the bound
+    // below 50 is wider than above.
+    const double rate = all.StampedRate(50);
+    EXPECT_GT(rate, 35.0);
+    EXPECT_LT(rate, 55.0);
     ASSERT_TRUE(WaitFor("the 10 Hz stream's first reading", [&] { return slow.size() > 0; }));
     EXPECT_NEAR(slow.StampedRate(10), 10.0, 2.5);
     const JoystickState s = all.last();
