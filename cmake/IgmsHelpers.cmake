@@ -3,6 +3,7 @@
 #   igms_library(NAME igms_net SOURCES a.cpp b.cpp DEPS igms_proto Boost::boost)
 #   igms_executable(NAME igms-video-server SOURCES main.cpp DEPS igms_video)
 #   igms_test(NAME net/framing SOURCES framing_test.cpp DEPS igms_net)
+#   igms_test(NAME ... LABELS timing)  # or heavy: see igms_test_cpu_locks
 #   igms_add_subdirectories()   # every child folder that has a CMakeLists.txt
 #   igms_install_lab_file(SOURCE lab.yaml DESTINATION etc/igms NAME lab.yaml REWRITE k=path)
 
@@ -45,6 +46,33 @@ function(igms_test)
   set_tests_properties(${ARG_NAME} PROPERTIES TIMEOUT ${ARG_TIMEOUT}
     ENVIRONMENT "IGMS_BIN_DIR=${CMAKE_BINARY_DIR}/bin;IGMS_SOURCE_DIR=${PROJECT_SOURCE_DIR};IGMS_BUILD_DIR=${CMAKE_BINARY_DIR}"
     LABELS "${ARG_LABELS}")
+  igms_test_cpu_locks(${ARG_NAME} "${ARG_LABELS}")
+endfunction()
+
+# The CPU locks of a test, from its labels, so `ctest -j` never runs a heavy suite beside a
+# timing-sensitive one:
+#   heavy   minutes of CPU (the voice recogniser's rate and speech suites): holds every lock,
+#           so it runs alone among the labelled suites;
+#   timing  real processes, real-time audio, device rates: holds one lock (taken in turn),
+#           so up to four run together, but never beside a heavy suite.
+# `ctest -L heavy` / `-LE heavy` select or leave out the heavy suites. Tests added by hand
+# with add_test call this too.
+set(IGMS_CPU_LOCKS igms_cpu_0 igms_cpu_1 igms_cpu_2 igms_cpu_3)
+function(igms_test_cpu_locks name labels)
+  if("heavy" IN_LIST labels)
+    set_tests_properties(${name} PROPERTIES RESOURCE_LOCK "${IGMS_CPU_LOCKS}")
+  elseif("timing" IN_LIST labels)
+    get_property(turn GLOBAL PROPERTY IGMS_CPU_LOCK_TURN)
+    if(NOT turn)
+      set(turn 0)
+    endif()
+    list(LENGTH IGMS_CPU_LOCKS count)
+    math(EXPR index "${turn} % ${count}")
+    list(GET IGMS_CPU_LOCKS ${index} lock)
+    set_tests_properties(${name} PROPERTIES RESOURCE_LOCK ${lock})
+    math(EXPR turn "${turn} + 1")
+    set_property(GLOBAL PROPERTY IGMS_CPU_LOCK_TURN ${turn})
+  endif()
 endfunction()
 
 # A benchmark program: built into bench/, never run by CTest; `deploy/lab bench` runs them.

@@ -31,14 +31,15 @@
 #include "device_daemons/serial/pty_host.h"
 #include "device_daemons/serial/serial_link.h"
 #include "device_daemons/viewer/viewer_sim.h"
-#include "tests/device_daemons/daemons/daemon_process.h"
-#include "tests/device_daemons/test_util.h"
+#include "tests/support/daemon_process.h"
+#include "tests/support/files.h"
+#include "tests/support/io_thread.h"
 
 namespace {
 
 using namespace igms::devices;
 using testing::DaemonProcess;
-using testing::IoThread;
+using igms::testing::IoThread;
 
 // Times at which the simulator finished writing each chunk.
 class ChunkTimes {
@@ -88,7 +89,7 @@ double RssMb(pid_t pid) {
 }
 
 std::unique_ptr<PtyHost> StartSim(std::unique_ptr<SimulatedDevice> device, const std::string& name, ChunkTimes* times) {
-  auto host = std::make_unique<PtyHost>(std::move(device), PtyHostOptions{testing::TempPath(name), 9600});
+  auto host = std::make_unique<PtyHost>(std::move(device), PtyHostOptions{igms::testing::TempPath(name), 9600});
   host->SetOnChunkWritten([times](int64_t t) { times->Add(t); });
   std::string error;
   if (!host->Start(&error)) {
@@ -227,7 +228,7 @@ void WriteEvents(int fd, double seconds, std::vector<int64_t>* times, std::mutex
 }
 
 void RunGamepad(double seconds) {
-  const std::string fifo = testing::TempPath("bench-js");
+  const std::string fifo = igms::testing::TempPath("bench-js");
   ::mkfifo(fifo.c_str(), 0600);
   std::vector<int64_t> times;
   std::mutex mutex;

@@ -36,8 +36,8 @@
 #include "sound_server/audio_file.h"
 #include "sound_server/engine.h"
 #include "sound_server/wave_capture.h"
-#include "tests/sound_server/server_process.h"
-#include "tests/sound_server/test_bank.h"
+#include "tests/support/sound_server_process.h"
+#include "tests/support/sound_bank.h"
 
 namespace igms::sound {
 namespace {
@@ -146,7 +146,7 @@ void Print(const Run& run) {
 }
 
 Run ServerRun(const std::string& key, const AudioClip& clip, int plays, int period) {
-  const std::filesystem::path dir = testing::ScratchDir("bench-server-" + std::to_string(period));
+  const std::filesystem::path dir = igms::testing::FreshTempDir("bench-server-" + std::to_string(period));
   const std::filesystem::path wave = dir / "capture.wav";
   testing::ServerProcess server(
       {"--output", "wave", "--wave-file", wave.string(), "--wave-rate",
@@ -203,7 +203,7 @@ int main(int argc, char** argv) {
 
   // Baseline: this process's own engine, no network, default period.
   constexpr int kPeriod = 256;
-  const std::filesystem::path dir = testing::ScratchDir("bench-engine");
+  const std::filesystem::path dir = igms::testing::FreshTempDir("bench-engine");
   const std::filesystem::path wave = dir / "capture.wav";
   OutputOptions out;
   out.output = "wave";

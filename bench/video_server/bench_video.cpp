@@ -25,7 +25,7 @@
 #include "common/net/mailbox.h"
 #include "common/stats/percentile.h"
 #include "igms/video.pb.h"
-#include "tests/video_server/server_process.h"
+#include "tests/support/video_server_process.h"
 #include "video_server/edge_pipeline.h"
 #include "video_server/files_capture.h"
 #include "video_server/frame_id.h"

@@ -1,7 +1,9 @@
-// Each failure reason of the locator, triggered on purpose on a rendered scene.
+// Each failure reason of the locator, triggered on purpose through Locate: on a rendered
+// scene, and on a scene drawn by hand for a fit with nothing to hold on to.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "common/site/marks.h"
 #include "common/site/renderer.h"
@@ -86,6 +88,24 @@ TEST_F(Failures, NoEdgeInAnEmptyRegion) {
   EXPECT_FALSE(r.detail.empty());
 }
 
+TEST_F(Failures, ASmallSpotInsideWideMarksIsNotAnOutline) {
+  // The marks stay where they are, around the cylinder, but the left image shows only a
+  // small bright spot (a bolt head, say) in the middle of a plain wall: an edge, far too
+  // short for the perimeter the marks enclose.
+  Eigen::Vector3d middle = Eigen::Vector3d::Zero();
+  for (const auto& m : input_.marks) middle += m / 4;
+  const auto spot = scene_.cameras.left.ProjectObserved(middle);
+  ASSERT_TRUE(spot);
+  input_.left = cv::Mat(images_.left.size(), images_.left.type(), cv::Scalar::all(90));
+  cv::rectangle(input_.left, cv::Rect(static_cast<int>(spot->x()) - 1, static_cast<int>(spot->y()) - 1, 3, 3),
+                cv::Scalar::all(220), cv::FILLED);
+  const auto r = Run();
+  EXPECT_EQ(r.reason, Failure::kEdgeCountMismatch) << FailureName(r.reason) << ": " << r.detail;
+  EXPECT_NE(r.detail.find("boundary pixels inside marks of perimeter"), std::string::npos)
+      << r.detail;
+  EXPECT_GT(r.boundary_pixels, 0);
+}
+
 TEST_F(Failures, RightImageWithoutTheObjectHasNoMatch) {
   site::Scene without = scene_;
   without.objects.erase(without.objects.begin() + object_);
@@ -104,6 +124,39 @@ TEST_F(Failures, WrongDepthMarksAreInconsistentOrUnmatched) {
   EXPECT_FALSE(r.found);
   EXPECT_TRUE(r.reason == Failure::kMatchOverThreshold || r.reason == Failure::kLeftRightInconsistent)
       << FailureName(r.reason) << ": " << r.detail;
+}
+
+// A small stereo rig (256 x 192 pixels, focal length 400 px, 6 in apart, looking along +y
+// with z up) for scenes drawn by hand.
+geometry::ProjectiveCamera RigCamera(double x) {
+  Eigen::Matrix3d K, R;
+  K << 400, 0, 127.5, 0, 400, 95.5, 0, 0, 1;
+  R << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  geometry::Matrix34 P;
+  P.leftCols<3>() = K * R;
+  P.col(3) = -K * R * Eigen::Vector3d(x, 0, 0);
+  return geometry::ProjectiveCamera(P, {256, 192});
+}
+
+TEST(FitFailure, AFaintFarDiscMarkedAsNearGivesTheFitNothingToHold) {
+  // A faint disc (grey 41 on black) 400 in away (6 px of disparity), marked as a block 21 in
+  // away around a sliver of its rim. Its dim patch matches the right image within the
+  // marks' depth range, so the block is started at the marks' depth; there the right image
+  // has no edge, and the sliver of rim alone is too few edge points for seven parameters.
+  LocateInput input;
+  input.type = SolidType::kBox;
+  input.left_camera = RigCamera(-3);
+  input.right_camera = RigCamera(3);
+  input.left = cv::Mat(192, 256, CV_8U, cv::Scalar(0));
+  input.right = input.left.clone();
+  cv::circle(input.left, {239, 125}, 61, cv::Scalar(41), cv::FILLED);
+  cv::circle(input.right, {233, 125}, 61, cv::Scalar(41), cv::FILLED);
+  input.marks = {Eigen::Vector3d(0.240, 21.1025, 1.699), Eigen::Vector3d(0.423, 21.024, 0.0),
+                 Eigen::Vector3d(0.245, 21.024, 0.0), Eigen::Vector3d(0.245, 21.024, 0.0)};
+  const LocateResult r = Locate(input);
+  EXPECT_FALSE(r.found);
+  EXPECT_EQ(r.reason, Failure::kFitFailed) << FailureName(r.reason) << ": " << r.detail;
+  EXPECT_NE(r.detail.find("model fit"), std::string::npos) << r.detail;
 }
 
 TEST_F(Failures, JsonCarriesTheReason) {

@@ -14,6 +14,7 @@
 #include "common/site/range.h"
 #include "common/site/renderer.h"
 #include "common/site/testbed.h"
+#include "tests/support/child_process.h"
 
 namespace fs = std::filesystem;
 
@@ -30,14 +31,8 @@ ProcessRun Exec(const std::string& args, bool with_stderr = false) {
   const char* bin = std::getenv("IGMS_BIN_DIR");
   const std::string cmd = std::string(bin ? bin : ".") + "/igms-locate " + args +
                           (with_stderr ? " 2>&1" : " 2>/dev/null");
-  ProcessRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  const igms::testing::ShellRun run = igms::testing::RunShell(cmd);
+  return {run.status, run.out};
 }
 
 std::string MarkArgs(const site::Marks& marks) {

@@ -19,7 +19,7 @@
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"
 #include "object_server/object_service.h"
-#include "tests/video_server/server_process.h"
+#include "tests/support/video_server_process.h"
 
 namespace igms::object {
 namespace {
@@ -237,13 +237,14 @@ TEST_F(ObjectServerTest, VideoServerGoneIsUnavailableAndItsReturnIsNoticed) {
   video_ = std::make_unique<Process>("igms-video-server", VideoArgs(video_port_));
   ASSERT_EQ(video_->WaitPort(), video_port_);
   const uint64_t second = Grab(video_port_);
-  bool found = false;
-  for (int attempt = 0; attempt < 20 && !found; ++attempt) {
-    got = client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[0].shape, second, 1),
-                                           60s);
-    found = got.ok() && got.value.found();
-    if (!found) std::this_thread::sleep_for(500ms);
-  }
+  // The object server reconnects to the video server on its own: asked again until then.
+  const bool found = igms::testing::WaitUntil(
+      [&] {
+        got = client->CallSync<LocateResponse>(kLocate,
+                                               RequestFor(scene.objects[0].shape, second, 1), 60s);
+        return got.ok() && got.value.found();
+      },
+      120s, 500ms);
   EXPECT_TRUE(found) << got.status.message;
 }
 

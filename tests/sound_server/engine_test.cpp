@@ -7,12 +7,13 @@
 
 #include <chrono>
 #include <cmath>
-#include <thread>
+#include <optional>
 
 #include "sound_server/audio_file.h"
 #include "sound_server/wave_capture.h"
 #include "tests/sound_server/sound_checks.h"
-#include "tests/sound_server/test_bank.h"
+#include "tests/support/sound_bank.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::sound {
 namespace {
@@ -23,7 +24,7 @@ constexpr int kRate = 22050;
 class EngineTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new std::filesystem::path(testing::ScratchDir("engine"));
+    dir_ = new std::filesystem::path(igms::testing::FreshTempDir("engine"));
     wave_ = new std::filesystem::path(*dir_ / "capture.wav");
     Result<Manifest> manifest = LoadManifest(testing::DamagedBank(*dir_));
     ASSERT_TRUE(manifest.ok()) << manifest.error();
@@ -54,10 +55,23 @@ class EngineTest : public ::testing::Test {
     return file.ok() ? *file : AudioClip{};
   }
   static void WaitIdle(std::chrono::milliseconds limit = 10s) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (!engine_->Idle() && std::chrono::steady_clock::now() < end)
-      std::this_thread::sleep_for(5ms);
-    EXPECT_TRUE(engine_->Idle());
+    EXPECT_TRUE(igms::testing::WaitFor(
+        "the engine idle", [] { return engine_->Idle(); }, limit));
+  }
+  // Waits until the wave output has written `seconds` more of audio to the file, on the
+  // output's own clock (its sample count): what was mixed before then, the writer's buffer
+  // included, is in the file. The file's frame count then.
+  static int64_t WaitCaptured(double seconds) {
+    const int64_t target = CapturedFrames(*wave_) + static_cast<int64_t>(seconds * kRate);
+    EXPECT_TRUE(igms::testing::WaitFor("the capture to grow",
+                                       [&] { return CapturedFrames(*wave_) >= target; }));
+    return CapturedFrames(*wave_);
+  }
+  // The position of play `id` (seconds), when it plays.
+  static std::optional<double> Position(uint64_t id) {
+    for (const PlayState& p : engine_->Status().plays)
+      if (p.play_id == id && p.playing) return p.position;
+    return std::nullopt;
   }
   // Plays `key`, waits for the end plus a gap, returns the captured frames around it.
   static std::vector<int16_t> PlayAndCapture(const PlayParams& params) {
@@ -65,8 +79,7 @@ class EngineTest : public ::testing::Test {
     PlayOutcome played = engine_->Play(params);
     EXPECT_TRUE(played.outcome.ok()) << played.outcome.message;
     WaitIdle();
-    std::this_thread::sleep_for(300ms);  // the writer's buffer reaches the file
-    return Window(before, CapturedFrames(*wave_));
+    return Window(before, WaitCaptured(0.3));
   }
   static std::vector<int16_t> Window(int64_t from, int64_t to) {
     std::optional<Capture> capture = ReadCapture(*wave_);
@@ -112,13 +125,21 @@ TEST_F(EngineTest, ACueOverSpeechMixesBoth) {
   speech.sound.key = "please_wait";
   cue.sound.key = "ricochet";
   speech.volume = cue.volume = 0.5f;  // the sum stays below full scale
-  ASSERT_TRUE(engine_->Play(speech).outcome.ok());
-  std::this_thread::sleep_for(300ms);
-  ASSERT_TRUE(engine_->Play(cue).outcome.ok());
+  const PlayOutcome said = engine_->Play(speech);
+  ASSERT_TRUE(said.outcome.ok());
+  // The cue starts 0.3 s into the message, on the output's clock.
+  ASSERT_TRUE(igms::testing::WaitFor("0.3 s of the message played",
+                                     [&] { return Position(said.play_id).value_or(0) >= 0.3; }));
+  const PlayOutcome sounded = engine_->Play(cue);
+  ASSERT_TRUE(sounded.outcome.ok());
+  // Where the cue began in the message, from the engine's positions of both at one moment.
+  const std::optional<double> speech_at = Position(said.play_id),
+                              cue_at = Position(sounded.play_id);
+  ASSERT_TRUE(speech_at && cue_at);
   EXPECT_EQ(engine_->Status().plays.size(), 2u);
+  const int64_t cue_offset = std::lround((*speech_at - *cue_at) * kRate);
   WaitIdle();
-  std::this_thread::sleep_for(300ms);
-  const std::vector<int16_t> window = Window(before, CapturedFrames(*wave_));
+  const std::vector<int16_t> window = Window(before, WaitCaptured(0.3));
   const AudioClip a = Source("please_wait"), b = Source("ricochet");
   // Find the message, take it away, then find the cue in what is left: both must be there
   // whole, and nothing else.
@@ -130,9 +151,11 @@ TEST_F(EngineTest, ACueOverSpeechMixesBoth) {
   std::vector<double> mixed(window.begin(), window.end());
   std::vector<double> rest = Subtract(mixed, a.samples, at_a.offset, 0.5);
   std::vector<int16_t> rest16(rest.begin(), rest.end());
-  Alignment at_b = AlignClip(rest16, b.samples, at_a.offset + int64_t(0.25 * kRate),
-                             at_a.offset + int64_t(0.6 * kRate), 4096);
+  Alignment at_b = AlignClip(rest16, b.samples, at_a.offset + cue_offset - kRate / 10,
+                             at_a.offset + cue_offset + kRate / 10, 4096);
   EXPECT_GT(at_b.correlation, 0.98);
+  // The audio agrees with the positions the engine reported (to a few mixing periods).
+  EXPECT_NEAR(double(at_b.offset - at_a.offset - cue_offset) / kRate, 0.0, 0.05);
   rest = Subtract(rest, b.samples, at_b.offset, 0.5);
   EXPECT_LT(RmsOf(rest, c0, c1), 0.02 * RmsOf(mixed, c0, c1));
   // The cue started inside the message: they really overlapped.
@@ -145,18 +168,23 @@ TEST_F(EngineTest, StopCutsASoundOff) {
   params.sound.key = "welcome";
   PlayOutcome played = engine_->Play(params);
   ASSERT_TRUE(played.outcome.ok());
-  std::this_thread::sleep_for(600ms);
+  // Stopped 0.6 s in, on the output's clock.
+  ASSERT_TRUE(igms::testing::WaitFor("0.6 s of the message played",
+                                     [&] { return Position(played.play_id).value_or(0) >= 0.6; }));
   size_t stopped = 0;
   EXPECT_TRUE(engine_->Stop(played.play_id, &stopped).ok());
   EXPECT_EQ(stopped, 1u);
   EXPECT_TRUE(engine_->Idle());
-  std::this_thread::sleep_for(400ms);
-  const std::vector<int16_t> window = Window(before, CapturedFrames(*wave_));
+  const std::vector<int16_t> window = Window(before, WaitCaptured(0.3));
   auto [c0, c1] = AudibleSpan(window, kSilence);
+  const AudioClip whole = Source("welcome");
+  auto [w0, w1] = AudibleSpan(whole.samples, kSilence);
   const double heard = double(c1 - c0) / kRate;
+  // What played before the stop was heard (at least 0.3 s of sound in its first 0.6 s),
+  // and the rest of its more than 2 s was not.
   EXPECT_GT(heard, 0.3);
-  EXPECT_LT(heard, 0.75);
-  EXPECT_GT(Source("welcome").Seconds(), 2.0);
+  EXPECT_GT(whole.Seconds(), 2.0);
+  EXPECT_LT(heard, double(w1 - w0) / kRate - 1.0);
   EXPECT_EQ(engine_->Stop(played.play_id).failure, Failure::kNotFound);
 }
 
@@ -192,15 +220,11 @@ TEST_F(EngineTest, MessagesQueueAndAPromptInterrupts) {
   EXPECT_EQ(status.plays[0].priority, PlayPriority::kHigh);
   EXPECT_EQ(status.plays[1].play_id, p2.play_id);  // still waiting its turn
   // After the prompt, the waiting message is said.
-  const auto end = std::chrono::steady_clock::now() + 6s;
-  bool second_said = false;
-  while (!second_said && std::chrono::steady_clock::now() < end) {
+  EXPECT_TRUE(igms::testing::WaitFor("the waiting message said", [&] {
     status = engine_->Status();
-    second_said =
-        !status.plays.empty() && status.plays[0].play_id == p2.play_id && status.plays[0].playing;
-    std::this_thread::sleep_for(5ms);
-  }
-  EXPECT_TRUE(second_said);
+    return !status.plays.empty() && status.plays[0].play_id == p2.play_id &&
+           status.plays[0].playing;
+  }));
   engine_->Stop(0);
 }
 

@@ -9,7 +9,7 @@
 #include "igms/object.pb.h"
 #include "sound_server/audio_file.h"
 #include "sound_server/bank_generator.h"
-#include "tests/sound_server/test_bank.h"
+#include "tests/support/sound_bank.h"
 
 namespace igms::sound {
 namespace {
@@ -141,7 +141,7 @@ TEST(LabBank, HasOneMessageForEveryFailureReasonByItsEnumName) {
 }
 
 TEST(AudioFile, MissingCorruptAndEmptyFilesAreErrors) {
-  const std::filesystem::path dir = testing::ScratchDir("audiofile");
+  const std::filesystem::path dir = igms::testing::FreshTempDir("audiofile");
   EXPECT_NE(ReadAudioFile(dir / "none.wav").error().find("missing"), std::string::npos);
   std::ofstream(dir / "junk.wav") << "RIFF????WAVEjunk";
   Result<AudioClip> junk = ReadAudioFile(dir / "junk.wav");
@@ -155,7 +155,7 @@ TEST(AudioFile, MissingCorruptAndEmptyFilesAreErrors) {
 // The generator makes each entry with sox or espeak-ng, at the manifest's rate, normalised;
 // an entry sox cannot make is reported by name and the others are still made.
 TEST(BankGenerator, MakesEachEntryAndReportsTheOnesItCannot) {
-  const std::filesystem::path dir = testing::ScratchDir("generator");
+  const std::filesystem::path dir = igms::testing::FreshTempDir("generator");
   std::ofstream(dir / "manifest.yaml")
       << "format: 1\nsample_rate: 16000\npeak_db: -6\nsounds:\n"
          "  - {id: 1, key: beep, kind: cue, sox: \"synth 0.25 sine 660\"}\n"

@@ -5,9 +5,10 @@
 
 #include <functional>
 
-#include "tests/sound_server/server_process.h"
 #include "tests/sound_server/sound_checks.h"
-#include "tests/sound_server/test_bank.h"
+#include "tests/support/sound_bank.h"
+#include "tests/support/sound_server_process.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::sound {
 namespace {
@@ -16,7 +17,7 @@ using namespace std::chrono_literals;
 
 void PlayEachAndCompare(const std::string& name,
                         const std::function<bool(const BankEntry&)>& pick) {
-  const std::filesystem::path dir = testing::ScratchDir(name);
+  const std::filesystem::path dir = igms::testing::FreshTempDir(name);
   const std::filesystem::path wave = dir / "capture.wav";
   // The default bank: ../share/igms/sounds next to the binary, as the build puts it.
   testing::ServerProcess server({"--output", "wave", "--wave-file", wave.string()});
@@ -26,6 +27,11 @@ void PlayEachAndCompare(const std::string& name,
   net::Result<ListBankResponse> bank =
       client.Call<ListBankResponse>(kListBankMethod, ListBankRequest());
   ASSERT_TRUE(bank.ok()) << bank.status.ToString();
+  net::Result<StatusResponse> status = client.Status();
+  ASSERT_TRUE(status.ok() && status.value.sample_rate() > 0) << status.status.ToString();
+  // 0.3 s of the output's own clock (its sample count in the file): a gap between sounds,
+  // and what was mixed before it, the writer's buffer included, is in the file.
+  const int64_t gap = status.value.sample_rate() * 3 / 10;
   struct Played {
     BankEntry entry;
     int64_t from = 0, to = 0;  // capture frames
@@ -41,7 +47,9 @@ void PlayEachAndCompare(const std::string& name,
     EXPECT_EQ(r.value.id(), entry.id());
     EXPECT_FALSE(r.value.queued());
     ASSERT_TRUE(client.WaitIdle()) << entry.key();
-    std::this_thread::sleep_for(300ms);  // a gap, and the writer's buffer reaches the file
+    const int64_t target = CapturedFrames(wave) + gap;
+    ASSERT_TRUE(igms::testing::WaitFor("the gap after " + entry.key(),
+                                       [&] { return CapturedFrames(wave) >= target; }));
   }
   ASSERT_FALSE(played.empty());
   played.back().to = CapturedFrames(wave);

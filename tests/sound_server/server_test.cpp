@@ -5,9 +5,10 @@
 
 #include <cmath>
 
-#include "tests/sound_server/server_process.h"
 #include "tests/sound_server/sound_checks.h"
-#include "tests/sound_server/test_bank.h"
+#include "tests/support/sound_bank.h"
+#include "tests/support/sound_server_process.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::sound {
 namespace {
@@ -23,7 +24,7 @@ AudioClip Source(const std::string& relative) {
 class ServerTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = testing::ScratchDir("server");
+    dir_ = igms::testing::FreshTempDir("server");
     wave_ = dir_ / "capture.wav";
     server_ = std::make_unique<testing::ServerProcess>(
         std::vector<std::string>{"--bank", testing::DamagedBank(dir_).string(), "--output", "wave",
@@ -36,6 +37,26 @@ class ServerTest : public ::testing::Test {
     client_.reset();
     server_.reset();
     std::filesystem::remove_all(dir_);
+  }
+  // Waits until the wave output has written `seconds` more of audio to the file, on the
+  // output's own clock (its sample count): what was mixed before then, the writer's buffer
+  // included, is in the file. The file's frame count then.
+  int64_t WaitCaptured(double seconds) {
+    net::Result<StatusResponse> status = client_->Status();
+    EXPECT_TRUE(status.ok() && status.value.sample_rate() > 0);
+    const int64_t target =
+        CapturedFrames(wave_) + static_cast<int64_t>(seconds * status.value.sample_rate());
+    EXPECT_TRUE(igms::testing::WaitFor("the capture to grow",
+                                       [&] { return CapturedFrames(wave_) >= target; }));
+    return CapturedFrames(wave_);
+  }
+  // The position (ms) of play `id` in the server's status, when it plays.
+  std::optional<uint32_t> PositionMs(uint64_t id) {
+    net::Result<StatusResponse> status = client_->Status();
+    if (!status.ok()) return std::nullopt;
+    for (const PlayInfo& p : status.value.plays())
+      if (p.play_id() == id && p.playing()) return p.position_ms();
+    return std::nullopt;
   }
   // Ends the server (which finishes the file) and returns the capture.
   Capture Finish() {
@@ -53,16 +74,27 @@ class ServerTest : public ::testing::Test {
 
 TEST_F(ServerTest, TwoOverlappingPlaysMix) {
   const int64_t before = CapturedFrames(wave_);
-  // Two cues at half volume (their sum stays below full scale), 200 ms apart.
+  // Two cues at half volume (their sum stays below full scale), the second 200 ms into the
+  // first on the output's clock.
   net::Result<PlayResponse> a = client_->Play("introduction_music", PRIORITY_NORMAL, 0.5f);
-  std::this_thread::sleep_for(200ms);
+  ASSERT_TRUE(a.ok()) << a.status.ToString();
+  ASSERT_TRUE(igms::testing::WaitFor("200 ms of the music played", [&] {
+    return PositionMs(a.value.play_id()).value_or(0) >= 200;
+  }));
   net::Result<PlayResponse> b = client_->Play("ricochet", PRIORITY_NORMAL, 0.5f);
-  ASSERT_TRUE(a.ok() && b.ok()) << a.status.ToString() << b.status.ToString();
+  ASSERT_TRUE(b.ok()) << b.status.ToString();
+  // Where the cue began in the music, from the server's positions of both at one moment.
   net::Result<StatusResponse> status = client_->Status();
   ASSERT_TRUE(status.ok());
   EXPECT_EQ(status.value.plays_size(), 2);
+  int64_t music_ms = -1, ricochet_ms = -1;
+  for (const PlayInfo& p : status.value.plays()) {
+    if (p.play_id() == a.value.play_id()) music_ms = p.position_ms();
+    if (p.play_id() == b.value.play_id()) ricochet_ms = p.position_ms();
+  }
+  ASSERT_TRUE(music_ms >= 0 && ricochet_ms >= 0) << status.value.DebugString();
   ASSERT_TRUE(client_->WaitIdle());
-  std::this_thread::sleep_for(300ms);
+  WaitCaptured(0.3);
   const Capture capture = Finish();
   const std::vector<int16_t> window(capture.samples.begin() + before, capture.samples.end());
   const AudioClip music = Source("cues/introduction_music.wav");
@@ -76,14 +108,17 @@ TEST_F(ServerTest, TwoOverlappingPlaysMix) {
   std::vector<double> rest = Subtract(mixed, music.samples, at_music.offset, 0.5);
   const std::vector<int16_t> rest16(rest.begin(), rest.end());
   const int rate = capture.sample_rate;
-  const Alignment at_ricochet = AlignClip(rest16, ricochet.samples, at_music.offset + rate / 10,
-                                          at_music.offset + rate, 4096);
+  const int64_t cue_offset = (music_ms - ricochet_ms) * rate / 1000;
+  const Alignment at_ricochet =
+      AlignClip(rest16, ricochet.samples, at_music.offset + cue_offset - rate / 10,
+                at_music.offset + cue_offset + rate / 10, 4096);
   EXPECT_GT(at_ricochet.correlation, 0.98);
   rest = Subtract(rest, ricochet.samples, at_ricochet.offset, 0.5);
   // Both whole, nothing else; and the cue began while the music played.
   EXPECT_LT(RmsOf(rest, c0, c1), 0.02 * RmsOf(mixed, c0, c1));
   EXPECT_LT(at_ricochet.offset, at_music.offset + int64_t(m1));
-  EXPECT_NEAR(double(at_ricochet.offset - at_music.offset) / rate, 0.2, 0.1);
+  // The audio agrees with the positions the server reported (to a few mixing periods).
+  EXPECT_NEAR(double(at_ricochet.offset - at_music.offset - cue_offset) / rate, 0.0, 0.05);
 }
 
 TEST_F(ServerTest, StopCutsOff) {
@@ -91,7 +126,10 @@ TEST_F(ServerTest, StopCutsOff) {
   net::Result<PlayResponse> played = client_->Play("demonstration");
   ASSERT_TRUE(played.ok());
   EXPECT_GT(played.value.duration_ms(), 3000u);
-  std::this_thread::sleep_for(700ms);
+  // Stopped 0.7 s in, on the output's clock.
+  ASSERT_TRUE(igms::testing::WaitFor("0.7 s of the message played", [&] {
+    return PositionMs(played.value.play_id()).value_or(0) >= 700;
+  }));
   StopRequest stop;
   stop.set_play_id(played.value.play_id());
   net::Result<StopResponse> stopped = client_->Call<StopResponse>(kStopMethod, stop);
@@ -99,21 +137,29 @@ TEST_F(ServerTest, StopCutsOff) {
   EXPECT_EQ(stopped.value.stopped(), 1u);
   net::Result<StatusResponse> status = client_->Status();
   EXPECT_EQ(status.value.plays_size(), 0);
+  const int64_t after_first = WaitCaptured(0.3);
   // Stop everything: a queued message goes too.
-  ASSERT_TRUE(client_->Play("welcome").ok());
+  net::Result<PlayResponse> welcome = client_->Play("welcome");
+  ASSERT_TRUE(welcome.ok());
   net::Result<PlayResponse> queued = client_->Play("please_wait");
   EXPECT_TRUE(queued.value.queued());
   stopped = client_->Call<StopResponse>(kStopMethod, StopRequest());
   EXPECT_EQ(stopped.value.stopped(), 2u);
   EXPECT_TRUE(client_->WaitIdle(100ms));
-  std::this_thread::sleep_for(300ms);
+  WaitCaptured(0.3);
   const Capture capture = Finish();
-  const std::vector<int16_t> window(capture.samples.begin() + before, capture.samples.end());
-  auto [c0, c1] = AudibleSpan(window, testing::kSilence);
-  const double heard = double(c1 - c0) / capture.sample_rate;
-  // 0.7 s of the message and a moment of "welcome", not the 3.3 s of the whole message.
-  EXPECT_GT(heard, 0.5);
-  EXPECT_LT(heard, 1.3);
+  const double rate = capture.sample_rate;
+  // The message: the 0.7 s played before the stop (at least 0.5 s of it sound), not its
+  // whole 3.3 s.
+  const std::vector<int16_t> first(capture.samples.begin() + before,
+                                   capture.samples.begin() + after_first);
+  auto [c0, c1] = AudibleSpan(first, testing::kSilence);
+  EXPECT_GT((c1 - c0) / rate, 0.5);
+  EXPECT_LT((c1 - c0) / rate, played.value.duration_ms() / 1000.0 - 1.0);
+  // "welcome": a moment of it, not all of it; then nothing, the queued message included.
+  const std::vector<int16_t> second(capture.samples.begin() + after_first, capture.samples.end());
+  auto [d0, d1] = AudibleSpan(second, testing::kSilence);
+  EXPECT_LT((d1 - d0) / rate, welcome.value.duration_ms() / 1000.0 - 0.2);
 }
 
 TEST_F(ServerTest, BadRequestsGetAnErrorAndTheServerGoesOn) {
@@ -208,7 +254,7 @@ struct StartCase {
 };
 
 TEST(ServerStart, FailsClearlyOnABadBankOrNoDevice) {
-  const std::filesystem::path dir = testing::ScratchDir("start");
+  const std::filesystem::path dir = igms::testing::FreshTempDir("start");
   std::ofstream(dir / "bad.yaml") << "format: 1\nsounds:\n  - {id: 1, key: x, kind: cue}\n";
   const std::vector<StartCase> cases = {
       {{"--bank", (dir / "none.yaml").string(), "--output", "null"}, 2, "cannot be read"},
@@ -227,7 +273,7 @@ TEST(ServerStart, FailsClearlyOnABadBankOrNoDevice) {
 }
 
 TEST(ServerStart, FallsBackToTheNullOutputWhenNoDeviceOpens) {
-  const std::filesystem::path dir = testing::ScratchDir("fallback");
+  const std::filesystem::path dir = igms::testing::FreshTempDir("fallback");
   testing::ServerProcess server({"--device", "no such device", "--fallback", "null"});
   const uint16_t port = server.WaitListening();
   ASSERT_NE(port, 0) << server.Log();
@@ -248,7 +294,7 @@ TEST(ServerStart, FallsBackToTheNullOutputWhenNoDeviceOpens) {
 }
 
 TEST(ServerStart, ReadsItsSectionOfTheLabConfiguration) {
-  const std::filesystem::path dir = testing::ScratchDir("config");
+  const std::filesystem::path dir = igms::testing::FreshTempDir("config");
   testing::DamagedBank(dir);
   // An unquoted `null` is a YAML null: still the null output.
   std::ofstream(dir / "lab.yaml") << "processes:\n"

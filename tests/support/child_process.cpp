@@ -8,22 +8,12 @@
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <regex>
-#include <sstream>
+#include <thread>
+
+#include "tests/support/files.h"
 
 namespace igms::testing {
-
-namespace {
-
-std::string ReadFile(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-}  // namespace
 
 std::string BinDir() {
   const char* dir = std::getenv("IGMS_BIN_DIR");
@@ -148,22 +138,18 @@ void ChildProcess::Kill() {
   if (!Exited()) ::kill(pid_, SIGKILL);
 }
 
-TestClient::TestClient(uint16_t port, std::string name, std::size_t max_frame_bytes)
-    : work_(boost::asio::make_work_guard(io_)) {
+TestClient::TestClient(uint16_t port, std::string name, std::size_t max_frame_bytes) {
   net::ClientOptions options;
   options.port = port;
   options.name = std::move(name);
   options.max_frame_bytes = max_frame_bytes;
-  client_ = std::make_unique<net::Client>(io_, options);
-  thread_ = std::thread([this] { io_.run(); });
+  client_ = std::make_unique<net::Client>(io_.io(), options);
   client_->Start();
 }
 
 TestClient::~TestClient() {
   client_->Stop();
-  work_.reset();
-  io_.stop();
-  thread_.join();
+  io_.Stop();
 }
 
 }  // namespace igms::testing

@@ -8,17 +8,16 @@
 
 #include <sys/types.h>
 
-#include <boost/asio/executor_work_guard.hpp>
-#include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "common/net/client.h"
+#include "tests/support/io_thread.h"
+#include "tests/support/wait.h"
 
 namespace igms::testing {
 
@@ -28,19 +27,9 @@ std::string SourceDir();
 // The thesis's calibration file in the repository.
 std::string ThesisCalibration();
 
-// Polls `done` every 50 ms until it is true or `limit` passes; its last answer.
-template <class Done>
-bool WaitUntil(Done done, std::chrono::milliseconds limit = std::chrono::seconds(20)) {
-  const auto end = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < end) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return done();
-}
-
 // A shell command line run to its end: its exit status (-1 when it could not run or was
-// killed) and its stdout. Add " 2>&1" to the line to capture stderr as well.
+// killed) and its stdout. Add " 2>&1" to the line to capture stderr as well, " 2>/dev/null"
+// to drop it. The one way tests run a command line.
 struct ShellRun {
   int status = -1;
   std::string out;
@@ -115,10 +104,8 @@ class TestClient {
   net::Client* operator->() { return client_.get(); }
 
  private:
-  boost::asio::io_context io_;
-  boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_;
+  IoThread io_;
   std::unique_ptr<net::Client> client_;
-  std::thread thread_;
 };
 
 }  // namespace igms::testing

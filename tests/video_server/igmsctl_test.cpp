@@ -3,7 +3,7 @@
 
 #include <regex>
 
-#include "tests/video_server/server_process.h"
+#include "tests/support/video_server_process.h"
 #include "tests/video_server/test_data.h"
 
 namespace igms::video {

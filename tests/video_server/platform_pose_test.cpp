@@ -18,7 +18,8 @@
 #include "common/site/testbed.h"
 #include "igms/devices.pb.h"
 #include "igms/video.pb.h"
-#include "tests/video_server/server_process.h"
+#include "tests/support/video_server_process.h"
+#include "tests/support/wait_for.h"
 #include "tests/video_server/test_data.h"
 #include "video_server/proto_convert.h"
 #include "video_server/sim_capture.h"
@@ -35,15 +36,7 @@ const std::string kPlatform = "igms.devices.PlatformService.";
 
 std::string CalibrationPath() { return igms::testing::ThesisCalibration(); }
 
-template <class F>
-bool WaitFor(F done, std::chrono::milliseconds timeout = 15s) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (done()) return true;
-    std::this_thread::sleep_for(20ms);
-  }
-  return done();
-}
+using igms::testing::WaitFor;
 
 // igms-platformd --simulate on an ephemeral port.
 class PlatformDaemon : public igms::testing::ChildProcess {
@@ -162,11 +155,11 @@ TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
   TestClient platform(platform_port);
   PlatformWatch watch(platform);
   TestClient video(port);
-  ASSERT_TRUE(WaitFor([&] { return watch.count() > 2; }));
+  ASSERT_TRUE(WaitFor("three platform readings", [&] { return watch.count() > 2; }));
 
   // At the zero pose, once the server has heard the platform.
   Grabbed zero;
-  ASSERT_TRUE(WaitFor([&] {
+  ASSERT_TRUE(WaitFor("a grab stamped with the platform pose", [&] {
     zero = Grab(video);
     return zero.pose.from_platform();
   })) << server.Log();
@@ -180,14 +173,14 @@ TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
   auto moved =
       platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation", set, 5s);
   ASSERT_TRUE(moved.ok()) << moved.status.message;
-  ASSERT_TRUE(WaitFor([&] {
+  ASSERT_TRUE(WaitFor("the platform at rest at the pan", [&] {
     const auto s = watch.last();
     return !s.moving() && s.yaw_ticks() == 543 && s.pitch_ticks() == 57;
   })) << watch.last().DebugString();
   const devices::PlatformState reached = watch.last();
   const int64_t before_grab = UnixNs();
   Grabbed panned;
-  ASSERT_TRUE(WaitFor([&] {
+  ASSERT_TRUE(WaitFor("a grab at the panned pose", [&] {
     panned = Grab(video);
     return panned.pose.joints_rad_size() == 3 && panned.pose.joints_rad(0) != 0.0;
   }));
@@ -246,7 +239,7 @@ TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
     std::lock_guard lock(live_mutex);
     live = frame;
   });
-  ASSERT_TRUE(WaitFor([&] {
+  ASSERT_TRUE(WaitFor("the live frame", [&] {
     std::lock_guard lock(live_mutex);
     return live.has_value();
   }));
@@ -270,16 +263,17 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
     PlatformWatch watch(platform);
     devices::SetOrientationRequest set;
     set.set_yaw_ticks(-800);
-    ASSERT_TRUE(WaitFor([&] { return watch.count() > 0; }));
+    ASSERT_TRUE(WaitFor("a platform reading", [&] { return watch.count() > 0; }));
     ASSERT_TRUE(
         platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation", set, 5s)
             .ok());
-    ASSERT_TRUE(
-        WaitFor([&] { return !watch.last().moving() && watch.last().yaw_ticks() == -800; }));
+    ASSERT_TRUE(WaitFor("the platform at rest at yaw -800", [&] {
+      return !watch.last().moving() && watch.last().yaw_ticks() == -800;
+    }));
   }
   TestClient video(port);
   Grabbed before;
-  ASSERT_TRUE(WaitFor([&] {
+  ASSERT_TRUE(WaitFor("a grab at the negative yaw", [&] {
     before = Grab(video);
     return before.pose.joints_rad_size() == 3 && before.pose.joints_rad(0) < 0.0;
   }));
@@ -294,8 +288,9 @@ TEST(PlatformPose, GrabsGoOnAtTheLastPoseWhenThePlatformDies) {
     EXPECT_EQ(cv::norm(after.left, before.left, cv::NORM_INF), 0.0);
     std::this_thread::sleep_for(300ms);  // across a few reconnection attempts
   }
-  ASSERT_TRUE(
-      WaitFor([&] { return server.Log().find("lost the platform daemon") != std::string::npos; }));
+  ASSERT_TRUE(WaitFor("the server to log the lost platform daemon", [&] {
+    return server.Log().find("lost the platform daemon") != std::string::npos;
+  }));
   const std::string text = server.Log();
   size_t losses = 0;
   for (size_t at = text.find("lost the platform"); at != std::string::npos;
@@ -323,11 +318,11 @@ TEST(PlatformPose, FilesBackendPassesThePoseThrough) {
   devices::SetOrientationRequest set;
   set.set_yaw_ticks(-2714);  // 10 degrees right
   set.set_roll_ticks(30);
-  ASSERT_TRUE(WaitFor([&] { return watch.count() > 0; }));
+  ASSERT_TRUE(WaitFor("a platform reading", [&] { return watch.count() > 0; }));
   ASSERT_TRUE(
       platform->CallSync<devices::SetOrientationResponse>(kPlatform + "SetOrientation", set, 5s)
           .ok());
-  ASSERT_TRUE(WaitFor([&] {
+  ASSERT_TRUE(WaitFor("the platform at rest at yaw -2714 roll 30", [&] {
     const auto s = watch.last();
     return !s.moving() && s.yaw_ticks() == -2714 && s.roll_ticks() == 30;
   }));
@@ -335,7 +330,7 @@ TEST(PlatformPose, FilesBackendPassesThePoseThrough) {
   ASSERT_TRUE(calibration && calibration->platform);
   TestClient video(port);
   Grabbed grabbed;
-  ASSERT_TRUE(WaitFor([&] {
+  ASSERT_TRUE(WaitFor("a grab at that pose", [&] {
     grabbed = Grab(video);
     return grabbed.pose.joints_rad_size() == 3 && grabbed.pose.joints_rad(0) < 0.0 &&
            grabbed.pose.joints_rad(2) != 0.0;

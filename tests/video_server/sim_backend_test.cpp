@@ -10,7 +10,7 @@
 #include "common/site/scene_yaml.h"
 #include "common/site/testbed.h"
 #include "igms/video.pb.h"
-#include "tests/video_server/server_process.h"
+#include "tests/support/video_server_process.h"
 #include "video_server/proto_convert.h"
 
 namespace igms::video {

@@ -1,16 +1,18 @@
 // The service in-process: edge waits that time out, and shutting down with work in flight.
+#include "video_server/video_service.h"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <future>
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
+#include <future>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
+#include "tests/support/io_thread.h"
 #include "tests/video_server/test_data.h"
 #include "video_server/files_capture.h"
-#include "video_server/video_service.h"
 
 namespace igms::video {
 namespace {
@@ -18,21 +20,7 @@ namespace {
 using namespace std::chrono_literals;
 using testing::OpenCvData;
 
-class IoThread {
- public:
-  IoThread() : work_(boost::asio::make_work_guard(io_)), thread_([this] { io_.run(); }) {}
-  ~IoThread() {
-    work_.reset();
-    io_.stop();
-    thread_.join();
-  }
-  boost::asio::io_context& io() { return io_; }
-
- private:
-  boost::asio::io_context io_;
-  boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_;
-  std::thread thread_;
-};
+using igms::testing::IoThread;
 
 std::unique_ptr<CaptureBackend> Aloe() {
   FilesCaptureOptions options{OpenCvData("aloeL.jpg"), OpenCvData("aloeR.jpg")};

@@ -22,8 +22,10 @@
 #include "device_daemons/serial/pty_host.h"
 #include "device_daemons/voice/dragon_sim.h"
 #include "igms/devices.pb.h"
-#include "tests/device_daemons/daemons/daemon_process.h"
-#include "tests/device_daemons/test_util.h"
+#include "tests/support/daemon_process.h"
+#include "tests/support/files.h"
+#include "tests/support/io_thread.h"
+#include "tests/support/wait.h"
 
 namespace {
 
@@ -84,7 +86,7 @@ int main(int argc, char** argv) {
   const int period_ms = argc > 2 ? std::atoi(argv[2]) : 100;
   auto device = std::make_unique<TimedDragon>();
   TimedDragon* dragon = device.get();
-  devices::PtyHost host(std::move(device), {devices::testing::TempPath("bench-dragon"), 9600});
+  devices::PtyHost host(std::move(device), {igms::testing::TempPath("bench-dragon"), 9600});
   host.SetOnChunkWritten([dragon](int64_t t) { dragon->Written(t); });
   std::string error;
   if (!host.Start(&error)) {
@@ -97,7 +99,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "igms-voiced did not start:\n%s\n", daemon.Log().c_str());
     return 1;
   }
-  devices::testing::IoThread io;
+  igms::testing::IoThread io;
   net::ClientOptions o;
   o.port = port;
   o.name = "bench_voiced";
@@ -112,7 +114,7 @@ int main(int argc, char** argv) {
                                           std::lock_guard lock(mutex);
                                           received.emplace_back(s.stamp().sequence(), now);
                                         });
-  devices::testing::WaitFor([&] {
+  igms::testing::WaitUntil([&] {
     return client.connected() && client.CallSync<devices::LinkStatus>(
                                            "igms.devices.VoiceService.Status",
                                            devices::GetStatusRequest(), std::chrono::seconds(1))
@@ -155,7 +157,7 @@ int main(int argc, char** argv) {
   std::printf("  igms-voiced resident memory: %.1f MB\n", rss);
 
   // The recogniser's footprint: the daemon with the model loaded, idle.
-  const std::string wav = devices::testing::TempPath("bench-freeze.wav");
+  const std::string wav = igms::testing::TempPath("bench-freeze.wav");
   if (std::system(("espeak-ng -w " + wav + " freeze").c_str()) == 0) {
     DaemonProcess recogniser("igms-voiced", {"--wav", wav, "--port", "0"});
     if (recogniser.WaitForPort(std::chrono::seconds(60)) != 0) {

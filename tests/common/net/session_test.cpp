@@ -2,11 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/read.hpp>
 #include <boost/asio/write.hpp>
-#include <boost/asio/executor_work_guard.hpp>
 #include <thread>
 #include <vector>
 
@@ -14,6 +14,7 @@
 #include "common/net/framing.h"
 #include "common/net/mailbox.h"
 #include "common/net/server.h"
+#include "tests/support/io_thread.h"
 
 namespace igms::net {
 namespace {
@@ -24,24 +25,7 @@ const std::string kEcho = "test.Echo";
 const std::string kSilent = "test.NeverAnswers";
 const std::string kCount = "test.Count";
 
-// An io_context run on its own threads for the lifetime of the test.
-class IoThread {
- public:
-  explicit IoThread(int threads = 1) : work_(boost::asio::make_work_guard(io_)) {
-    for (int i = 0; i < threads; ++i) threads_.emplace_back([this] { io_.run(); });
-  }
-  ~IoThread() {
-    work_.reset();
-    io_.stop();
-    for (auto& t : threads_) t.join();
-  }
-  boost::asio::io_context& io() { return io_; }
-
- private:
-  boost::asio::io_context io_;
-  boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_;
-  std::vector<std::thread> threads_;
-};
+using igms::testing::IoThread;
 
 // A server with an echo method, a method that never answers and a counting stream that
 // publishes `count` messages of `bytes` each from a worker thread.

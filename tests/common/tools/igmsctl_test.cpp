@@ -1,5 +1,6 @@
 // igmsctl and igms as real processes against a real server on loopback.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <array>
 #include <boost/asio/executor_work_guard.hpp>
@@ -8,29 +9,17 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
-#include <sys/wait.h>
 #include <thread>
 
 #include "common/net/server.h"
+#include "tests/support/child_process.h"
+#include "tests/support/io_thread.h"
 
 namespace {
 
-struct Outcome {
-  int status;
-  std::string out;
-};
-
+using Outcome = igms::testing::ShellRun;
 // Runs a command line, capturing stdout (stderr goes to stdout with 2>&1 in the command).
-Outcome Shell(const std::string& cmd) {
-  Outcome r{};
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int raw = pclose(p);
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return r;
-}
+Outcome Shell(const std::string& cmd) { return igms::testing::RunShell(cmd); }
 
 std::string Bin(const std::string& name) { return std::string(std::getenv("IGMS_BIN_DIR")) + "/" + name; }
 
@@ -40,23 +29,17 @@ class IgmsctlTest : public ::testing::Test {
     igms::net::ServerOptions o;
     o.name = "pingable";
     o.token = "tok";
-    server_ = std::make_unique<igms::net::Server>(io_, o);
+    server_ = std::make_unique<igms::net::Server>(io_.io(), o);
     server_->Start();
-    thread_ = std::thread([this] { io_.run(); });
   }
   void TearDown() override {
     server_->Stop();
-    work_.reset();
-    io_.stop();
-    thread_.join();
+    io_.Stop();
   }
   std::string Port() const { return std::to_string(server_->port()); }
 
-  boost::asio::io_context io_;
-  boost::asio::executor_work_guard<boost::asio::io_context::executor_type> work_ =
-      boost::asio::make_work_guard(io_);
+  igms::testing::IoThread io_;
   std::unique_ptr<igms::net::Server> server_;
-  std::thread thread_;
 };
 
 TEST_F(IgmsctlTest, PingPrintsTheServersJson) {

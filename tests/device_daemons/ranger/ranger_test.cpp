@@ -12,7 +12,10 @@
 #include "device_daemons/ranger/udm_protocol.h"
 #include "device_daemons/serial/pty_host.h"
 #include "tests/device_daemons/ranger/test_site.h"
-#include "tests/device_daemons/test_util.h"
+#include "tests/support/files.h"
+#include "tests/support/io_thread.h"
+#include "tests/support/readings.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::devices {
 namespace {
@@ -43,8 +46,8 @@ TEST(UdmProtocol, RangeAndNoEchoRoundTrip) {
 
 // The known site of test_site.h, loaded from files as the daemon loads it.
 RangerWorld TestWorld() {
-  const std::string scene = testing::TempPath("scene.yaml"), calib = testing::TempPath("calib.yaml");
-  testing::WriteFile(scene, testing::TestSceneYaml());
+  const std::string scene = igms::testing::TempPath("scene.yaml"), calib = igms::testing::TempPath("calib.yaml");
+  igms::testing::WriteFile(scene, testing::TestSceneYaml());
   std::string error;
   EXPECT_TRUE(calibration::SaveCalibration(testing::TestCalibration(), calib, &error)) << error;
   auto world = LoadRangerWorld(scene, calib, &error);
@@ -101,8 +104,8 @@ TEST(RangerSite, BadFilesFailWithTheirNames) {
   std::string error;
   EXPECT_FALSE(LoadRangerWorld("/nonexistent/scene.yaml", "", &error));
   EXPECT_NE(error.find("/nonexistent/scene.yaml"), std::string::npos) << error;
-  const std::string bad = testing::TempPath("bad.yaml");
-  testing::WriteFile(bad, "%YAML:1.0\n---\nleft: {P: [1, 2, 3]}\n");
+  const std::string bad = igms::testing::TempPath("bad.yaml");
+  igms::testing::WriteFile(bad, "%YAML:1.0\n---\nleft: {P: [1, 2, 3]}\n");
   EXPECT_FALSE(LoadRangerWorld("", bad, &error));
   EXPECT_NE(error.find("left.P"), std::string::npos) << error;
 }
@@ -128,11 +131,11 @@ TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
   sim_options.world = TestWorld();
   auto sim = std::make_unique<RangerSim>(sim_options);
   RangerSim* raw = sim.get();
-  PtyHost host(std::move(sim), {testing::TempPath("udm"), 9600});
+  PtyHost host(std::move(sim), {igms::testing::TempPath("udm"), 9600});
   std::string error;
   ASSERT_TRUE(host.Start(&error)) << error;
   host.WithDevice([&](SimulatedDevice&) { raw->SetJointAngles(testing::PanAngles(testing::kPanDeg)); });
-  testing::IoThread io;
+  igms::testing::IoThread io;
   std::mutex mutex;
   std::vector<RangerState> got;
   RangerDriverOptions options;
@@ -143,7 +146,10 @@ TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
   });
   driver.Start();
   // The probe taken on opening arrives.
-  ASSERT_TRUE(testing::WaitFor([&] { std::lock_guard l(mutex); return !got.empty(); }));
+  ASSERT_TRUE(igms::testing::WaitFor("the probe taken on opening", [&] {
+    std::lock_guard l(mutex);
+    return !got.empty();
+  }));
   const auto range = [&] {
     std::promise<RangerState> p;
     auto f = p.get_future();
@@ -170,33 +176,34 @@ TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
   });
   s = range();
   EXPECT_NEAR(s.range_in(), testing::kBoxRangeIn, 0.5);
-  // Ten back-to-back requests take at least 9 measurement times.
-  const auto start = std::chrono::steady_clock::now();
-  for (int i = 0; i < 10; ++i) range();
-  EXPECT_GE(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 9 * udm::kMeasureNs * 1e-9);
+  // Back-to-back requests wait for the measurement before: eleven readings span ten
+  // measurement times on their own stamps (nine asserted: a stamp may be taken late).
+  std::vector<RangerState> eleven;
+  for (int i = 0; i < 11; ++i) eleven.push_back(range());
+  EXPECT_GE(eleven.back().stamp().receive_monotonic_ns() -
+                eleven.front().stamp().receive_monotonic_ns(),
+            9 * udm::kMeasureNs);
   driver.Stop();
   io.Stop();
 }
 
 TEST(RangerPty, ContinuousRangingAtTheFullRate) {
-  PtyHost host(std::make_unique<RangerSim>(), {testing::TempPath("udm6"), 9600});
+  PtyHost host(std::make_unique<RangerSim>(), {igms::testing::TempPath("udm6"), 9600});
   std::string error;
   ASSERT_TRUE(host.Start(&error)) << error;
-  testing::IoThread io;
-  std::atomic<int> count{0};
+  igms::testing::IoThread io;
+  igms::testing::Collected<RangerState> got;
   RangerDriverOptions options;
   options.link.port = host.port();
   options.poll_hz = 6;
-  RangerDriver driver(io.io(), options, [&](const RangerState& s) {
-    if (s.valid()) ++count;
-  });
+  RangerDriver driver(io.io(), options, got.Sink());
   driver.Start();
-  ASSERT_TRUE(testing::WaitFor([&] { return count > 0; }));
-  const int first = count;
-  std::this_thread::sleep_for(std::chrono::seconds(2));
-  const double rate = (count - first) / 2.0;
-  EXPECT_GT(rate, 4.5);  // 6 less the wake-ups of a loaded machine
+  ASSERT_TRUE(igms::testing::WaitFor("a first range", [&] { return got.size() > 0; }));
+  // Two seconds of ranging, paced on the readings' own stamps: 6 a second, never more.
+  const double rate = got.StampedRate(12);
+  EXPECT_GT(rate, 4.5);
   EXPECT_LE(rate, 6.5);
+  EXPECT_TRUE(got.last().valid());
   driver.Stop();
   io.Stop();
 }

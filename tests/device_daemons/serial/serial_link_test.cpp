@@ -9,14 +9,16 @@
 
 #include "common/base/clock.h"
 #include "device_daemons/serial/pty_host.h"
-#include "tests/device_daemons/test_util.h"
+#include "tests/support/files.h"
+#include "tests/support/io_thread.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::devices {
 namespace {
 
-using testing::IoThread;
-using testing::TempPath;
-using testing::WaitFor;
+using igms::testing::IoThread;
+using igms::testing::TempPath;
+using igms::testing::WaitFor;
 
 // Echoes every input byte back, and when streaming sends 'S' chunks of 10 bytes.
 class EchoDevice : public SimulatedDevice {
@@ -53,7 +55,9 @@ struct Received {
 };
 
 TEST(SerialLink, EchoIsPacedLikeA9600BaudLine) {
+  std::atomic<int64_t> echoed_ns{0};  // when the line wrote the echo's last chunk
   PtyHost host(std::make_unique<EchoDevice>(), {TempPath("echo"), 9600});
+  host.SetOnChunkWritten([&](int64_t at_ns) { echoed_ns = at_ns; });
   std::string error;
   ASSERT_TRUE(host.Start(&error)) << error;
   IoThread io;
@@ -68,15 +72,14 @@ TEST(SerialLink, EchoIsPacedLikeA9600BaudLine) {
                     rx.states.push_back(s);
                   });
   link.Start();
-  ASSERT_TRUE(WaitFor([&] { return rx.saw(CONNECTING); }));
+  ASSERT_TRUE(WaitFor("the link opening", [&] { return rx.saw(CONNECTING); }));
   const std::string message(96, 'x');
-  const auto start = std::chrono::steady_clock::now();
+  const int64_t written_ns = MonotonicNs();
   link.Write(message);
-  ASSERT_TRUE(WaitFor([&] { return rx.size() >= message.size(); }));
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_TRUE(WaitFor("the whole message echoed", [&] { return rx.size() >= message.size(); }));
   // 96 bytes at 960 bytes/s take 0.1 s; a pseudo-terminal alone would take microseconds.
-  EXPECT_GE(seconds, 0.095);
-  EXPECT_LT(seconds, 1.0);
+  // Timed by the simulated line's stamp of the echo's last byte.
+  EXPECT_GE(echoed_ns - written_ns, 95'000'000);
   {
     std::lock_guard lock(rx.mutex);
     EXPECT_EQ(rx.bytes, message);
@@ -105,16 +108,16 @@ TEST(SerialLink, SilenceGoesStaleAndVanishingPortIsReopened) {
                     rx.states.push_back(s);
                   });
   link.Start();
-  ASSERT_TRUE(WaitFor([&] { return rx.saw(CONNECTED) && rx.size() > 50; }));
+  ASSERT_TRUE(WaitFor("the link up and 50 bytes in", [&] { return rx.saw(CONNECTED) && rx.size() > 50; }));
 
   host.Stall(std::chrono::milliseconds(250));
-  ASSERT_TRUE(WaitFor([&] { return rx.saw(STALE); }, std::chrono::seconds(5)));
+  ASSERT_TRUE(WaitFor("the link gone stale", [&] { return rx.saw(STALE); }, std::chrono::seconds(5)));
 
   const size_t before = rx.size();
   host.Vanish(std::chrono::milliseconds(300));
-  ASSERT_TRUE(WaitFor([&] { return rx.saw(REOPENING); }, std::chrono::seconds(5)));
+  ASSERT_TRUE(WaitFor("the link reopening", [&] { return rx.saw(REOPENING); }, std::chrono::seconds(5)));
   // Back: bytes flow again through a new pseudo-terminal behind the same link path.
-  ASSERT_TRUE(WaitFor([&] { return rx.size() > before + 100; }, std::chrono::seconds(10)));
+  ASSERT_TRUE(WaitFor("100 bytes after reopening", [&] { return rx.size() > before + 100; }, std::chrono::seconds(10)));
   EXPECT_GE(link.reopens(), 1u);
   EXPECT_GE(host.stats().vanishes, 1u);
   link.Stop();
@@ -132,7 +135,7 @@ TEST(SerialLink, MissingPortKeepsRetryingWithoutCrashing) {
                     if (s == REOPENING) ++reopenings;
                   });
   link.Start();
-  EXPECT_TRUE(WaitFor([&] { return link.reopens() >= 4; }, std::chrono::seconds(5)));
+  EXPECT_TRUE(WaitFor("four reopen attempts", [&] { return link.reopens() >= 4; }, std::chrono::seconds(5)));
   EXPECT_EQ(reopenings.load(), 1);  // reported once, not on every retry
   link.Stop();
   io.Stop();

@@ -182,11 +182,9 @@ TEST_F(AdaptationTest, RecordsEachPromptFromTheMicrophone) {
   for (size_t i = 0; i < phrases.size(); ++i) {
     const std::string prompt = "[" + std::to_string(i + 1) + "/" + std::to_string(phrases.size()) +
                                "] say: " + phrases[i];
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (adapt.Output().find(prompt) == std::string::npos && !adapt.Exited() &&
-           std::chrono::steady_clock::now() < deadline) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
+    testing::WaitUntil(
+        [&] { return adapt.Output().find(prompt) != std::string::npos || adapt.Exited(); },
+        std::chrono::seconds(30), std::chrono::milliseconds(20));
     ASSERT_NE(adapt.Output().find(prompt), std::string::npos) << adapt.Output() << adapt.Log();
     ASSERT_TRUE(sink.Play((dir_ / (std::to_string(i + 1) + ".wav")).string())) << sink.Log();
   }

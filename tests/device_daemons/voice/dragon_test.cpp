@@ -8,7 +8,10 @@
 #include "device_daemons/voice/dragon_protocol.h"
 #include "device_daemons/voice/dragon_sim.h"
 #include "device_daemons/voice/voice_proto.h"
-#include "tests/device_daemons/test_util.h"
+#include "tests/support/files.h"
+#include "tests/support/io_thread.h"
+#include "tests/support/readings.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::voice {
 namespace {
@@ -124,24 +127,24 @@ TEST(DragonSim, HearsOnlyTheWordsOfItsStateAndFollowsTheHost) {
 TEST(DragonPty, CodesArriveStateFollowsAndGarbageIsSurvived) {
   auto sim = std::make_unique<DragonSim>();
   DragonSim* raw = sim.get();
-  devices::PtyHost host(std::move(sim), {devices::testing::TempPath("dragon"), 9600});
+  devices::PtyHost host(std::move(sim), {igms::testing::TempPath("dragon"), 9600});
   std::string error;
   ASSERT_TRUE(host.Start(&error)) << error;
-  devices::testing::IoThread io;
-  devices::testing::Collected<devices::VoiceState> got;
+  igms::testing::IoThread io;
+  igms::testing::Collected<devices::VoiceState> got;
   devices::SerialLinkOptions link;
   link.port = host.port();
   link.silence_timeout = std::chrono::milliseconds(600);
   DragonDriver driver(io.io(), link, OperatorState::kVerification,
                       [&](const devices::VoiceState& s) { got.Add(s); });
   driver.Start();
-  ASSERT_TRUE(
-      devices::testing::WaitFor([&] { return driver.status().state() == devices::CONNECTED; }));
+  ASSERT_TRUE(igms::testing::WaitFor(
+      "the link up", [&] { return driver.status().state() == devices::CONNECTED; }));
   const auto say = [&](const std::string& phrase) {
     host.WithDevice([&](devices::SimulatedDevice&) { raw->Say(phrase, igms::MonotonicNs()); });
   };
   say("freeze");
-  ASSERT_TRUE(devices::testing::WaitFor([&] { return got.size() == 1; }));
+  ASSERT_TRUE(igms::testing::WaitFor("the first code", [&] { return got.size() == 1; }));
   devices::VoiceState s = got.last();
   EXPECT_EQ(s.command(), devices::VOICE_FREEZE);
   EXPECT_EQ(s.text(), "freeze");
@@ -152,17 +155,23 @@ TEST(DragonPty, CodesArriveStateFollowsAndGarbageIsSurvived) {
 
   // The control client says the object type is awaited: both ends follow.
   driver.SetState(OperatorState::kAwaitingType);
-  ASSERT_TRUE(devices::testing::WaitFor([&] {
+  ASSERT_TRUE(igms::testing::WaitFor("the recogniser awaiting the type", [&] {
     OperatorState st{};
     host.WithDevice([&](devices::SimulatedDevice&) { st = raw->state(); });
     return st == OperatorState::kAwaitingType;
   }));
+  // The next probe answer ("00") is cut short: its half runs into the answer after it, whose
+  // line then starts with a byte too many, counted as garbage. Then a burst of garbage.
+  const uint64_t garbage_before = driver.status().garbage_bytes();
+  host.TruncateNext();
+  ASSERT_TRUE(igms::testing::WaitFor("the cut probe answer counted as garbage", [&] {
+    return driver.status().garbage_bytes() > garbage_before;
+  }));
   host.InjectGarbage(200);
-  host.TruncateNext();  // the next probe answer is cut short
-  std::this_thread::sleep_for(std::chrono::milliseconds(400));
   say("cylinder");
-  ASSERT_TRUE(devices::testing::WaitFor(
-      [&] { return got.size() >= 2 && got.last().command() == devices::VOICE_CYLINDER; }));
+  ASSERT_TRUE(igms::testing::WaitFor("the code after the garbage", [&] {
+    return got.size() >= 2 && got.last().command() == devices::VOICE_CYLINDER;
+  }));
   const devices::LinkStatus status = driver.status();
   EXPECT_GT(status.garbage_bytes() + status.bad_frames(), 0u);
   EXPECT_EQ(status.state(), devices::CONNECTED);

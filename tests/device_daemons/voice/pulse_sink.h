@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "tests/support/child_process.h"
+#include "tests/support/wait.h"
 
 namespace igms::testing {
 
@@ -47,12 +48,8 @@ class PulseSink {
   }
   // Waits up to `timeout` for the server to listen.
   bool WaitReady(std::chrono::seconds timeout = std::chrono::seconds(20)) const {
-    const auto end = std::chrono::steady_clock::now() + timeout;
-    while (!std::filesystem::exists(socket_)) {
-      if (std::chrono::steady_clock::now() > end) return false;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return true;
+    return WaitUntil([&] { return std::filesystem::exists(socket_); }, timeout,
+                     std::chrono::milliseconds(20));
   }
   // Plays a sound file into the sink; false when paplay fails.
   bool Play(const std::string& wav) const {

@@ -7,15 +7,18 @@
 #include "common/net/client.h"
 #include "device_daemons/serial/recording.h"
 #include "igms/devices.pb.h"
-#include "tests/device_daemons/daemons/daemon_process.h"
-#include "tests/device_daemons/test_util.h"
 #include "tests/device_daemons/voice/pulse_sink.h"
+#include "tests/support/daemon_process.h"
+#include "tests/support/files.h"
+#include "tests/support/io_thread.h"
+#include "tests/support/readings.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::devices {
 namespace {
 
+using igms::testing::WaitFor;
 using testing::DaemonProcess;
-using testing::WaitFor;
 using namespace std::chrono_literals;
 
 class Connected {
@@ -34,7 +37,7 @@ class Connected {
   net::Client* operator->() { return client_.get(); }
 
  private:
-  testing::IoThread io_;
+  igms::testing::IoThread io_;
   std::unique_ptr<net::Client> client_;
 };
 
@@ -61,22 +64,23 @@ LinkStatus StatusOf(Connected& c) {
 }
 
 TEST(VoiceDaemon, SimulatedDragonThroughPtyAndTcp) {
-  const std::string recording = testing::TempPath("voice.rec");
+  const std::string recording = igms::testing::TempPath("voice.rec");
   {
     DaemonProcess daemon("igms-voiced", {"--simulate", "--port", "0", "--record", recording});
     const uint16_t port = daemon.WaitForPort();
     ASSERT_NE(port, 0) << daemon.Log();
     Connected client(port);
-    testing::Collected<VoiceState> got;
+    igms::testing::Collected<VoiceState> got;
     client->Subscribe<VoiceState>("igms.devices.VoiceService.Live", SubscribeRequest(),
                                   [&](const VoiceState& s) { got.Add(s); });
-    ASSERT_TRUE(WaitFor([&] { return StatusOf(client).state() == CONNECTED; })) << daemon.Log();
+    ASSERT_TRUE(WaitFor("the link up", [&] { return StatusOf(client).state() == CONNECTED; }))
+        << daemon.Log();
 
     // An injected command arrives with its code.
     SimInjectRequest freeze;
     freeze.set_voice(VOICE_FREEZE);
     ASSERT_TRUE(Inject(client, freeze).ok());
-    ASSERT_TRUE(WaitFor([&] { return got.size() == 1; })) << daemon.Log();
+    ASSERT_TRUE(WaitFor("the first command", [&] { return got.size() == 1; })) << daemon.Log();
     EXPECT_EQ(got.last().command(), VOICE_FREEZE);
     EXPECT_EQ(got.last().state(), VERIFICATION);
     EXPECT_GT(got.last().stamp().receive_monotonic_ns(), 0);
@@ -86,12 +90,12 @@ TEST(VoiceDaemon, SimulatedDragonThroughPtyAndTcp) {
     ASSERT_TRUE(Say(client, "box").ok());
     ASSERT_TRUE(Say(client, "hello").ok());
     ASSERT_TRUE(Say(client, "mark").ok());
-    ASSERT_TRUE(WaitFor([&] { return got.size() == 2; }));
+    ASSERT_TRUE(WaitFor("the second command", [&] { return got.size() == 2; }));
     EXPECT_EQ(got.last().command(), VOICE_MARK);
     // The control client says four marks are placed: now "box" is taken.
     ASSERT_TRUE(SetState(client, AWAITING_OBJECT_TYPE).ok());
     ASSERT_TRUE(Say(client, "box").ok());
-    ASSERT_TRUE(WaitFor([&] { return got.size() == 3; }));
+    ASSERT_TRUE(WaitFor("the third command", [&] { return got.size() == 3; }));
     EXPECT_EQ(got.last().command(), VOICE_BOX);
     EXPECT_EQ(got.last().state(), AWAITING_OBJECT_TYPE);
     // The thesis's flaw: the system is in verification (a button) and the operator says
@@ -100,34 +104,38 @@ TEST(VoiceDaemon, SimulatedDragonThroughPtyAndTcp) {
     ASSERT_TRUE(Say(client, "unfreeze").ok());
     ASSERT_TRUE(SetState(client, MODEL_BUILDING).ok());
     ASSERT_TRUE(Say(client, "unfreeze").ok());
-    ASSERT_TRUE(WaitFor([&] { return got.size() == 4; }));
+    ASSERT_TRUE(WaitFor("the fourth command", [&] { return got.size() == 4; }));
     EXPECT_EQ(got.last().command(), VOICE_UNFREEZE);
 
-    // Garbage and a truncated report mid-stream: counted; the next command still arrives.
+    // A truncated report and garbage mid-stream: counted; the next command still arrives.
+    // The truncation falls on the next line out, a probe's answer ("00"; five a second),
+    // whose half runs into the answer after it: one byte too many there, counted as garbage.
+    const uint64_t garbage_before = StatusOf(client).garbage_bytes();
+    SimInjectRequest truncate;
+    truncate.mutable_fault()->set_truncate_next(true);
+    ASSERT_TRUE(Inject(client, truncate).ok());
+    ASSERT_TRUE(WaitFor("the cut probe answer counted as garbage",
+                        [&] { return StatusOf(client).garbage_bytes() > garbage_before; }));
     SimInjectRequest fault;
     fault.mutable_fault()->set_garbage_bytes(300);
-    fault.mutable_fault()->set_truncate_next(true);
     ASSERT_TRUE(Inject(client, fault).ok());
-    ASSERT_TRUE(WaitFor([&] {
-      const LinkStatus s = StatusOf(client);
-      return s.garbage_bytes() + s.bad_frames() > 0;
-    }));
-    // The truncation falls on the next line out: a probe's answer (five a second).
-    std::this_thread::sleep_for(500ms);
     SimInjectRequest solid;
     solid.set_voice(VOICE_SOLID);
     ASSERT_TRUE(Inject(client, solid).ok());
-    ASSERT_TRUE(WaitFor([&] { return got.size() >= 5 && got.last().command() == VOICE_SOLID; }));
+    ASSERT_TRUE(WaitFor("the command after the garbage",
+                        [&] { return got.size() >= 5 && got.last().command() == VOICE_SOLID; }));
     // The port vanishes and returns: reopened, commands flow again.
     SimInjectRequest vanish;
     vanish.mutable_fault()->set_vanish_ms(400);
     ASSERT_TRUE(Inject(client, vanish).ok());
-    ASSERT_TRUE(WaitFor([&] { return StatusOf(client).reopens() >= 1; }));
-    ASSERT_TRUE(WaitFor([&] { return StatusOf(client).state() == CONNECTED; }, 15s));
+    ASSERT_TRUE(WaitFor("the port reopened", [&] { return StatusOf(client).reopens() >= 1; }));
+    ASSERT_TRUE(WaitFor(
+        "the link up", [&] { return StatusOf(client).state() == CONNECTED; }, 15s));
     SimInjectRequest wire;
     wire.set_voice(VOICE_WIREFRAME);
     ASSERT_TRUE(Inject(client, wire).ok());
-    ASSERT_TRUE(WaitFor([&] { return got.last().command() == VOICE_WIREFRAME; }));
+    ASSERT_TRUE(WaitFor("the command after reopening",
+                        [&] { return got.last().command() == VOICE_WIREFRAME; }));
 
     // Bad requests: clear errors.
     SimInjectRequest wrong;
@@ -152,7 +160,8 @@ TEST(VoiceDaemon, SimulatedDragonThroughPtyAndTcp) {
   const uint16_t port = replay.WaitForPort();
   ASSERT_NE(port, 0) << replay.Log();
   Connected client(port);
-  ASSERT_TRUE(WaitFor([&] { return StatusOf(client).message() == "replay finished"; }));
+  ASSERT_TRUE(WaitFor("the replay to finish",
+                      [&] { return StatusOf(client).message() == "replay finished"; }));
   const LinkStatus st = StatusOf(client);
   EXPECT_EQ(st.state(), REPLAYING);
   EXPECT_EQ(st.readings(), rec->readings.size());
@@ -170,7 +179,7 @@ TEST(VoiceDaemon, SimulatedDragonSaysWhatItHeard) {
   testing::Collected<VoiceState> got;
   client->Subscribe<VoiceState>("igms.devices.VoiceService.Live", SubscribeRequest(),
                                 [&](const VoiceState& s) { got.Add(s); });
-  ASSERT_TRUE(WaitFor([&] { return StatusOf(client).state() == CONNECTED; })) << daemon.Log();
+  ASSERT_TRUE(WaitFor("the Dragon connected", [&] { return StatusOf(client).state() == CONNECTED; })) << daemon.Log();
 
   auto freeze = Heard(client, "freeze");
   ASSERT_TRUE(freeze.ok()) << freeze.status.message;
@@ -179,7 +188,7 @@ TEST(VoiceDaemon, SimulatedDragonSaysWhatItHeard) {
   EXPECT_EQ(freeze.value.heard().text(), "freeze");
   EXPECT_EQ(freeze.value.heard().state(), VERIFICATION);
   EXPECT_EQ(freeze.value.heard().detail(), "");
-  ASSERT_TRUE(WaitFor([&] { return got.size() == 1; })) << daemon.Log();
+  ASSERT_TRUE(WaitFor("the first command", [&] { return got.size() == 1; })) << daemon.Log();
   EXPECT_EQ(got.last().command(), VOICE_FREEZE);
 
   // Frozen: "box" is a command, but not one the model-building grammar takes.
@@ -203,7 +212,7 @@ TEST(VoiceDaemon, SimulatedDragonSaysWhatItHeard) {
   ASSERT_TRUE(marked.ok()) << marked.status.message;
   EXPECT_TRUE(marked.value.heard().accepted());
   EXPECT_EQ(marked.value.heard().command(), VOICE_MARK);
-  ASSERT_TRUE(WaitFor([&] { return got.size() == 2; })) << daemon.Log();
+  ASSERT_TRUE(WaitFor("the second command", [&] { return got.size() == 2; })) << daemon.Log();
   EXPECT_EQ(got.last().command(), VOICE_MARK);
   EXPECT_EQ(daemon.Stop(), 0);
 }
@@ -225,14 +234,15 @@ TEST(VoiceDaemon, RecogniserGrammarFollowsTheStateRequest) {
   unsetenv("ALSOFT_DRIVERS");
 
   // The recogniser with no input of its own: spoken phrases come from the sim service.
-  const std::string wav = testing::TempPath("freeze.wav");
+  const std::string wav = igms::testing::TempPath("freeze.wav");
   ASSERT_EQ(std::system(("espeak-ng -v en-us -w " + wav + " freeze").c_str()), 0);
   // The lab file's model_dir (an operator's adapted model) reaches the recogniser: a folder
   // that holds no model is named in the error.
-  const std::string lab = testing::TempPath("voice-lab.yaml");
-  testing::WriteFile(lab, "processes:\n"
-                          "  voice: {program: igms-voiced, host: 127.0.0.1, port: 0,\n"
-                          "          model_dir: /nonexistent/igms-model}\n");
+  const std::string lab = igms::testing::TempPath("voice-lab.yaml");
+  igms::testing::WriteFile(lab,
+                           "processes:\n"
+                           "  voice: {program: igms-voiced, host: 127.0.0.1, port: 0,\n"
+                           "          model_dir: /nonexistent/igms-model}\n");
   DaemonProcess no_model("igms-voiced", {"--config", lab, "--name", "voice", "--wav", wav});
   EXPECT_NE(no_model.WaitExit(), 0);
   EXPECT_NE(no_model.Log().find("/nonexistent/igms-model"), std::string::npos) << no_model.Log();
@@ -240,11 +250,13 @@ TEST(VoiceDaemon, RecogniserGrammarFollowsTheStateRequest) {
   const uint16_t port = recogniser.WaitForPort(60s);
   ASSERT_NE(port, 0) << recogniser.Log();
   Connected client(port);
-  testing::Collected<VoiceState> got;
+  igms::testing::Collected<VoiceState> got;
   client->Subscribe<VoiceState>("igms.devices.VoiceService.Live", SubscribeRequest(),
                                 [&](const VoiceState& s) { got.Add(s); });
   // The file: "freeze", heard in verification.
-  ASSERT_TRUE(WaitFor([&] { return got.size() == 1; }, 30s)) << recogniser.Log();
+  ASSERT_TRUE(WaitFor(
+      "the first command", [&] { return got.size() == 1; }, 30s))
+      << recogniser.Log();
   EXPECT_EQ(got.last().command(), VOICE_FREEZE);
   EXPECT_GT(got.last().confidence(), 0.0);
   EXPECT_GT(got.last().stamp().device_time_us(), 0u);
@@ -261,6 +273,7 @@ TEST(VoiceDaemon, RecogniserGrammarFollowsTheStateRequest) {
             std::string::npos)
       << rejected.value.heard().detail();
   ASSERT_TRUE(WaitFor(
+      "the rejected utterance counted",
       [&] { return StatusOf(client).message().find("1 rejected") != std::string::npos; }, 30s))
       << StatusOf(client).message();
   EXPECT_NE(StatusOf(client).message().find("not valid in state verification"), std::string::npos);
@@ -274,7 +287,9 @@ TEST(VoiceDaemon, RecogniserGrammarFollowsTheStateRequest) {
   EXPECT_GT(accepted.value.heard().confidence(), 0.0);
   EXPECT_NE(accepted.value.heard().text().find("box"), std::string::npos)
       << accepted.value.heard().text();
-  ASSERT_TRUE(WaitFor([&] { return got.size() == 2; }, 30s)) << StatusOf(client).message();
+  ASSERT_TRUE(WaitFor(
+      "the second command", [&] { return got.size() == 2; }, 30s))
+      << StatusOf(client).message();
   EXPECT_EQ(got.last().command(), VOICE_BOX);
   EXPECT_EQ(got.last().state(), AWAITING_OBJECT_TYPE);
   EXPECT_EQ(Inject(client,
@@ -305,10 +320,11 @@ TEST(VoiceDaemon, HearsCommandsThroughAMicrophone) {
   const uint16_t port = daemon.WaitForPort(60s);
   ASSERT_NE(port, 0) << daemon.Log() << sink.Log();
   Connected client(port);
-  testing::Collected<VoiceState> got;
+  igms::testing::Collected<VoiceState> got;
   client->Subscribe<VoiceState>("igms.devices.VoiceService.Live", SubscribeRequest(),
                                 [&](const VoiceState& s) { got.Add(s); });
-  ASSERT_TRUE(WaitFor([&] { return StatusOf(client).state() == CONNECTED; }, 20s))
+  ASSERT_TRUE(WaitFor(
+      "the link up", [&] { return StatusOf(client).state() == CONNECTED; }, 20s))
       << StatusOf(client).message() << daemon.Log();
   // A word is said again when it was not taken, as an operator would: on a loaded machine
   // the captured audio can reach the recogniser less clean than the file (it rejected a
@@ -318,7 +334,8 @@ TEST(VoiceDaemon, HearsCommandsThroughAMicrophone) {
     const size_t before = got.size();
     for (int attempt = 0; attempt < 3; ++attempt) {
       if (!sink.Play(wav)) return false;
-      if (WaitFor([&] { return got.size() > before; }, 5s))
+      if (WaitFor(
+              "a command", [&] { return got.size() > before; }, 5s))
         return got.size() == before + 1 && got.last().command() == want;
     }
     return false;
@@ -331,7 +348,8 @@ TEST(VoiceDaemon, HearsCommandsThroughAMicrophone) {
   // The sound server going away is the microphone unplugged: the daemon says so and keeps
   // serving, and no command is made up.
   sink.Stop();
-  EXPECT_TRUE(WaitFor([&] { return StatusOf(client).state() == REOPENING; }, 30s))
+  EXPECT_TRUE(WaitFor(
+      "the lost microphone reported", [&] { return StatusOf(client).state() == REOPENING; }, 30s))
       << StatusOf(client).message() << daemon.Log();
   EXPECT_EQ(got.size(), 2u);
   EXPECT_FALSE(daemon.Exited()) << daemon.Log();

@@ -1,5 +1,5 @@
 // A real igms-sound-server process for tests and benchmarks, and a client that speaks its
-// requests over loopback TCP.
+// requests over loopback TCP. Header-only: its users link igms_sound.
 #pragma once
 
 #include <chrono>
@@ -8,9 +8,10 @@
 #include <vector>
 
 #include "common/net/client.h"
-#include "tests/support/child_process.h"
 #include "igms/sound.pb.h"
 #include "sound_server/sound_service.h"
+#include "tests/support/child_process.h"
+#include "tests/support/wait.h"
 
 namespace igms::sound::testing {
 
@@ -51,13 +52,12 @@ class SoundClient {
   }
   // Waits until nothing plays or waits; false if that does not happen in time.
   bool WaitIdle(std::chrono::milliseconds limit = std::chrono::seconds(10)) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < end) {
-      net::Result<StatusResponse> s = Status();
-      if (s.ok() && s.value.plays_size() == 0) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    return false;
+    return igms::testing::WaitUntil(
+        [&] {
+          net::Result<StatusResponse> s = Status();
+          return s.ok() && s.value.plays_size() == 0;
+        },
+        limit, std::chrono::milliseconds(5));
   }
 
  private:

@@ -1,5 +1,5 @@
-// A daemon as a real child process for tests and benchmarks (the shared test support runs
-// it, keeps its log and reads its port from it), stopped with SIGTERM.
+// A device daemon as a real child process for tests and benchmarks (ChildProcess runs it,
+// keeps its log and reads its port from it), stopped with SIGTERM.
 #pragma once
 
 #include <chrono>

@@ -1,4 +1,4 @@
-// igms-video-server as a real process on loopback for the tests (the shared test support
+// igms-video-server as a real process on loopback for tests and benchmarks (ChildProcess
 // runs it and reads its port from its log).
 #pragma once
 

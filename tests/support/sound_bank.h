@@ -1,11 +1,13 @@
-// Shared by the sound server's tests: where the generated bank is, and a scratch copy of it
-// with extra entries whose files are missing or corrupt.
+// The sound server's tests and benchmark: where the generated bank is, and a scratch copy
+// of it with extra entries whose files are missing or corrupt.
 #pragma once
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include "tests/support/files.h"
 
 namespace igms::sound::testing {
 
@@ -15,14 +17,6 @@ inline std::filesystem::path BuildDir() {
 }
 
 inline std::filesystem::path BankDir() { return BuildDir() / "share/igms/sounds"; }
-
-inline std::filesystem::path ScratchDir(const std::string& name) {
-  std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                              ("igms-sound-test-" + name + "-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
 
 // The lab bank plus sound 900 'missing_file' (no file) and 901 'corrupt_file' (garbage
 // bytes), in a new folder; returns its manifest.
