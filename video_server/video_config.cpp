@@ -75,7 +75,8 @@ VideoServiceOptions ConfiguredServiceOptions(const config::ProcessOptions& proce
     *error = process.Key("encoding") + ": must be png or raw, not '" + encoding + "'";
     return options;
   }
-  options.default_encoding = encoding == "png" ? ImageEncoding::kPng : ImageEncoding::kRaw;
+  options.default_encoding =
+      encoding == "png" ? wire::ImageEncoding::kPng : wire::ImageEncoding::kRaw;
   const std::string overlay = process.Get<std::string>("overlay_file", "");
   options.overlay_path = overlay.empty() ? "" : process.config.ResolvePath(overlay);
   if (std::string problem = options.Check(); !problem.empty()) {

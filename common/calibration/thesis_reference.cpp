@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "common/calibration/thesis_calibration.h"
+
 namespace igms::calibration {
 
 const std::array<const char*, 10> kPrintedNames = {"ku", "kv", "u0",    "v0",  "x",
@@ -11,12 +13,10 @@ const std::array<const char*, 10> kPrintedNames = {"ku", "kv", "u0",    "v0",  "
 std::array<ThesisCamera, 2> ThesisCameras() {
   std::array<ThesisCamera, 2> cams;
   cams[0].name = "left";
-  cams[0].C << -232.71, -64.35, 4.45, 5031.32, -5.22, -63.50, -285.65, 1379.56, -0.01, -0.24, 0.01,
-      1.00;
+  cams[0].C = ThesisCalibration().left.P;
   cams[0].printed = {-944.89, 1191.53, 323.6, 213.0, 20.85, 3.06, 3.77, 1.51, 0.043, 0.00};
   cams[1].name = "right";
-  cams[1].C << -214.44, -60.906, 4.84, 3844.42, -4.93, -58.97, -261.44, 1294.73, -0.01, -0.22, 0.01,
-      1.00;
+  cams[1].C = ThesisCalibration().right.P;
   cams[1].printed = {-945.29, 1175.58, 309.1, 217.7, 16.89, 3.96, 3.74, 1.53, 0.039, 0.01};
   return cams;
 }

@@ -4,28 +4,18 @@
 #include <cmath>
 #include <random>
 
+#include "common/calibration/thesis_calibration.h"
+
 namespace igms::site {
 
-geometry::Matrix34 ThesisLeftP() {
-  geometry::Matrix34 P;
-  P << -232.71, -64.35, 4.45, 5031.32,  //
-      -5.22, -63.50, -285.65, 1379.56,  //
-      -0.01, -0.24, 0.01, 1.00;
-  return P;
-}
+geometry::Matrix34 ThesisLeftP() { return calibration::ThesisCalibration().left.P; }
 
-geometry::Matrix34 ThesisRightP() {
-  geometry::Matrix34 P;
-  P << -214.44, -60.906, 4.84, 3844.42,  //
-      -4.93, -58.97, -261.44, 1294.73,   //
-      -0.01, -0.22, 0.01, 1.00;
-  return P;
-}
+geometry::Matrix34 ThesisRightP() { return calibration::ThesisCalibration().right.P; }
 
 StereoCameras ThesisCameras() {
-  const geometry::ImageSize size{512, 480};
-  return {geometry::ProjectiveCamera(ThesisLeftP(), size),
-          geometry::ProjectiveCamera(ThesisRightP(), size)};
+  const auto& thesis = calibration::ThesisCalibration();
+  return {geometry::ProjectiveCamera(thesis.left.P, thesis.left.image_size),
+          geometry::ProjectiveCamera(thesis.right.P, thesis.right.image_size)};
 }
 
 Lighting DefaultLighting() {

@@ -1,7 +1,8 @@
 // The thesis's testbed (Cooke, section 4.1) as a scene, and a generator of random testbed
 // scenes for accuracy benchmarks.
 //
-// Cameras: the thesis's calibration matrices (equations 4.1 and 4.2) for 512 x 480 images.
+// Cameras: the thesis's calibration matrices (equations 4.1 and 4.2) for 512 x 480 images,
+// from common/calibration/thesis_calibration.h.
 // They put the camera centres about 3.7 in above the plane z = 0 near (20.9, 3.1) and
 // (16.9, 4.0), looking along -y; so the table top is z = 0 and objects stand at y between
 // about -33 and -81 (3 to 7 ft from the cameras).

@@ -15,15 +15,17 @@
 #include "common/site/renderer.h"
 #include "common/site/scene_yaml.h"
 #include "common/site/testbed.h"
+#include "common/wire/image_message.h"
 #include "igms/devices.pb.h"
 #include "igms/video.pb.h"
 #include "tests/video_server/server_process.h"
 #include "tests/video_server/test_data.h"
-#include "video_server/proto_convert.h"
 #include "video_server/sim_capture.h"
 
 namespace igms::video {
 namespace {
+
+using wire::DecodeProtoImage;
 
 using namespace std::chrono_literals;
 using testing::ScratchDir;

@@ -10,14 +10,16 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/net/mailbox.h"
+#include "common/wire/image_message.h"
 #include "igms/video.pb.h"
 #include "tests/video_server/server_process.h"
 #include "tests/video_server/test_data.h"
 #include "video_server/edges.h"
-#include "video_server/proto_convert.h"
 
 namespace igms::video {
 namespace {
+
+using wire::DecodeProtoImage;
 
 using namespace std::chrono_literals;
 using testing::OpenCvData;

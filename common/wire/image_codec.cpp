@@ -1,10 +1,10 @@
-#include "video_server/image_codec.h"
+#include "common/wire/image_codec.h"
 
 #include <cstring>
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
-namespace igms::video {
+namespace igms::wire {
 
 std::optional<cv::Rect> ResolveRegion(const PixelRegion& region, cv::Size size, std::string* error) {
   if (region.whole()) return cv::Rect(0, 0, size.width, size.height);
@@ -58,4 +58,4 @@ cv::Mat DecodeImage(const std::string& data, ImageEncoding encoding, int width, 
   return image;
 }
 
-}  // namespace igms::video
+}  // namespace igms::wire

@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-namespace igms::video {
+namespace igms::wire {
 
 enum class ImageEncoding { kRaw, kPng };
 
@@ -38,4 +38,4 @@ std::string EncodeImage(const cv::Mat& image, ImageEncoding encoding);
 cv::Mat DecodeImage(const std::string& data, ImageEncoding encoding, int width, int height,
                     int channels);
 
-}  // namespace igms::video
+}  // namespace igms::wire
