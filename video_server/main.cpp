@@ -12,6 +12,7 @@
 #include "common/config/process_options.h"
 #include "common/net/process_server.h"
 #include "common/net/server.h"
+#include "common/sim/capture/sim_capture.h"
 #include "video_server/platform_pose.h"
 #include "video_server/video_config.h"
 #include "video_server/video_service.h"
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
         argc, argv, "video", "igms-video-server: stereo grabs, edges, live video, overlay",
         extra, &exit_code);
     if (!process) return exit_code;
+    igms::video::RegisterSimCapture();  // `backend: sim`, the simulated site
 
     std::string error;
     igms::video::VideoServiceOptions options =

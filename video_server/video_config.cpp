@@ -2,7 +2,6 @@
 
 #include "video_server/camera_capture.h"
 #include "video_server/files_capture.h"
-#include "video_server/sim_capture.h"
 
 namespace igms::video {
 namespace {
@@ -14,6 +13,17 @@ std::string PathKey(const config::ProcessOptions& process, const std::string& su
     return value;
   }
   return process.config.ResolvePath(value);
+}
+
+// "files, camera or sim".
+std::string AvailableBackends() {
+  const std::vector<std::string> names = CaptureBackendNames();
+  std::string list;
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) list += i + 1 == names.size() ? " or " : ", ";
+    list += names[i];
+  }
+  return list;
 }
 
 }  // namespace
@@ -45,16 +55,11 @@ BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process) {
     std::string error;
     choice.backend = MakeCameraCapture(camera, &error);
     if (!choice.backend) choice.error = process.Key("camera") + ": " + error;
-  } else if (backend == "sim") {
-    SimSceneChoice sim = ConfiguredSimScene(process);
-    if (sim.scene) {
-      choice.backend = MakeSimCapture(std::move(*sim.scene), sim.origin, std::move(sim.platform));
-    } else {
-      choice.error = sim.error;
-    }
+  } else if (const CaptureBackendFactory* factory = FindCaptureBackend(backend)) {
+    choice = (*factory)(process);
   } else {
-    choice.error = process.Key("backend") + ": unknown backend '" + backend +
-                   "' (files, camera or sim)";
+    choice.error = process.Key("backend") + ": unknown backend '" + backend + "' (" +
+                   AvailableBackends() + ")";
   }
   return choice;
 }

@@ -31,7 +31,8 @@ void EncodeRegion(const cv::Mat& image, const cv::Rect& rect, ImageEncoding enco
 }
 
 cv::Mat DecodeProtoImage(const igms::video::Image& image) {
-  const ImageEncoding encoding = image.encoding() == igms::video::PNG ? ImageEncoding::kPng : ImageEncoding::kRaw;
+  const ImageEncoding encoding =
+      image.encoding() == igms::video::PNG ? ImageEncoding::kPng : ImageEncoding::kRaw;
   cv::Mat decoded =
       DecodeImage(image.data(), encoding, image.width(), image.height(), image.channels());
   if (decoded.empty() || decoded.cols != image.width() || decoded.rows != image.height() ||

@@ -4,6 +4,7 @@
 #include <boost/asio/io_context.hpp>
 
 #include "common/config/process_options.h"
+#include "common/sim/ranger/site_ranger.h"
 #include "device_daemons/ranger/ranger_daemon.h"
 
 int main(int argc, char** argv) {
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
   const auto process = igms::config::ParseProcessOptions(
       argc, argv, "ranger", "The ultrasonic ranger daemon: ranges on request over TCP.", flags, &exit_code);
   if (!process) return exit_code;
+  igms::devices::RegisterSiteRanger();  // `source: simulate` ranges the simulated site
   try {
     igms::devices::DaemonOptions options;
     std::string error;

@@ -3,9 +3,9 @@
 
 #include <cmath>
 
-#include "common/site/marks.h"
-#include "common/site/renderer.h"
-#include "common/site/testbed.h"
+#include "common/sim/marks.h"
+#include "common/sim/renderer.h"
+#include "common/sim/testbed.h"
 #include "object_server/locate.h"
 #include "object_server/result_json.h"
 

@@ -9,8 +9,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/calibration/calibration_file.h"
-#include "common/site/marks.h"
-#include "common/site/testbed.h"
+#include "common/sim/marks.h"
+#include "common/sim/testbed.h"
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"
 #include "object_server/object_service.h"

@@ -6,9 +6,9 @@
 #include <opencv2/core.hpp>
 
 #include "common/calibration/calibration_file.h"
-#include "common/site/renderer.h"
-#include "common/site/scene_yaml.h"
-#include "common/site/testbed.h"
+#include "common/sim/renderer.h"
+#include "common/sim/scene_yaml.h"
+#include "common/sim/testbed.h"
 #include "common/wire/image_message.h"
 #include "igms/video.pb.h"
 #include "tests/video_server/server_process.h"
