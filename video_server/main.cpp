@@ -20,6 +20,8 @@
 namespace po = boost::program_options;
 
 int main(int argc, char** argv) {
+  // The program, not the library, offers `backend: sim`: the simulated site.
+  igms::video::RegisterSimCapture();
   try {
     po::options_description extra("Video server options");
     extra.add_options()("port-file", po::value<std::string>(),
@@ -29,7 +31,6 @@ int main(int argc, char** argv) {
         argc, argv, "video", "igms-video-server: stereo grabs, edges, live video, overlay",
         extra, &exit_code);
     if (!process) return exit_code;
-    igms::video::RegisterSimCapture();  // `backend: sim`, the simulated site
 
     std::string error;
     igms::video::VideoServiceOptions options =

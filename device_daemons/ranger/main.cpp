@@ -8,6 +8,8 @@
 #include "device_daemons/ranger/ranger_daemon.h"
 
 int main(int argc, char** argv) {
+  // The program, not the library, gives `source: simulate` its world: the simulated site.
+  igms::devices::RegisterSiteRanger();
   namespace po = boost::program_options;
   po::options_description flags("Ranger");
   igms::devices::AddDaemonFlags(&flags);
@@ -20,7 +22,6 @@ int main(int argc, char** argv) {
   const auto process = igms::config::ParseProcessOptions(
       argc, argv, "ranger", "The ultrasonic ranger daemon: ranges on request over TCP.", flags, &exit_code);
   if (!process) return exit_code;
-  igms::devices::RegisterSiteRanger();  // `source: simulate` ranges the simulated site
   try {
     igms::devices::DaemonOptions options;
     std::string error;
