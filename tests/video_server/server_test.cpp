@@ -15,6 +15,7 @@
 #include "tests/video_server/server_process.h"
 #include "tests/video_server/test_data.h"
 #include "video_server/edges.h"
+#include "video_server/stereo_frame.h"
 
 namespace igms::video {
 namespace {
