@@ -9,8 +9,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
+#include "common/wire/image_message.h"
 #include "igms/video.pb.h"
-#include "video_server/proto_convert.h"
 
 namespace igms::object {
 
@@ -279,8 +279,8 @@ net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_
   }
   Frame fetched;
   fetched.id = frame_id;
-  fetched.left = video::DecodeProtoImage(got.value.left());
-  fetched.right = video::DecodeProtoImage(got.value.right());
+  fetched.left = wire::DecodeProtoImage(got.value.left());
+  fetched.right = wire::DecodeProtoImage(got.value.right());
   fetched.joints_rad.assign(got.value.pose().joints_rad().begin(),
                             got.value.pose().joints_rad().end());
   if (fetched.left.empty() || fetched.right.empty()) {

@@ -1,11 +1,13 @@
-// Where stereo pairs come from: one interface, three backends.
+// Where stereo pairs come from: one interface, backends chosen by name at run time
+// (capture_registry.h).
 //
 //  - files:  a stereo pair of image files, or a numbered sequence of pairs (files_capture.h).
 //  - camera: two cv::VideoCapture devices, or one side-by-side stereo device
 //            (camera_capture.h).
-//  - sim:    the simulated site's renderer. Any function that renders a pair for a platform
-//            pose becomes a backend through RenderCapture below, so the simulator needs only
-//            a few lines of adapter (sim_capture.h).
+//  - sim:    the simulated site's renderer, registered by the program that links the
+//            simulation. Any function that renders a pair for a platform pose becomes a
+//            backend through RenderCapture below, so the simulator needs only a few lines of
+//            adapter (common/sim/capture/sim_capture.h).
 //
 // A backend is used from one thread at a time (the video server serialises Capture calls).
 #pragma once

@@ -128,7 +128,8 @@ void LiveStreamer::Run() {
     std::vector<std::shared_ptr<Subscriber>> gone;
     for (const auto& s : due) {
       const LiveRequest& r = s->request;
-      const ImageEncoding encoding = FromProto(r.encoding(), ImageEncoding::kRaw);
+      const wire::ImageEncoding encoding =
+          wire::EncodingFromProto(r.encoding(), wire::ImageEncoding::kRaw);
       const Variant key{r.width(), r.height(), static_cast<int>(encoding), r.side()};
       std::shared_ptr<LiveFrame>& frame = made[key];
       if (!frame) {
@@ -144,8 +145,8 @@ void LiveStreamer::Run() {
             cv::resize(image, resized, cv::Size(r.width(), r.height()), 0, 0, cv::INTER_AREA);
             image = resized;
           }
-          EncodeRegion(image, cv::Rect(0, 0, image.cols, image.rows), encoding,
-                       left ? frame->mutable_left() : frame->mutable_right());
+          wire::EncodeRegion(image, cv::Rect(0, 0, image.cols, image.rows), encoding,
+                             left ? frame->mutable_left() : frame->mutable_right());
         }
       }
       frame->set_send_unix_ns(UnixNs());

@@ -14,6 +14,7 @@
 #include "common/config/process_options.h"
 #include "common/net/process_server.h"
 #include "common/net/server.h"
+#include "common/sim/capture/sim_capture.h"
 #include "video_server/platform_pose.h"
 #include "video_server/video_config.h"
 #include "video_server/video_service.h"
@@ -21,6 +22,8 @@
 namespace po = boost::program_options;
 
 int main(int argc, char** argv) {
+  // The program, not the library, offers `backend: sim`: the simulated site.
+  igms::video::RegisterSimCapture();
   try {
     po::options_description extra("Video server options");
     extra.add_options()("port-file", po::value<std::string>(),

@@ -7,7 +7,6 @@
 #include "common/net/process_server.h"
 #include "video_server/camera_capture.h"
 #include "video_server/files_capture.h"
-#include "video_server/sim_capture.h"
 
 namespace igms::video {
 namespace {
@@ -19,6 +18,17 @@ std::string PathKey(const config::ProcessOptions& process, const std::string& su
     return value;
   }
   return process.config.ResolvePath(value);
+}
+
+// "files, camera or sim".
+std::string AvailableBackends() {
+  const std::vector<std::string> names = CaptureBackendNames();
+  std::string list;
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) list += i + 1 == names.size() ? " or " : ", ";
+    list += names[i];
+  }
+  return list;
 }
 
 }  // namespace
@@ -83,16 +93,11 @@ BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process) {
     std::string error;
     choice.backend = MakeCameraCapture(camera, &error);
     if (!choice.backend) choice.error = process.Key("camera") + ": " + error;
-  } else if (backend == "sim") {
-    SimSceneChoice sim = ConfiguredSimScene(process);
-    if (sim.scene) {
-      choice.backend = MakeSimCapture(std::move(*sim.scene), sim.origin, std::move(sim.platform));
-    } else {
-      choice.error = sim.error;
-    }
+  } else if (const CaptureBackendFactory* factory = FindCaptureBackend(backend)) {
+    choice = (*factory)(process);
   } else {
-    choice.error = process.Key("backend") + ": unknown backend '" + backend +
-                   "' (files, camera or sim)";
+    choice.error = process.Key("backend") + ": unknown backend '" + backend + "' (" +
+                   AvailableBackends() + ")";
   }
   return choice;
 }
@@ -113,7 +118,8 @@ VideoServiceOptions ConfiguredServiceOptions(const config::ProcessOptions& proce
     *error = process.Key("encoding") + ": must be png or raw, not '" + encoding + "'";
     return options;
   }
-  options.default_encoding = encoding == "png" ? ImageEncoding::kPng : ImageEncoding::kRaw;
+  options.default_encoding =
+      encoding == "png" ? wire::ImageEncoding::kPng : wire::ImageEncoding::kRaw;
   const std::string overlay = process.Get<std::string>("overlay_file", "");
   options.overlay_path = overlay.empty() ? "" : process.config.ResolvePath(overlay);
   // The calibration's identity for GetStatus. The sim backend and the platform pose read

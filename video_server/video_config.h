@@ -3,8 +3,8 @@
 //   video:
 //     program: igms-video-server
 //     port: 7301
-//     backend: files            # files | camera | sim
-//     sim: {scene: testbed.yaml, seed: 1}   # sim_capture.h; cameras from lab.calibration
+//     backend: files            # files | camera, or one the program registered (sim)
+//     sim: {scene: testbed.yaml, seed: 1}   # common/sim/capture/sim_capture.h
 //     files: {left: left%02d.jpg, right: right%02d.jpg, first: 0, last: 9999, colour: false}
 //     camera: {left: "0", right: "1", side_by_side: false, width: 0, height: 0, colour: false,
 //              pace_fps: 0, frame_timeout_ms: 1000, retry_ms: 1000}
@@ -24,20 +24,17 @@
 
 #include "common/config/process_options.h"
 #include "video_server/capture_backend.h"
+#include "video_server/capture_registry.h"
 #include "video_server/video_service.h"
 
 namespace igms::video {
 
-struct BackendChoice {
-  std::unique_ptr<CaptureBackend> backend;
-  std::string error;
-};
-
 // The keys above, and max_frame_bytes (net::ServerKeys), for ParseProcessOptions.
 config::Keys VideoKeys();
 
-// Builds the configured backend. Errors name the key at fault. Throws config::ConfigError
-// for a key of the wrong type.
+// Builds the configured backend: files or camera, or one registered by the program
+// (capture_registry.h). Errors name the key at fault, and an unknown backend's error names
+// the available ones. Throws config::ConfigError for a key of the wrong type.
 BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process);
 
 // The service options from the configuration; `error` set when they do not pass Check().

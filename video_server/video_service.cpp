@@ -25,15 +25,16 @@ net::Status NotFound(const FrameLookup& lookup) {
 std::optional<cv::Rect> RequestRect(const igms::video::Region& region, cv::Size size,
                                     net::Status* status) {
   std::string error;
-  auto rect = ResolveRegion(FromProto(region), size, &error);
+  auto rect = wire::ResolveRegion(wire::RegionFromProto(region), size, &error);
   if (!rect) *status = net::Status::Error(igms::BAD_REQUEST, error);
   return rect;
 }
 
 bool ValidSide(Side side) { return side == BOTH || side == LEFT || side == RIGHT; }
 
-void FillEdgeMap(const EdgeImage& edges, const cv::Rect& rect, ImageEncoding encoding, EdgeMap* out) {
-  EncodeRegion(edges.edges, rect, encoding, out->mutable_edges());
+void FillEdgeMap(const EdgeImage& edges, const cv::Rect& rect, wire::ImageEncoding encoding,
+                 EdgeMap* out) {
+  wire::EncodeRegion(edges.edges, rect, encoding, out->mutable_edges());
   const std::vector<float> directions = DirectionsInRegion(edges, rect);
   out->mutable_direction_rad()->Assign(directions.begin(), directions.end());
   out->set_edge_count(static_cast<int>(directions.size()));
@@ -121,10 +122,15 @@ net::Status VideoService::GetImages(const GetImagesRequest& request, GetImagesRe
   net::Status status;
   auto rect = RequestRect(request.region(), images.left.size(), &status);
   if (!rect) return status;
-  const ImageEncoding encoding = FromProto(request.encoding(), options_.default_encoding);
+  const wire::ImageEncoding encoding =
+      wire::EncodingFromProto(request.encoding(), options_.default_encoding);
   response.set_frame_id(request.frame_id());
-  if (request.side() != RIGHT) EncodeRegion(images.left, *rect, encoding, response.mutable_left());
-  if (request.side() != LEFT) EncodeRegion(images.right, *rect, encoding, response.mutable_right());
+  if (request.side() != RIGHT) {
+    wire::EncodeRegion(images.left, *rect, encoding, response.mutable_left());
+  }
+  if (request.side() != LEFT) {
+    wire::EncodeRegion(images.right, *rect, encoding, response.mutable_right());
+  }
   response.set_left_capture_unix_ns(images.left_capture_unix_ns);
   response.set_right_capture_unix_ns(images.right_capture_unix_ns);
   ToProto(images.pose, response.mutable_pose());
@@ -177,7 +183,8 @@ void VideoService::GetEdges(const GetEdgesRequest& request,
                     {});
     });
   });
-  const ImageEncoding encoding = FromProto(request.encoding(), options_.default_encoding);
+  const wire::ImageEncoding encoding =
+      wire::EncodingFromProto(request.encoding(), options_.default_encoding);
   const Side side = request.side();
   const uint64_t id = request.frame_id();
   const cv::Rect region = *rect;

@@ -19,12 +19,12 @@
 #include <string>
 
 #include "common/net/server.h"
+#include "common/wire/image_codec.h"
 #include "igms/video.pb.h"
 #include "video_server/capture_backend.h"
 #include "video_server/edge_pipeline.h"
 #include "video_server/frame_id.h"
 #include "video_server/frame_store.h"
-#include "video_server/image_codec.h"
 #include "video_server/live_stream.h"
 #include "video_server/overlay_settings.h"
 #include "video_server/worker_pool.h"
@@ -38,7 +38,7 @@ struct VideoServiceOptions {
   int edge_threads = 2;
   EdgeOptions edges;
   // ImageEncoding when a request leaves it unspecified.
-  ImageEncoding default_encoding = ImageEncoding::kPng;
+  wire::ImageEncoding default_encoding = wire::ImageEncoding::kPng;
   // Overlay settings file; empty keeps them in memory only.
   std::string overlay_path;
   // Threads that encode images and edge maps for responses.

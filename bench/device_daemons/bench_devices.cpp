@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "common/net/client.h"
+#include "common/sim/ranger/site_ranger.h"
 #include "common/stats/percentile.h"
 #include "device_daemons/joystick/flybox_sim.h"
 #include "device_daemons/joystick/gamepad.h"
@@ -332,8 +333,11 @@ int main(int argc, char** argv) {
   RunDevice<igms::devices::PlatformState>("platform", "igms-platformd", {}, std::make_unique<MollySim>(),
                                           "igms.devices.PlatformService.Live", seconds, platform_base);
 
-  const Figures ranger_base = Baseline(std::make_unique<RangerSim>(), "", "R", 6, 5, seconds);
-  RunDevice<igms::devices::RangerState>("ranger", "igms-rangerd", {"--poll-hz", "6"}, std::make_unique<RangerSim>(),
+  // The thesis's testbed, as igms-rangerd ranges it by default.
+  RangerSimOptions testbed;
+  testbed.world = TestbedRangerWorld();
+  const Figures ranger_base = Baseline(std::make_unique<RangerSim>(testbed), "", "R", 6, 5, seconds);
+  RunDevice<igms::devices::RangerState>("ranger", "igms-rangerd", {"--poll-hz", "6"}, std::make_unique<RangerSim>(testbed),
                                         "igms.devices.RangerService.Live", seconds, ranger_base);
 
   RunGamepad(seconds);

@@ -11,8 +11,8 @@
 #include <opencv2/core/utility.hpp>
 #include <string>
 
-#include "common/site/testbed.h"
-#include "object_server/evaluation.h"
+#include "common/sim/testbed.h"
+#include "common/sim/vision/evaluation.h"
 
 using igms::object::Summary;
 
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
   const double cpu_ms = (c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6;
   std::printf(
       "Locator accuracy: %d simulated testbed scenes (seeds %d..%d), objects 3-7 ft away,\n"
-      "sensor noise sigma 2 grey levels, blur 0.7 px, operator marks as common/site/marks.h models "
+      "sensor noise sigma 2 grey levels, blur 0.7 px, operator marks as common/sim/marks.h models "
       "them.\n\n",
       scenes, first, first + scenes - 1);
   std::printf("%-9s %5s %7s | %-15s | %-15s | %-15s | %-29s | %7s\n", "type", "n", "found",

@@ -29,13 +29,13 @@
 
 #include "common/calibration/calibration_file.h"
 #include "common/net/client.h"
-#include "common/site/marks.h"
-#include "common/site/renderer.h"
-#include "common/site/testbed.h"
+#include "common/sim/marks.h"
+#include "common/sim/renderer.h"
+#include "common/sim/testbed.h"
+#include "common/sim/vision/evaluation.h"
 #include "common/stats/percentile.h"
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"
-#include "object_server/evaluation.h"
 #include "object_server/locate.h"
 #include "object_server/object_service.h"
 

@@ -7,9 +7,12 @@
 #include "common/config/lab_ports.h"
 #include "common/config/process_options.h"
 #include "common/net/process_server.h"
+#include "common/sim/ranger/site_ranger.h"
 #include "device_daemons/ranger/ranger_daemon.h"
 
 int main(int argc, char** argv) {
+  // The program, not the library, gives `source: simulate` its world: the simulated site.
+  igms::devices::RegisterSiteRanger();
   namespace po = boost::program_options;
   po::options_description flags("Ranger");
   igms::devices::AddDaemonFlags(&flags);

@@ -2,9 +2,9 @@
 // igms.devices.RangerService (Range: one measurement on request; Live; Status) and
 // igms.devices.SimService.Inject (a RangerState as a fixed answer: valid with range_in, or
 // no echo when not valid; valid with range_in 0 ends the override; a PlatformState as the
-// platform's pose, in encoder ticks). The simulator ranges the simulated site
-// (ranger_site.h): scene_file (default: the thesis testbed) from the mount of
-// calibration_file. With follow_platform_port the simulator's beam turns with the camera
+// platform's pose, in encoder ticks). The simulator ranges the world the program registered
+// (ranger_site.h; the simulated site in igms-rangerd): scene_file (default: the thesis
+// testbed) from the mount of calibration_file. With follow_platform_port the simulator's beam turns with the camera
 // platform: it subscribes to that daemon's PlatformService.Live (reconnecting when the
 // platform daemon restarts) and feeds the reached orientation to the simulator. See
 // daemon_base.h.
@@ -19,7 +19,7 @@ namespace igms::devices {
 
 struct RangerDaemonOptions {
   double poll_hz = 0;
-  std::string scene_file;        // empty: the thesis testbed (common/site/testbed.h)
+  std::string scene_file;        // empty: the thesis testbed (common/sim/testbed.h)
   std::string calibration_file;  // empty: the sensor between the scene's cameras, no platform
   std::string platform_host = "127.0.0.1";
   uint16_t follow_platform_port = 0;  // 0: the beam stays where it is

@@ -5,17 +5,12 @@
 
 namespace igms::devices {
 
-RangerSimOptions::RangerSimOptions() {
-  std::string error;
-  // The built-in testbed needs no file, so this cannot fail.
-  world = *LoadRangerWorld("", "", &error);
-}
-
 RangerSim::RangerSim(RangerSimOptions options) : options_(std::move(options)), rng_(options_.seed) {}
 
 std::optional<double> RangerSim::TrueRange() const {
   if (override_) return *override_;
-  return SiteRange(options_.world.scene, Beam(), udm::kBeamWidthDeg);
+  if (!options_.world.range) return std::nullopt;
+  return options_.world.range(Beam(), udm::kBeamWidthDeg);
 }
 
 std::vector<std::string> RangerSim::OnInput(std::string_view bytes, int64_t now_ns) {

@@ -1,5 +1,5 @@
-// A simulated UDM-FL ranger (udm_protocol.h): on each 'R' it ranges the simulated site
-// (ranger_site.h) from its mount at the current platform pose, and answers after the
+// A simulated UDM-FL ranger (udm_protocol.h): on each 'R' it ranges its world (ranger_site.h:
+// the simulated site, in igms-rangerd) from its mount at the current platform pose, and answers after the
 // measurement time (udm::kMeasureNs: at most 6 ranges a second; requests while measuring
 // are ignored). Beam 12 degrees, 2 in to 60 ft (outside: no echo), as the thesis's table
 // 2.3 and section 2.1.5 give them.
@@ -21,10 +21,11 @@
 namespace igms::devices {
 
 struct RangerSimOptions {
-  RangerWorld world;  // default: the thesis testbed, the sensor between its cameras
+  // What the beam meets (LoadRangerWorld; the thesis's testbed is common/sim/ranger's
+  // TestbedRangerWorld). The default ranges nothing: every answer is no echo.
+  RangerWorld world;
   double noise_fraction = 0.002;
   uint32_t seed = 7;
-  RangerSimOptions();
 };
 
 class RangerSim : public SimulatedDevice {

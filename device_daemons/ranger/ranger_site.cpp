@@ -3,10 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/site/range.h"
-#include "common/site/scene_yaml.h"
-#include "common/site/testbed.h"
-
 namespace igms::devices {
 
 namespace {
@@ -56,39 +52,27 @@ std::vector<double> RangerMount::AnglesOf(const PlatformState& reading) const {
   return q;
 }
 
-std::optional<double> SiteRange(const site::Scene& scene, const RangerBeam& beam,
-                                double beam_width_deg) {
-  return site::RangeInCone(scene, beam.origin, beam.axis, beam_width_deg / 2 * M_PI / 180.0);
+namespace {
+
+RangerWorldLoader& Loader() {
+  static RangerWorldLoader loader;
+  return loader;
 }
+
+}  // namespace
+
+void RegisterRangerWorld(RangerWorldLoader loader) { Loader() = std::move(loader); }
 
 std::optional<RangerWorld> LoadRangerWorld(const std::string& scene_file,
                                            const std::string& calibration_file,
                                            std::string* error) {
-  RangerWorld world;
-  if (scene_file.empty()) {
-    world.scene = site::DefaultTestbedScene();
-  } else {
-    site::SceneLoad load = site::LoadSceneFile(scene_file);
-    if (!load.scene) {
-      *error = "ranger scene " + scene_file + ": " + load.error;
-      return std::nullopt;
-    }
-    world.scene = std::move(*load.scene);
-  }
-  if (calibration_file.empty()) {
-    calibration::StereoCalibration c;
-    c.left.P = world.scene.cameras.left.P();
-    c.right.P = world.scene.cameras.right.P();
-    world.mount = RangerMount::FromCalibration(c);
-    return world;
-  }
-  auto calibration = calibration::LoadCalibration(calibration_file, error);
-  if (!calibration) {
-    *error = "ranger calibration: " + *error;
+  if (!Loader()) {
+    *error =
+        "the ranger simulator has no world to range: this program was built without the "
+        "simulated site (common/sim/ranger)";
     return std::nullopt;
   }
-  world.mount = RangerMount::FromCalibration(*calibration);
-  return world;
+  return Loader()(scene_file, calibration_file, error);
 }
 
 }  // namespace igms::devices

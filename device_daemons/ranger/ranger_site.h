@@ -1,5 +1,7 @@
-// Where the simulated ranger is and what it sees: the simulated site (common/site) ranged
-// from the sensor's mount, which moves with the camera platform.
+// Where the simulated ranger is and what it sees: a world ranged from the sensor's mount,
+// which moves with the camera platform. The world is the simulated site (common/sim), which
+// this library does not link: a program registers its loader (common/sim/ranger/
+// site_ranger.h; igms-rangerd does) and the simulator ranges whatever that loader returns.
 //
 // The mount comes from the calibration file's `ranger` map (common/calibration/
 // calibration_file.h): the sensor's origin and axis in the platform's end frame. With the
@@ -12,12 +14,12 @@
 // cameras, Cooke, "Interactive Graphical Model Building using Virtual Reality", section
 // 2.1.5).
 //
-// The range is the nearest surface inside the 12-degree beam cone (common/site/range.h,
-// RangeInCone: the distance along the ray that meets it, as an echo's time of flight
-// says), in the site's units (inches).
+// The range is the nearest surface inside the 12-degree beam cone (the distance along the
+// ray that meets it, as an echo's time of flight says), in the site's units (inches).
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -26,7 +28,6 @@
 #include "common/calibration/calibration_file.h"
 #include "common/geometry/platform.h"
 #include "common/geometry/ranger_beam.h"
-#include "common/site/scene.h"
 #include "igms/devices.pb.h"
 
 namespace igms::devices {
@@ -50,17 +51,25 @@ struct RangerMount {
 
 // The nearest surface inside a beam of `beam_width_deg` (full angle) from `beam`, without
 // noise; nullopt when the cone meets nothing.
-std::optional<double> SiteRange(const site::Scene& scene, const RangerBeam& beam,
-                                double beam_width_deg);
+using RangeFunction =
+    std::function<std::optional<double>(const RangerBeam& beam, double beam_width_deg)>;
 
-// What the simulated ranger ranges: a scene file (common/site/scene_yaml.h) or, when
-// `scene_file` is empty, the thesis's default testbed (common/site/testbed.h); the mount
-// from the calibration file `calibration_file`, or, when it is empty, from the scene's own
-// cameras without a platform. nullopt with a message naming the file on failure.
+// What the simulated ranger ranges, and from where.
 struct RangerWorld {
-  site::Scene scene;
+  RangeFunction range;  // empty: nothing echoes
   RangerMount mount;
 };
+
+// Makes the world from the daemon's scene file and calibration file (either may be empty
+// for a default); nullopt with a message naming the file on failure.
+using RangerWorldLoader = std::function<std::optional<RangerWorld>(
+    const std::string& scene_file, const std::string& calibration_file, std::string* error)>;
+
+// Sets the loader LoadRangerWorld uses. Call before starting a simulator, from one thread.
+void RegisterRangerWorld(RangerWorldLoader loader);
+
+// The registered loader's world; nullopt with an error saying so when the program registered
+// none (it was built without the simulated site).
 std::optional<RangerWorld> LoadRangerWorld(const std::string& scene_file,
                                            const std::string& calibration_file, std::string* error);
 

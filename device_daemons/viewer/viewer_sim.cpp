@@ -74,12 +74,12 @@ boom::Pose PoseAt(const std::vector<ViewerKeyframe>& path, double t_s) {
 namespace {
 
 Eigen::Isometry3d SitePose(const boom::Pose& p, double units_per_metre) {
-  return site::HeadPoseFromMetres({p.x_m, p.y_m, p.z_m}, {p.yaw_deg, p.pitch_deg, p.roll_deg},
+  return HeadPoseFromMetres({p.x_m, p.y_m, p.z_m}, {p.yaw_deg, p.pitch_deg, p.roll_deg},
                                   units_per_metre);
 }
 
-site::PoseTrackerOptions TrackerOptions(const ViewerSimOptions& o) {
-  site::PoseTrackerOptions t;
+PoseTrackerOptions TrackerOptions(const ViewerSimOptions& o) {
+  PoseTrackerOptions t;
   t.site_from_power_up = SitePose(o.power_up, t.site_units_per_metre);
   t.position_step_m = boom::kPositionStepM;
   t.angle_step_deg = boom::kAngleStepDeg;
@@ -111,7 +111,7 @@ boom::Pose ViewerSim::HeadNow(int64_t now_ns) const {
 
 boom::Pose ViewerSim::PoseNow(int64_t now_ns) const {
   const boom::Pose head = HeadNow(now_ns);
-  const site::TrackerReading r = tracker_.Read(SitePose(head, tracker_.options().site_units_per_metre));
+  const TrackerReading r = tracker_.Read(SitePose(head, tracker_.options().site_units_per_metre));
   boom::Pose p = head;
   p.x_m = r.position_m.x();
   p.y_m = r.position_m.y();

@@ -1,5 +1,5 @@
 // A simulated BOOM viewer speaking boom_protocol.h: a pose tracker of the site
-// (common/site/pose_tracker.h) driven by a steady head pose, or head motion scripted by a
+// (pose_tracker.h) driven by a steady head pose, or head motion scripted by a
 // path (keyframes interpolated linearly, looping), plus the two handle buttons.
 //
 // The steady pose and the path's keyframes are the head's pose in the site: a position in
@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "common/site/pose_tracker.h"
 #include "device_daemons/serial/pty_host.h"
 #include "device_daemons/viewer/boom_protocol.h"
+#include "device_daemons/viewer/pose_tracker.h"
 
 namespace igms::devices {
 
@@ -55,7 +55,7 @@ class ViewerSim : public SimulatedDevice {
  private:
   std::string Report(int64_t now_ns);
 
-  site::PoseTracker tracker_;
+  PoseTracker tracker_;
   boom::Pose steady_;
   std::vector<ViewerKeyframe> path_;
   int64_t path_start_ns_ = -1;

@@ -5,8 +5,8 @@
 
 #include <opencv2/core/utility.hpp>
 
-#include "common/site/testbed.h"
-#include "object_server/evaluation.h"
+#include "common/sim/testbed.h"
+#include "common/sim/vision/evaluation.h"
 
 namespace igms::object {
 namespace {

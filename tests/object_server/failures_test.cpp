@@ -5,9 +5,9 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-#include "common/site/marks.h"
-#include "common/site/renderer.h"
-#include "common/site/testbed.h"
+#include "common/sim/marks.h"
+#include "common/sim/renderer.h"
+#include "common/sim/testbed.h"
 #include "object_server/locate.h"
 #include "object_server/result_json.h"
 

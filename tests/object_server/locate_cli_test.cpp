@@ -10,10 +10,10 @@
 #include <sstream>
 
 #include "common/calibration/calibration_file.h"
-#include "common/site/marks.h"
-#include "common/site/range.h"
-#include "common/site/renderer.h"
-#include "common/site/testbed.h"
+#include "common/sim/marks.h"
+#include "common/sim/range.h"
+#include "common/sim/renderer.h"
+#include "common/sim/testbed.h"
 #include "tests/support/child_process.h"
 
 namespace fs = std::filesystem;

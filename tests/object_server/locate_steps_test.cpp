@@ -7,9 +7,9 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-#include "common/site/marks.h"
-#include "common/site/renderer.h"
-#include "common/site/testbed.h"
+#include "common/sim/marks.h"
+#include "common/sim/renderer.h"
+#include "common/sim/testbed.h"
 #include "object_server/locate_steps.h"
 #include "object_server/solid_models.h"
 

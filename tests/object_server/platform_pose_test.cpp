@@ -8,8 +8,8 @@
 #include <fstream>
 
 #include "common/calibration/calibration_file.h"
-#include "common/site/marks.h"
-#include "common/site/testbed.h"
+#include "common/sim/marks.h"
+#include "common/sim/testbed.h"
 #include "igms/devices.pb.h"
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"

@@ -14,8 +14,8 @@
 
 #include "common/calibration/calibration_file.h"
 #include "common/calibration/calibration_hash.h"
-#include "common/site/marks.h"
-#include "common/site/testbed.h"
+#include "common/sim/marks.h"
+#include "common/sim/testbed.h"
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"
 #include "object_server/object_service.h"

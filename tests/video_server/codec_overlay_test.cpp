@@ -5,12 +5,17 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/wire/image_codec.h"
 #include "tests/video_server/test_data.h"
-#include "video_server/image_codec.h"
 #include "video_server/overlay_settings.h"
 
 namespace igms::video {
 namespace {
+
+using wire::DecodeImage;
+using wire::EncodeImage;
+using wire::ImageEncoding;
+using wire::ResolveRegion;
 
 using testing::OpenCvData;
 

@@ -13,19 +13,21 @@
 #include "common/base/clock.h"
 #include "common/calibration/calibration_file.h"
 #include "common/geometry/platform.h"
-#include "common/site/renderer.h"
-#include "common/site/scene_yaml.h"
-#include "common/site/testbed.h"
+#include "common/sim/capture/sim_capture.h"
+#include "common/sim/renderer.h"
+#include "common/sim/scene_yaml.h"
+#include "common/sim/testbed.h"
+#include "common/wire/image_message.h"
 #include "igms/devices.pb.h"
 #include "igms/video.pb.h"
 #include "tests/support/video_server_process.h"
 #include "tests/support/wait_for.h"
 #include "tests/video_server/test_data.h"
-#include "video_server/proto_convert.h"
-#include "video_server/sim_capture.h"
 
 namespace igms::video {
 namespace {
+
+using wire::DecodeProtoImage;
 
 using namespace std::chrono_literals;
 using testing::ScratchDir;

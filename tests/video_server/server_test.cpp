@@ -11,15 +11,18 @@
 
 #include "common/base/clock.h"
 #include "common/net/mailbox.h"
+#include "common/wire/image_message.h"
 #include "igms/video.pb.h"
 #include "tests/support/video_server_process.h"
 #include "tests/support/wait.h"
 #include "tests/video_server/test_data.h"
 #include "video_server/edges.h"
-#include "video_server/proto_convert.h"
+#include "video_server/stereo_frame.h"
 
 namespace igms::video {
 namespace {
+
+using wire::DecodeProtoImage;
 
 using namespace std::chrono_literals;
 using testing::OpenCvData;

@@ -6,15 +6,17 @@
 #include <opencv2/core.hpp>
 
 #include "common/calibration/calibration_file.h"
-#include "common/site/renderer.h"
-#include "common/site/scene_yaml.h"
-#include "common/site/testbed.h"
+#include "common/sim/renderer.h"
+#include "common/sim/scene_yaml.h"
+#include "common/sim/testbed.h"
+#include "common/wire/image_message.h"
 #include "igms/video.pb.h"
 #include "tests/support/video_server_process.h"
-#include "video_server/proto_convert.h"
 
 namespace igms::video {
 namespace {
+
+using wire::DecodeProtoImage;
 
 using namespace std::chrono_literals;
 using testing::ScratchDir;

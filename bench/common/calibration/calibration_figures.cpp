@@ -13,10 +13,10 @@
 
 #include "common/calibration/chessboard.h"
 #include "common/calibration/dlt.h"
-#include "common/calibration/synthetic_platform.h"
-#include "common/calibration/thesis_reference.h"
 #include "common/geometry/gl_camera.h"
 #include "common/geometry/triangulation.h"
+#include "common/sim/synthetic_platform.h"
+#include "common/sim/thesis_reference.h"
 
 namespace ic = igms::calibration;
 namespace ig = igms::geometry;

@@ -12,9 +12,9 @@
 #include "common/calibration/cli/json.h"
 #include "common/calibration/dlt.h"
 #include "common/calibration/platform_calibration.h"
-#include "common/calibration/synthetic_platform.h"
 #include "common/geometry/decomposition.h"
 #include "common/geometry/gl_camera.h"
+#include "common/sim/synthetic_platform.h"
 #include "common/version/version.h"
 
 namespace igms::calibration::cli {

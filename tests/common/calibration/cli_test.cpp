@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "common/calibration/calibration_file.h"
-#include "common/calibration/synthetic_platform.h"
+#include "common/sim/synthetic_platform.h"
 #include "tests/common/geometry/synthetic_rig.h"
 
 namespace igms::calibration {

@@ -5,7 +5,7 @@
 
 #include <cstdio>
 
-#include "common/calibration/synthetic_platform.h"
+#include "common/sim/synthetic_platform.h"
 
 namespace igms::calibration {
 namespace {

@@ -1,7 +1,7 @@
 // The thesis's printed decomposition (section 4.2) reproduced from its printed matrices.
 #include <gtest/gtest.h>
 
-#include "common/calibration/thesis_reference.h"
+#include "common/sim/thesis_reference.h"
 
 namespace igms::calibration {
 namespace {

@@ -5,10 +5,11 @@
 #include <future>
 #include <mutex>
 
+#include "common/sim/ranger/site_ranger.h"
+#include "common/sim/testbed.h"
 #include "device_daemons/ranger/ranger_driver.h"
-#include "common/site/testbed.h"
-#include "device_daemons/ranger/ranger_site.h"
 #include "device_daemons/ranger/ranger_sim.h"
+#include "device_daemons/ranger/ranger_site.h"
 #include "device_daemons/ranger/udm_protocol.h"
 #include "device_daemons/serial/pty_host.h"
 #include "tests/device_daemons/ranger/test_site.h"
@@ -50,7 +51,7 @@ RangerWorld TestWorld() {
   igms::testing::WriteFile(scene, testing::TestSceneYaml());
   std::string error;
   EXPECT_TRUE(calibration::SaveCalibration(testing::TestCalibration(), calib, &error)) << error;
-  auto world = LoadRangerWorld(scene, calib, &error);
+  auto world = LoadSiteRangerWorld(scene, calib, &error);
   EXPECT_TRUE(world) << error;
   return *world;
 }
@@ -78,23 +79,22 @@ TEST(RangerSite, MountFollowsThePlatformModel) {
 TEST(RangerSite, BeamRangesTheNearestSurfaceOfTheScene) {
   const RangerWorld world = TestWorld();
   // Straight ahead: the box's near face, perpendicular to the beam.
-  auto r = SiteRange(world.scene, world.mount.BeamAt({}), udm::kBeamWidthDeg);
+  auto r = world.range(world.mount.BeamAt({}), udm::kBeamWidthDeg);
   ASSERT_TRUE(r);
   EXPECT_NEAR(*r, testing::kBoxRangeIn, 1e-9);
   // Panned: the sphere's nearest point.
-  r = SiteRange(world.scene, world.mount.BeamAt(testing::PanAngles(testing::kPanDeg)), udm::kBeamWidthDeg);
+  r = world.range(world.mount.BeamAt(testing::PanAngles(testing::kPanDeg)), udm::kBeamWidthDeg);
   ASSERT_TRUE(r);
   EXPECT_NEAR(*r, testing::kSphereRangeIn, 1e-6);
   // Half way between: the box is 4.8 degrees wide either side of straight ahead, so the
   // 6-degree half beam still meets its corner at 10 degrees of pan, not at 20.
-  r = SiteRange(world.scene, world.mount.BeamAt(testing::PanAngles(10)), udm::kBeamWidthDeg);
+  r = world.range(world.mount.BeamAt(testing::PanAngles(10)), udm::kBeamWidthDeg);
   ASSERT_TRUE(r);
   EXPECT_GT(*r, testing::kBoxRangeIn);
   EXPECT_LT(*r, 50.0);
-  EXPECT_FALSE(SiteRange(world.scene, world.mount.BeamAt(testing::PanAngles(20)), udm::kBeamWidthDeg));
+  EXPECT_FALSE(world.range(world.mount.BeamAt(testing::PanAngles(20)), udm::kBeamWidthDeg));
   // The default: the thesis testbed, the sensor between its cameras, looking at the scene.
-  RangerSimOptions defaults;
-  const RangerBeam beam = defaults.world.mount.BeamAt({});
+  const RangerBeam beam = TestbedRangerWorld().mount.BeamAt({});
   const auto cams = site::ThesisCameras();
   EXPECT_LT((beam.origin - 0.5 * (cams.left.Center() + cams.right.Center())).norm(), 1e-9);
   EXPECT_GT(beam.axis.dot(cams.left.ViewDirection()), 0.99);
@@ -102,12 +102,27 @@ TEST(RangerSite, BeamRangesTheNearestSurfaceOfTheScene) {
 
 TEST(RangerSite, BadFilesFailWithTheirNames) {
   std::string error;
-  EXPECT_FALSE(LoadRangerWorld("/nonexistent/scene.yaml", "", &error));
+  EXPECT_FALSE(LoadSiteRangerWorld("/nonexistent/scene.yaml", "", &error));
   EXPECT_NE(error.find("/nonexistent/scene.yaml"), std::string::npos) << error;
   const std::string bad = igms::testing::TempPath("bad.yaml");
   igms::testing::WriteFile(bad, "%YAML:1.0\n---\nleft: {P: [1, 2, 3]}\n");
-  EXPECT_FALSE(LoadRangerWorld("", bad, &error));
+  EXPECT_FALSE(LoadSiteRangerWorld("", bad, &error));
   EXPECT_NE(error.find("left.P"), std::string::npos) << error;
+}
+
+TEST(RangerSite, TheWorldIsWhatTheProgramRegistered) {
+  // The ranger's library links no site: without a registered world the simulator cannot start.
+  RegisterRangerWorld(nullptr);
+  std::string error;
+  EXPECT_FALSE(LoadRangerWorld("", "", &error));
+  EXPECT_NE(error.find("without the simulated site"), std::string::npos) << error;
+  RegisterSiteRanger();
+  auto world = LoadRangerWorld("", "", &error);
+  ASSERT_TRUE(world) << error;
+  EXPECT_EQ(world->mount.BeamAt({}).origin, TestbedRangerWorld().mount.BeamAt({}).origin);
+  // A simulator without a world hears no echo.
+  RangerSim silent;
+  EXPECT_FALSE(silent.TrueRange());
 }
 
 TEST(RangerSim, AnswersOncePerMeasurementTime) {
@@ -188,7 +203,9 @@ TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
 }
 
 TEST(RangerPty, ContinuousRangingAtTheFullRate) {
-  PtyHost host(std::make_unique<RangerSim>(), {igms::testing::TempPath("udm6"), 9600});
+  RangerSimOptions testbed;
+  testbed.world = TestbedRangerWorld();
+  PtyHost host(std::make_unique<RangerSim>(testbed), {igms::testing::TempPath("udm6"), 9600});
   std::string error;
   ASSERT_TRUE(host.Start(&error)) << error;
   igms::testing::IoThread io;

@@ -12,7 +12,7 @@
 
 #include "common/calibration/calibration_file.h"
 #include "common/geometry/platform.h"
-#include "common/site/testbed.h"
+#include "common/sim/testbed.h"
 
 namespace igms::devices::testing {
 

@@ -1,0 +1,115 @@
+#include "common/sim/capture/sim_capture.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <memory>
+#include <vector>
+
+#include "common/calibration/calibration_file.h"
+#include "common/sim/renderer.h"
+#include "common/sim/scene_yaml.h"
+#include "common/sim/testbed.h"
+
+namespace igms::video {
+
+namespace {
+
+geometry::ProjectiveCamera MoveCamera(const geometry::ProjectiveCamera& camera,
+                                      const geometry::PlatformModel& platform,
+                                      const std::vector<double>& q) {
+  const geometry::Matrix34 P = geometry::CameraAtPose(camera.P(), platform, q);
+  return camera.lens() ? geometry::ProjectiveCamera(P, camera.image_size(), *camera.lens())
+                       : geometry::ProjectiveCamera(P, camera.image_size());
+}
+
+}  // namespace
+
+site::StereoCameras CamerasAtPose(const site::StereoCameras& cameras,
+                                  const std::optional<geometry::PlatformModel>& platform,
+                                  const PoseStamp& pose) {
+  if (!platform) return cameras;
+  std::vector<double> q(platform->joints.size(), 0.0);
+  for (size_t i = 0; i < q.size() && i < pose.joints_rad.size(); ++i) q[i] = pose.joints_rad[i];
+  return {MoveCamera(cameras.left, *platform, q), MoveCamera(cameras.right, *platform, q)};
+}
+
+std::unique_ptr<CaptureBackend> MakeSimCapture(site::Scene scene, std::string origin,
+                                               std::optional<geometry::PlatformModel> platform) {
+  const auto size = scene.cameras.left.image_size();
+  std::string description =
+      fmt::format("sim: {} ({} objects, {}x{}, seed {}, {})", origin, scene.objects.size(),
+                  size.width, size.height, scene.sensor.seed,
+                  platform ? fmt::format("{}-joint platform model", platform->joints.size())
+                           : std::string("no platform model"));
+  // The renderer keeps no state; the scene is captured by value and only its cameras move.
+  auto warned = std::make_shared<bool>(false);
+  return std::make_unique<RenderCapture>(
+      std::move(description),
+      [scene = std::move(scene), platform = std::move(platform), warned](const PoseStamp& pose) {
+        if (!platform && !pose.IsZero() && !*warned) {
+          *warned = true;
+          spdlog::warn(
+              "sim: the calibration has no platform model, so the platform pose is stamped "
+              "on each grab but the cameras stay at the zero pose");
+        }
+        site::Scene posed = scene;
+        posed.cameras = CamerasAtPose(scene.cameras, platform, pose);
+        site::StereoImages pair = site::RenderStereo(posed);
+        StereoImages images;
+        images.left = std::move(pair.left);
+        images.right = std::move(pair.right);
+        return CaptureResult::Ok(std::move(images));
+      });
+}
+
+SimSceneChoice ConfiguredSimScene(const config::ProcessOptions& process) {
+  SimSceneChoice choice;
+  const std::string scene_key = process.Key("sim.scene");
+  const std::string scene_file = process.Get<std::string>("sim.scene", "");
+  if (scene_file.empty()) {
+    choice.scene = site::DefaultTestbedScene();
+    choice.origin = "default testbed";
+  } else {
+    const std::string path = process.config.ResolvePath(scene_file);
+    site::SceneLoad load = site::LoadSceneFile(path);
+    if (!load.scene) {
+      choice.error = scene_key + ": " + load.error;
+      return choice;
+    }
+    choice.scene = std::move(load.scene);
+    choice.origin = path;
+  }
+  const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
+  if (!calibration_file.empty()) {
+    std::string error;
+    const auto calibration =
+        calibration::LoadCalibration(process.config.ResolvePath(calibration_file), &error);
+    if (!calibration) {
+      choice.scene.reset();
+      choice.error = "lab.calibration: " + error;
+      return choice;
+    }
+    choice.scene->cameras.left = calibration->left.Camera();
+    choice.scene->cameras.right = calibration->right.Camera();
+    choice.platform = calibration->platform;
+  }
+  const int seed = process.Get<int>("sim.seed", -1);
+  if (seed >= 0) choice.scene->sensor.seed = static_cast<uint64_t>(seed);
+  return choice;
+}
+
+BackendChoice MakeConfiguredSimCapture(const config::ProcessOptions& process) {
+  BackendChoice choice;
+  SimSceneChoice sim = ConfiguredSimScene(process);
+  if (sim.scene) {
+    choice.backend = MakeSimCapture(std::move(*sim.scene), sim.origin, std::move(sim.platform));
+  } else {
+    choice.error = sim.error;
+  }
+  return choice;
+}
+
+void RegisterSimCapture() { RegisterCaptureBackend("sim", MakeConfiguredSimCapture); }
+
+}  // namespace igms::video

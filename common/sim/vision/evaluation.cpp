@@ -1,0 +1,127 @@
+#include "common/sim/vision/evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+
+#include "common/sim/marks.h"
+#include "common/sim/renderer.h"
+#include "common/stats/percentile.h"
+#include "object_server/debug_image.h"
+#include "object_server/solid_models.h"
+
+namespace igms::object {
+
+std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
+                                            uint64_t mark_seed, const LocateOptions& options,
+                                            const std::string& debug_dir) {
+  const site::StereoImages images = site::RenderStereo(scene);
+  std::vector<ObjectEvaluation> out;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const auto& object = scene.objects[i];
+    const auto* cyl = std::get_if<site::Cylinder>(&object.shape);
+    const auto* box = std::get_if<site::Box>(&object.shape);
+    if (!cyl && !box) continue;
+    const auto marks = site::GenerateMarks(object.shape, scene.cameras.left, mark_seed * 1000 + i);
+    if (!marks) continue;
+    ObjectEvaluation e;
+    e.scene_name = scene_name;
+    e.object_name = object.name;
+    LocateInput in;
+    in.type = cyl ? SolidType::kCylinder : SolidType::kBox;
+    in.marks = *marks;
+    in.left = images.left;
+    in.right = images.right;
+    in.left_camera = scene.cameras.left;
+    in.right_camera = scene.cameras.right;
+    in.want_trace = !debug_dir.empty();
+    e.result = Locate(in, options);
+    if (!debug_dir.empty())
+      cv::imwrite(debug_dir + "/" + scene_name + "_" + object.name + ".png",
+                  DebugImage(in, e.result));
+    const Eigen::Vector3d eye = scene.cameras.left.Center();
+    if (cyl) {
+      e.lying = std::abs(cyl->axis.z()) < 0.7;
+      e.kind = e.lying ? "lying" : "upright";
+      e.distance = (cyl->center - eye).norm();
+      if (e.result.found) {
+        const auto& c = e.result.cylinder;
+        e.radius_signed = c.radius - cyl->radius;
+        e.height_signed = c.height - cyl->height;
+        e.radius_error = std::abs(e.radius_signed);
+        e.height_error = std::abs(e.height_signed);
+        e.position_error = (c.center - cyl->center).norm();
+        e.axis_error_deg = std::acos(std::min(1.0, std::abs(c.axis.dot(cyl->axis)))) * 180 / M_PI;
+        e.z_scores = {e.radius_error / c.radius_sigma, e.height_error / c.height_sigma};
+        for (int k = 0; k < 3; ++k)
+          e.z_scores.push_back(std::abs(c.center[k] - cyl->center[k]) / c.center_sigma[k]);
+      }
+    } else {
+      e.kind = "box";
+      e.distance = (box->center - eye).norm();
+      if (e.result.found) {
+        const auto& b = e.result.box;
+        // The found yaw is within 45 degrees of the true one, or of a quarter turn from it,
+        // which swaps the box's x and y sizes.
+        e.axis_error_deg = BoxYawErrorDeg(b.yaw_deg, box->rotation);
+        const bool quarter_turn =
+            std::abs(std::remainder(b.yaw_deg - StandingBoxYawDeg(box->rotation), 180.0)) > 45.0;
+        Eigen::Vector3d true_size = box->size;
+        if (quarter_turn) std::swap(true_size.x(), true_size.y());
+        e.size_signed = b.size - true_size;
+        e.size_error = e.size_signed.cwiseAbs();
+        e.position_error = (b.center - box->center).norm();
+        for (int k = 0; k < 3; ++k) {
+          e.z_scores.push_back(e.size_error[k] / b.size_sigma[k]);
+          e.z_scores.push_back(std::abs(b.center[k] - box->center[k]) / b.center_sigma[k]);
+        }
+      }
+    }
+    out.push_back(e);
+  }
+  return out;
+}
+
+Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& which) {
+  Summary s;
+  std::vector<double> radius, height, position, time, sx, sy, sz, axis;
+  int z_count = 0, z_within = 0;
+  for (const auto& e : all) {
+    if (!which.empty() && e.kind != which) continue;
+    ++s.count;
+    time.push_back(e.result.elapsed_ms);
+    if (!e.result.found) continue;
+    ++s.found;
+    position.push_back(e.position_error);
+    axis.push_back(e.axis_error_deg);
+    for (const double z : e.z_scores) {
+      ++z_count;
+      z_within += z < 2.0;  // a NaN (no deviation reported) counts as outside
+    }
+    if (e.kind == "box") {
+      sx.push_back(e.size_error.x());
+      sy.push_back(e.size_error.y());
+      sz.push_back(e.size_error.z());
+    } else {
+      radius.push_back(e.radius_error);
+      height.push_back(e.height_error);
+    }
+  }
+  s.found_rate = s.count ? double(s.found) / s.count : 0;
+  s.radius_median = stats::Percentile(radius, 0.5);
+  s.radius_p90 = stats::Percentile(radius, 0.9);
+  s.height_median = stats::Percentile(height, 0.5);
+  s.height_p90 = stats::Percentile(height, 0.9);
+  s.position_median = stats::Percentile(position, 0.5);
+  s.position_p90 = stats::Percentile(position, 0.9);
+  s.size_median = {stats::Median(sx), stats::Median(sy), stats::Median(sz)};
+  s.size_p90 = {stats::Percentile(sx, 0.9), stats::Percentile(sy, 0.9),
+                stats::Percentile(sz, 0.9)};
+  s.within_2_sigma = z_count ? double(z_within) / z_count : 0;
+  s.axis_median_deg = stats::Percentile(axis, 0.5);
+  s.axis_p90_deg = stats::Percentile(axis, 0.9);
+  s.time_median_ms = stats::Percentile(time, 0.5);
+  return s;
+}
+
+}  // namespace igms::object

@@ -1,0 +1,55 @@
+// Locating every object of simulated scenes from generated operator marks, and comparing
+// with the ground truth: the accuracy test, the accuracy benchmark and the demo's table
+// share this. Needs the site simulator (common/sim); the locator itself never sees it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "common/sim/scene.h"
+#include "object_server/locate.h"
+
+namespace igms::object {
+
+struct ObjectEvaluation {
+  std::string scene_name;
+  std::string object_name;
+  std::string kind;  // cylinder (upright or lying) or box
+  bool lying = false;
+  double distance = 0;  // from the left camera centre to the object's centre
+  LocateResult result;
+  // Errors, world units (valid when result.found).
+  double radius_error = 0, height_error = 0, position_error = 0;
+  double axis_error_deg = 0;  // cylinder: axis direction; box: yaw
+  // box: |found - true| per axis of the box's own frame (x, y after matching the yaws).
+  Eigen::Vector3d size_error = Eigen::Vector3d::Zero();
+  // Signed (found - true), to tell a bias from scatter.
+  double radius_signed = 0, height_signed = 0;
+  Eigen::Vector3d size_signed = Eigen::Vector3d::Zero();
+  // Each reported dimension's error over its reported standard deviation (cylinder: radius,
+  // height; box: size x, y, z; both: centre x, y, z), to tell whether the uncertainty can be
+  // believed.
+  std::vector<double> z_scores;
+};
+
+// Renders the scene's stereo pair, generates marks for each cylinder and box from the
+// ground truth (seeded by mark_seed and the object's index), locates and compares. With a
+// debug_dir, writes each object's debug image (debug_image.h) there as SCENE_OBJECT.png.
+std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
+                                            uint64_t mark_seed, const LocateOptions& options = {},
+                                            const std::string& debug_dir = "");
+
+struct Summary {
+  int count = 0, found = 0;
+  double found_rate = 0;
+  double radius_median = 0, radius_p90 = 0, height_median = 0, height_p90 = 0;
+  double position_median = 0, position_p90 = 0;
+  Eigen::Vector3d size_median = Eigen::Vector3d::Zero(), size_p90 = Eigen::Vector3d::Zero();
+  double axis_median_deg = 0, axis_p90_deg = 0;  // cylinder axis or box yaw
+  double within_2_sigma = 0;  // share of the z-scores under 2 (about 95% if believable)
+  double time_median_ms = 0;
+};
+// Statistics over the evaluations whose kind matches ("" = all; "upright", "lying", "box").
+Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& which);
+
+}  // namespace igms::object
