@@ -15,6 +15,8 @@ PACKAGES=(
   pocketsphinx-testdata
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev clang-14 libclang-rt-14-dev
+  # the project's style and static checks (deploy/lab format, deploy/lab lint)
+  clang-format-14 clang-tidy-14
   # run time: headless windows, sound, speech, serial ports, namespaces, real test images
   xvfb xauth libgl1-mesa-dri espeak-ng sox socat iproute2 procps opencv-doc python3
   # a second speech synthesiser: the recogniser's test voices that were never tuned on
