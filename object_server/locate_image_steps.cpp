@@ -81,8 +81,9 @@ StepResult<MarkedRegion> MarkRegion(const LocateInput& in) {
     const auto p = in.left_camera.Project(m);
     if (!p)
       return StepFailure{Failure::kMarksOutsideImage,
-                         name + " does not project into the left image: it lies too far to the "
-                                "side"};
+                         name +
+                             " does not project into the left image: it lies too far to the "
+                             "side"};
     quad.emplace_back(static_cast<float>(p->x()), static_cast<float>(p->y()));
     depth_sum += in.left_camera.Depth(m);
   }
@@ -90,10 +91,9 @@ StepResult<MarkedRegion> MarkRegion(const LocateInput& in) {
   cv::convexHull(quad, region.hull);
   const double area = cv::contourArea(region.hull);
   if (region.hull.size() < 3 || area < 16.0)
-    return StepFailure{Failure::kMarksDegenerate,
-                       "the marks bound " + FormatFixed(area, 1) +
-                           " square pixels in the left image; "
-                           "place them around the object's outline"};
+    return StepFailure{Failure::kMarksDegenerate, "the marks bound " + FormatFixed(area, 1) +
+                                                      " square pixels in the left image; "
+                                                      "place them around the object's outline"};
   const auto size = in.left_camera.image_size();
   std::vector<cv::Point2f> clipped;
   const std::vector<cv::Point2f> frame = {{-0.5f, -0.5f},
@@ -112,8 +112,7 @@ int RegionPad(const LocateOptions& options) {
 }
 
 cv::Rect GrowRect(const cv::Rect& rect, int pad, const cv::Rect& image) {
-  return cv::Rect(rect.x - pad, rect.y - pad, rect.width + 2 * pad, rect.height + 2 * pad) &
-         image;
+  return cv::Rect(rect.x - pad, rect.y - pad, rect.width + 2 * pad, rect.height + 2 * pad) & image;
 }
 
 std::vector<cv::Point2f> GrowPolygon(const std::vector<cv::Point2f>& polygon, double by) {
@@ -150,9 +149,9 @@ Boundary FindBoundary(const Gradients& left_gradients, const MarkedRegion& marks
                       const cv::Mat& edge_map, const LocateOptions& options) {
   Boundary b;
   b.region = GrowPolygon(marks.hull, options.boundary_grow_px);
-  b.pixels = LargestConnected(StrongEdgePixels(left_gradients, b.region, edge_map,
-                                               options.edge_fraction, options.min_edge_gradient,
-                                               &b.strongest));
+  b.pixels =
+      LargestConnected(StrongEdgePixels(left_gradients, b.region, edge_map, options.edge_fraction,
+                                        options.min_edge_gradient, &b.strongest));
   return b;
 }
 
@@ -182,15 +181,17 @@ DepthSearch ObjectDepthSearch(const std::vector<cv::Point>& boundary, double mar
                              object_rect.y + 0.5 * (object_rect.height - 1));
   s.near = std::max(0.5 * mark_depth, mark_depth - options.depth_tolerance);
   s.far = mark_depth + options.depth_tolerance;
-  s.patch = cv::Rect(object_rect.x - 3, object_rect.y - 3, object_rect.width + 6,
-                     object_rect.height + 6);
+  s.patch =
+      cv::Rect(object_rect.x - 3, object_rect.y - 3, object_rect.width + 6, object_rect.height + 6);
   return s;
 }
 
 SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, double near,
                             double far) {
-  const auto qa = pair.right_camera->Project(PointOnPixelRay(*pair.left_camera, search.centre, near));
-  const auto qb = pair.right_camera->Project(PointOnPixelRay(*pair.left_camera, search.centre, far));
+  const auto qa =
+      pair.right_camera->Project(PointOnPixelRay(*pair.left_camera, search.centre, near));
+  const auto qb =
+      pair.right_camera->Project(PointOnPixelRay(*pair.left_camera, search.centre, far));
   if (!qa || !qb) return SsdMatch{};
   return MatchAlongSegment(pair.left, pair.right, search.patch & ImageRect(pair.left),
                            *qa - search.centre, *qb - search.centre);
@@ -223,7 +224,8 @@ SsdMatch NarrowByRange(const LocateInput& in, const StereoPair& pair, const Dept
   if (qp && qd > 0 &&
       cv::pointPolygonTest(boundary.region, cv::Point2f(qp->x(), qp->y()), false) >= 0 &&
       std::abs(qd - mark_depth) <= options.depth_tolerance) {
-    const SsdMatch ranged = MatchBetweenDepths(pair, search, std::max(0.5 * qd, qd - beam), qd + beam);
+    const SsdMatch ranged =
+        MatchBetweenDepths(pair, search, std::max(0.5 * qd, qd - beam), qd + beam);
     if (ranged.ok && ranged.rms <= 1.25 * match.rms + 1.0) {
       check->constrained = true;
       return ranged;

@@ -8,8 +8,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
-#include "common/config/exit_codes.h"
 #include "common/calibration/calibration_file.h"
+#include "common/config/exit_codes.h"
 #include "common/version/version.h"
 #include "object_server/debug_image.h"
 #include "object_server/locate.h"
@@ -117,8 +117,7 @@ int Run(int argc, char** argv) {
   input.right = cv::imread(right_path, cv::IMREAD_GRAYSCALE);
   if (input.right.empty()) return bad("cannot read image " + right_path);
 
-  if (std::string problem; !input_options.Check(&problem))
-    return bad("options: " + problem);
+  if (std::string problem; !input_options.Check(&problem)) return bad("options: " + problem);
   const auto result = igms::object::Locate(input, input_options);
   if (!debug_image.empty()) {
     bool written = false;

@@ -31,12 +31,10 @@ Eigen::VectorXd Sigmas(const std::function<Eigen::VectorXd(const Eigen::VectorXd
 
 // The tilted start of a pipe lying towards the cameras (CylinderStarts): each end's patch
 // matched into the right image on its own; nullopt when an end has no match.
-std::optional<Eigen::VectorXd> TiltedCylinderStart(const StereoPair& pair, const DepthSearch& search,
-                                                   const Eigen::VectorXd& start,
-                                                   const Eigen::Vector2d& mid,
-                                                   const Eigen::Vector2d& along, double half_len,
-                                                   double half_width, double depth, double radius,
-                                                   const LocateOptions& options) {
+std::optional<Eigen::VectorXd> TiltedCylinderStart(
+    const StereoPair& pair, const DepthSearch& search, const Eigen::VectorXd& start,
+    const Eigen::Vector2d& mid, const Eigen::Vector2d& along, double half_len, double half_width,
+    double depth, double radius, const LocateOptions& options) {
   const geometry::ProjectiveCamera& left_camera = *pair.left_camera;
   const cv::Rect image_rect(0, 0, pair.left.cols, pair.left.rows);
   // The pipe's length across the view widens each end's depth range.
@@ -63,8 +61,7 @@ std::optional<Eigen::VectorXd> TiltedCylinderStart(const StereoPair& pair, const
     if (!xe) return std::nullopt;
     const Eigen::Vector2d tip =
         mid + (end == 0 ? -1.0 : 1.0) * (half_len - 0.5 * half_width) * along;
-    tilted.segment<3>(3 * end) =
-        PointOnPixelRay(left_camera, tip, left_camera.Depth(*xe) + radius);
+    tilted.segment<3>(3 * end) = PointOnPixelRay(left_camera, tip, left_camera.Depth(*xe) + radius);
   }
   return tilted;
 }
@@ -112,8 +109,8 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
       PointOnPixelRay(left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
   x0[6] = radius;
   std::vector<Eigen::VectorXd> starts = {x0};
-  const auto tilted = TiltedCylinderStart(pair, search, x0, mid, along, half_len, half_width,
-                                          depth, radius, options);
+  const auto tilted = TiltedCylinderStart(pair, search, x0, mid, along, half_len, half_width, depth,
+                                          radius, options);
   if (tilted && std::abs(left_camera.Depth(tilted->segment<3>(0)) -
                          left_camera.Depth(tilted->segment<3>(3))) > radius)
     starts.push_back(*tilted);
@@ -236,8 +233,7 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
   FitOutcome fo = FitFromStarts(outline, inner, turned, views, fit);
   spdlog::debug("locate: turned box: score {:.3f} against aligned {:.3f}", FitScore(fo),
                 FitScore(f));
-  if (!f.ok || (IsSolid(fo) && (!IsSolid(f) || FitScore(fo) < 0.8 * FitScore(f))))
-    return fo;
+  if (!f.ok || (IsSolid(fo) && (!IsSolid(f) || FitScore(fo) < 0.8 * FitScore(f)))) return fo;
   return f;
 }
 

@@ -44,7 +44,7 @@ struct StepFailure {
 template <typename T>
 class StepResult {
  public:
-  StepResult(T value) : value_(std::move(value)) {}              // NOLINT: implicit on purpose
+  StepResult(T value) : value_(std::move(value)) {}                  // NOLINT: implicit on purpose
   StepResult(StepFailure failure) : failure_(std::move(failure)) {}  // NOLINT
   bool ok() const { return value_.has_value(); }
   const T& operator*() const { return *value_; }

@@ -11,9 +11,9 @@
 #include <fstream>
 
 #include "common/calibration/calibration_file.h"
+#include "common/calibration/calibration_hash.h"
 #include "common/config/exit_codes.h"
 #include "common/config/lab_ports.h"
-#include "common/calibration/calibration_hash.h"
 #include "common/config/process_options.h"
 #include "common/net/client.h"
 #include "common/net/process_server.h"
@@ -76,7 +76,8 @@ int main(int argc, char** argv) {
     options.video = video_options.host + ":" + std::to_string(video_options.port);
     igms::net::Client video(io, video_options);
 
-    igms::net::Server server(io, igms::net::ServerOptionsFor(*process, igms::config::ports::kObject));
+    igms::net::Server server(io,
+                             igms::net::ServerOptionsFor(*process, igms::config::ports::kObject));
     igms::object::ObjectService service(video, calibration->left.Camera(),
                                         calibration->right.Camera(), options);
     service.Register(server);

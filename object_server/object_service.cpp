@@ -1,7 +1,5 @@
 #include "object_server/object_service.h"
 
-#include "common/net/process_server.h"
-
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -9,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
+#include "common/net/process_server.h"
 #include "common/wire/image_message.h"
 #include "igms/video.pb.h"
 
@@ -272,10 +271,9 @@ net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_
                                                      std::to_string(frame_id) + ": " +
                                                      got.status.message);
     }
-    return net::Status::Error(igms::UNAVAILABLE, "cannot fetch frame " +
-                                                     std::to_string(frame_id) +
-                                                     " from the video server at " +
-                                                     options_.video + ": " + got.status.message);
+    return net::Status::Error(igms::UNAVAILABLE, "cannot fetch frame " + std::to_string(frame_id) +
+                                                     " from the video server at " + options_.video +
+                                                     ": " + got.status.message);
   }
   Frame fetched;
   fetched.id = frame_id;
@@ -302,9 +300,8 @@ net::Status ObjectService::Fetch(uint64_t frame_id, Frame* frame, double* fetch_
 bool ObjectService::VideoUp(std::string* why) {
   if (video_.connected()) return true;
   std::unique_lock lock(link_->mutex);
-  link_->changed.wait_for(lock, options_.fetch_timeout, [this] {
-    return link_->state != net::ConnectionState::kConnecting;
-  });
+  link_->changed.wait_for(lock, options_.fetch_timeout,
+                          [this] { return link_->state != net::ConnectionState::kConnecting; });
   if (video_.connected()) return true;
   *why = link_->state == net::ConnectionState::kConnecting
              ? "no connection within " + std::to_string(options_.fetch_timeout.count()) + " ms"

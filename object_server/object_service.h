@@ -31,8 +31,8 @@
 #include <vector>
 
 #include "common/calibration/calibration_file.h"
-#include "common/geometry/camera.h"
 #include "common/config/keys.h"
+#include "common/geometry/camera.h"
 #include "common/geometry/platform.h"
 #include "common/net/client.h"
 #include "common/net/server.h"
@@ -47,9 +47,9 @@ struct ObjectServiceOptions {
   // (igmsctl's 5 s), so that a video server that hangs is reported as such, not as the
   // caller's timeout.
   std::chrono::milliseconds fetch_timeout{2000};
-  size_t cache_frames = 4;                        // grabs' images kept
-  size_t max_queue = 16;                          // locates waiting; more are UNAVAILABLE
-  int workers = 2;                                // locates run at once
+  size_t cache_frames = 4;  // grabs' images kept
+  size_t max_queue = 16;    // locates waiting; more are UNAVAILABLE
+  int workers = 2;          // locates run at once
   LocateOptions locate;
   // The ultrasonic ranger in the world (the calibration's ranger map at the platform's zero
   // pose, as the cameras); without one a request's range is not used (said in the response).

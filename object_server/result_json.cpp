@@ -37,9 +37,8 @@ std::string ResultToJson(const LocateResult& r) {
     const auto& b = r.box;
     o << ", \"min\": " << Vec(b.min) << ", \"max\": " << Vec(b.max)
       << ", \"center\": " << Vec(b.center) << ", \"size\": " << Vec(b.size)
-      << ", \"yaw_deg\": " << Num(b.yaw_deg)
-      << ", \"texture_rect\": [" << b.texture_rect.x << ", " << b.texture_rect.y << ", "
-      << b.texture_rect.x + b.texture_rect.width - 1 << ", "
+      << ", \"yaw_deg\": " << Num(b.yaw_deg) << ", \"texture_rect\": [" << b.texture_rect.x << ", "
+      << b.texture_rect.y << ", " << b.texture_rect.x + b.texture_rect.width - 1 << ", "
       << b.texture_rect.y + b.texture_rect.height - 1
       << "], \"sigma\": {\"min\": " << Vec(b.min_sigma) << ", \"max\": " << Vec(b.max_sigma)
       << ", \"center\": " << Vec(b.center_sigma) << ", \"size\": " << Vec(b.size_sigma)

@@ -332,14 +332,13 @@ bool OutlineResiduals::Residuals(const Eigen::VectorXd& x, std::vector<Measureme
     ms[i].hint = ia;
     Eigen::Vector2d da, db;
     r[i] = SignedFromClosest(ov, c, ms[i].point, J ? &da : nullptr, J ? &db : nullptr);
-    if (J)
-      J->row(i) = da.transpose() * dpx[ms[i].view][ia] + db.transpose() * dpx[ms[i].view][ib];
+    if (J) J->row(i) = da.transpose() * dpx[ms[i].view][ia] + db.transpose() * dpx[ms[i].view][ib];
   }
   return true;
 }
 
-void RefineParameters(const OutlineResiduals& residuals, const FitOptions& options,
-                      double outlier, std::vector<Measurement>& ms, Eigen::VectorXd& x) {
+void RefineParameters(const OutlineResiduals& residuals, const FitOptions& options, double outlier,
+                      std::vector<Measurement>& ms, Eigen::VectorXd& x) {
   const int np = static_cast<int>(x.size());
   auto cost_of = [&](const Eigen::VectorXd& res) {
     double c = 0;
@@ -363,13 +362,12 @@ void RefineParameters(const OutlineResiduals& residuals, const FitOptions& optio
       Eigen::MatrixXd A = H;
       // Directions no edge constrains (an end with no measurement yet) must not drift:
       // a small stiffness relative to the mean curvature holds them.
-      A.diagonal() += lambda * H.diagonal() +
-                      Eigen::VectorXd::Constant(np, 1e-6 * H.diagonal().mean() + 1e-9);
+      A.diagonal() +=
+          lambda * H.diagonal() + Eigen::VectorXd::Constant(np, 1e-6 * H.diagonal().mean() + 1e-9);
       const Eigen::VectorXd dx = -A.ldlt().solve(g);
       Eigen::VectorXd rn;
       std::vector<Measurement> trial = ms;
-      if (dx.allFinite() && residuals.Residuals(x + dx, trial, rn, nullptr) &&
-          cost_of(rn) < cost) {
+      if (dx.allFinite() && residuals.Residuals(x + dx, trial, rn, nullptr) && cost_of(rn) < cost) {
         gain = cost - cost_of(rn);
         x += dx;
         ms = std::move(trial);

@@ -106,8 +106,8 @@ class OutlineResiduals {
 // Up to options.inner_iterations Levenberg-Marquardt steps on the measurements' robust cost
 // (residuals beyond `outlier` carry no weight), from x; a step that gains almost nothing ends
 // them. Hints of `ms` follow the accepted steps.
-void RefineParameters(const OutlineResiduals& residuals, const FitOptions& options,
-                      double outlier, std::vector<Measurement>& ms, Eigen::VectorXd& x);
+void RefineParameters(const OutlineResiduals& residuals, const FitOptions& options, double outlier,
+                      std::vector<Measurement>& ms, Eigen::VectorXd& x);
 
 // Whether no outline point moved farther than `settled_px` between two projections of it.
 bool OutlineSettled(const std::array<ViewOutline, 2>& before,

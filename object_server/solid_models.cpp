@@ -69,7 +69,7 @@ std::vector<InnerEdge> CylinderInnerEdges(const Eigen::VectorXd& x, const Eigen:
       e.chain.push_back(end * kCapPoints + (start + k) % kCapPoints);
     const int middle = e.chain[e.chain.size() / 2] - end * kCapPoints;
     e.c1 = end * kCapPoints + (middle + kCapPoints / 2) % kCapPoints;  // across the cap
-    e.c2 = (1 - end) * kCapPoints + middle;                           // along the side
+    e.c2 = (1 - end) * kCapPoints + middle;                            // along the side
     // A curved rim has no parallel neighbour beside it as a box's face edge has: a thinner
     // cap is safe to measure, and a far pipe's caps are thin.
     e.min_width_px = 2.5;
@@ -112,7 +112,8 @@ std::vector<InnerEdge> BoxInnerEdges(const Eigen::VectorXd& x, const Eigen::Vect
           if (!seen(k1, b1) || !seen(k2, b2)) continue;
           const int m = 3 - k1 - k2;
           const int base = (b1 << k1) | (b2 << k2);
-          edges.push_back({{base, base | (1 << m)}, (b1 << k1) | ((1 - b2) << k2),
+          edges.push_back({{base, base | (1 << m)},
+                           (b1 << k1) | ((1 - b2) << k2),
                            ((1 - b1) << k1) | (b2 << k2)});
         }
   return edges;

@@ -29,7 +29,7 @@ Result<AudioClip> ReadAudioFile(const std::filesystem::path& path) {
   if (info.frames <= 0) return ErrorMessage{name + ": holds no audio"};
   if (info.frames > static_cast<sf_count_t>(kMaxClipSeconds * info.samplerate)) {
     return ErrorMessage{name + ": longer than the " + std::to_string(int(kMaxClipSeconds)) +
-                 " s a sound may last"};
+                        " s a sound may last"};
   }
   std::vector<int16_t> interleaved(static_cast<size_t>(info.frames) * info.channels);
   const sf_count_t read = sf_readf_short(file.get(), interleaved.data(), info.frames);

@@ -7,8 +7,8 @@
 #include <iostream>
 
 #include "common/config/exit_codes.h"
-#include "sound_server/bank_generator.h"
 #include "common/version/version.h"
+#include "sound_server/bank_generator.h"
 
 namespace po = boost::program_options;
 
@@ -17,8 +17,8 @@ int main(int argc, char** argv) {
     std::string manifest_path, out_dir, stamp;
     igms::sound::GenerateOptions options;
     po::options_description flags("igms-sound-bank: generate the sound bank from its manifest");
-    flags.add_options()("help,h", "this help")("version", "print the version and exit")("manifest", po::value(&manifest_path)->required(),
-                                               "the bank's manifest.yaml")(
+    flags.add_options()("help,h", "this help")("version", "print the version and exit")(
+        "manifest", po::value(&manifest_path)->required(), "the bank's manifest.yaml")(
         "out", po::value(&out_dir)->required(), "folder to write the bank into")(
         "stamp", po::value(&stamp), "file touched when every sound was generated")(
         "sox", po::value(&options.sox)->default_value("sox"), "the sox program")(
@@ -39,8 +39,7 @@ int main(int argc, char** argv) {
       spdlog::error("{}", loaded.error());
       return igms::kExitUsage;
     }
-    const igms::sound::GenerateResult result =
-        igms::sound::GenerateBank(*loaded, out_dir, options);
+    const igms::sound::GenerateResult result = igms::sound::GenerateBank(*loaded, out_dir, options);
     for (const std::string& error : result.errors) spdlog::error("{}", error);
     if (!result.ok()) return igms::kExitFailure;
     spdlog::info("generated {} sounds into {}", result.generated, out_dir);

@@ -42,8 +42,8 @@ int Run(int argc, char** argv) {
   }
   spdlog::info("playing on the {} output '{}' at {} Hz", output.output->output(),
                output.output->device_name(), output.output->sample_rate());
-  sound::EngineResult engine = sound::Engine::Create(std::move(*manifest),
-                                                     std::move(output.output), settings.engine);
+  sound::EngineResult engine =
+      sound::Engine::Create(std::move(*manifest), std::move(output.output), settings.engine);
   for (const std::string& warning : engine.warnings) spdlog::warn("{}", warning);
   if (!engine.engine) {
     spdlog::error("{}", engine.error);

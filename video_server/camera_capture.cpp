@@ -59,9 +59,9 @@ class DeviceReader {
     changed_.wait_until(lock, deadline, [&] { return latest_time_ns_ >= since_ns || stop_; });
     if (latest_time_ns_ < since_ns) {
       error = role_ + " camera " + device_ + ": " +
-              (status_.empty() ? "no frame within " +
-                                     std::to_string(options_.frame_timeout.count()) + " ms"
-                               : status_);
+              (status_.empty()
+                   ? "no frame within " + std::to_string(options_.frame_timeout.count()) + " ms"
+                   : status_);
       return false;
     }
     frame = latest_.clone();
@@ -175,8 +175,7 @@ class CameraCapture : public CaptureBackend {
     }
     if (right_) {
       images.left = left;
-      if (!right_->WaitNewer(since, deadline, images.right, images.right_capture_unix_ns,
-                             error)) {
+      if (!right_->WaitNewer(since, deadline, images.right, images.right_capture_unix_ns, error)) {
         return CaptureResult::Error(error);
       }
     } else {

@@ -16,9 +16,10 @@ float FastAtan2(float y, float x) {
   if (big == 0.0f) return 0.0f;
   const float a = std::min(ax, ay) / big;
   const float s = a * a;
-  float r = a * (0.99997726f +
-                 s * (-0.33262347f +
-                      s * (0.19354346f + s * (-0.11643287f + s * (0.05265332f - s * 0.01172120f)))));
+  float r =
+      a * (0.99997726f +
+           s * (-0.33262347f +
+                s * (0.19354346f + s * (-0.11643287f + s * (0.05265332f - s * 0.01172120f)))));
   if (ay > ax) r = 1.57079637f - r;
   if (x < 0.0f) r = 3.14159274f - r;
   return y < 0.0f ? -r : r;

@@ -8,9 +8,8 @@
 // smoothed 8-bit image (the same units as cv::Canny's thresholds with aperture 3).
 #pragma once
 
-#include <opencv2/core.hpp>
-
 #include <cmath>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 

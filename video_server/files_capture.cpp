@@ -4,8 +4,8 @@
 
 #include <cctype>
 #include <filesystem>
-#include <optional>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 
 #include "common/base/clock.h"
 
@@ -130,7 +130,7 @@ bool FilesCaptureOptions::Check(std::string* error) const {
   if (IsFilePattern(left)) {
     if (!FormatFilePattern(left, 0) || !FormatFilePattern(right, 0)) {
       *error = "a numbered pattern needs exactly one integer field such as %d or %02d: " + left +
-             ", " + right;
+               ", " + right;
       return false;
     }
     if (first < 0 || first > last) {

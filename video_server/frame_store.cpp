@@ -80,10 +80,10 @@ FrameLookup FrameStore::Find(uint64_t id) const {
     lookup.record = *it;
     return lookup;
   }
-  const std::string held =
-      frames_.empty() ? "the store is empty"
-                      : "the store holds frames " + std::to_string(frames_.front()->id()) +
-                            " to " + std::to_string(frames_.back()->id());
+  const std::string held = frames_.empty()
+                               ? "the store is empty"
+                               : "the store holds frames " + std::to_string(frames_.front()->id()) +
+                                     " to " + std::to_string(frames_.back()->id());
   if (id < first_id_) {
     lookup.error = "unknown frame id " + std::to_string(id) +
                    ": not grabbed since the video server started (" + held + "); grab again";
@@ -92,8 +92,8 @@ FrameLookup FrameStore::Find(uint64_t id) const {
     lookup.error = "frame " + std::to_string(id) + " was evicted: the store keeps the last " +
                    std::to_string(capacity_) + " grabs (" + held + "); grab again";
   } else {
-    lookup.error = "unknown frame id " + std::to_string(id) + ": no such frame was grabbed (" +
-                   held + ")";
+    lookup.error =
+        "unknown frame id " + std::to_string(id) + ": no such frame was grabbed (" + held + ")";
   }
   return lookup;
 }

@@ -30,8 +30,8 @@ int main(int argc, char** argv) {
                         "write the port listened on to this file once listening");
     int exit_code = 0;
     auto process = igms::config::ParseProcessOptions(
-        argc, argv, "video", "igms-video-server: stereo grabs, edges, live video, overlay",
-        extra, igms::video::VideoKeys(), &exit_code);
+        argc, argv, "video", "igms-video-server: stereo grabs, edges, live video, overlay", extra,
+        igms::video::VideoKeys(), &exit_code);
     if (!process) return exit_code;
 
     std::string error;
@@ -73,7 +73,8 @@ int main(int argc, char** argv) {
       follower = std::make_unique<igms::video::PlatformPoseFollower>(io, std::move(*platform));
       pose = [&follower] { return follower->Pose(); };
     }
-    igms::net::Server server(io, igms::net::ServerOptionsFor(*process, igms::config::ports::kVideo));
+    igms::net::Server server(io,
+                             igms::net::ServerOptionsFor(*process, igms::config::ports::kVideo));
     igms::video::VideoService service(io, std::move(backend.backend), options, *overlay, pose);
     service.Register(server);
     if (follower) follower->Start();

@@ -41,8 +41,7 @@ std::optional<Overlay> LoadOverlaySettings(const std::string& path, std::string*
   return settings;
 }
 
-bool SaveOverlaySettings(const std::string& path, const Overlay& settings,
-                         std::string* error) {
+bool SaveOverlaySettings(const std::string& path, const Overlay& settings, std::string* error) {
   const std::string temporary = path + ".tmp";
   {
     std::ofstream out(temporary, std::ios::trunc);

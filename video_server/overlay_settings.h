@@ -28,8 +28,7 @@ std::optional<Overlay> LoadOverlaySettings(const std::string& path, std::string*
 
 // Writes settings to `path` atomically (a temporary file renamed over it), so a crash never
 // leaves half a file. False with `error` set when the folder is not writable.
-bool SaveOverlaySettings(const std::string& path, const Overlay& settings,
-                         std::string* error);
+bool SaveOverlaySettings(const std::string& path, const Overlay& settings, std::string* error);
 
 // The settings in memory plus their file; thread-safe. An empty path keeps them in memory.
 class OverlayStore {

@@ -17,8 +17,8 @@ std::string CheckStereoImages(const StereoImages& images) {
   if (images.left.size() != images.right.size() || images.left.type() != images.right.type()) {
     return "left is " + std::to_string(images.left.cols) + "x" + std::to_string(images.left.rows) +
            " with " + std::to_string(images.left.channels()) + " channel(s) but right is " +
-           std::to_string(images.right.cols) + "x" + std::to_string(images.right.rows) +
-           " with " + std::to_string(images.right.channels()) + ": a pair must match";
+           std::to_string(images.right.cols) + "x" + std::to_string(images.right.rows) + " with " +
+           std::to_string(images.right.channels()) + ": a pair must match";
   }
   return "";
 }

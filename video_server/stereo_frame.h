@@ -5,10 +5,9 @@
 // the centre of the top-left pixel, u right, v down (common/geometry/camera.h).
 #pragma once
 
-#include <opencv2/core.hpp>
-
 #include <array>
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <string>
 
 namespace igms::video {

@@ -14,7 +14,8 @@ namespace {
 std::string PathKey(const config::ProcessOptions& process, const std::string& sub) {
   const std::string value = process.Get<std::string>(sub, "");
   // Numbered patterns and device indices pass through; paths are made absolute.
-  if (value.empty() || (value.size() <= 4 && value.find_first_not_of("0123456789") == std::string::npos)) {
+  if (value.empty() ||
+      (value.size() <= 4 && value.find_first_not_of("0123456789") == std::string::npos)) {
     return value;
   }
   return process.config.ResolvePath(value);
@@ -46,12 +47,14 @@ config::Keys VideoKeys() {
   keys.Add("files.colour", KeyType::kBool, "false", "files: keep colour");
   keys.Add("camera.left", KeyType::kString, "0", "camera: the left camera (device or index)");
   keys.Add("camera.right", KeyType::kString, "1", "camera: the right camera (device or index)");
-  keys.Add("camera.side_by_side", KeyType::kBool, "false", "camera: one device, pairs side by side");
+  keys.Add("camera.side_by_side", KeyType::kBool, "false",
+           "camera: one device, pairs side by side");
   keys.Add("camera.width", KeyType::kInt, "0", "camera: frame width (0: the camera's)");
   keys.Add("camera.height", KeyType::kInt, "0", "camera: frame height (0: the camera's)");
   keys.Add("camera.colour", KeyType::kBool, "false", "camera: keep colour");
   keys.Add("camera.pace_fps", KeyType::kNumber, "0", "camera: grab at most this often (0: freely)");
-  keys.Add("camera.frame_timeout_ms", KeyType::kInt, "1000", "camera: a frame later than this fails");
+  keys.Add("camera.frame_timeout_ms", KeyType::kInt, "1000",
+           "camera: a frame later than this fails");
   keys.Add("camera.retry_ms", KeyType::kInt, "1000", "camera: reopen a lost camera this often");
   keys.Add("platform", KeyType::kString, "", "follow this platform process's pose");
   keys.Add("store_capacity", KeyType::kInt, "16", "grabs kept");
@@ -88,7 +91,8 @@ BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process) {
     camera.height = process.Get<int>("camera.height", 0);
     camera.colour = process.Get<bool>("camera.colour", false);
     camera.pace_fps = process.Get<double>("camera.pace_fps", 0.0);
-    camera.frame_timeout = std::chrono::milliseconds(process.Get<int>("camera.frame_timeout_ms", 1000));
+    camera.frame_timeout =
+        std::chrono::milliseconds(process.Get<int>("camera.frame_timeout_ms", 1000));
     camera.retry_interval = std::chrono::milliseconds(process.Get<int>("camera.retry_ms", 1000));
     std::string error;
     choice.backend = MakeCameraCapture(camera, &error);

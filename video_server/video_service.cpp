@@ -188,26 +188,26 @@ void VideoService::GetEdges(const GetEdgesRequest& request,
   const Side side = request.side();
   const uint64_t id = request.frame_id();
   const cv::Rect region = *rect;
-  lookup.record->OnEdgesReady([this, pending, encoding, side, id,
-                               region](std::shared_ptr<const StereoEdges> edges) {
-    encode_pool_.Post([pending, edges, encoding, side, id, region] {
-      if (pending->answered.exchange(true)) return;
-      boost::asio::post(pending->strand, [pending] { pending->timer.cancel(); });
-      if (!edges->error.empty()) {
-        pending->done(net::Status::Error(igms::INTERNAL, edges->error), {});
-        return;
-      }
-      GetEdgesResponse response;
-      response.set_frame_id(id);
-      if (side != RIGHT) FillEdgeMap(edges->left, region, encoding, response.mutable_left());
-      if (side != LEFT) FillEdgeMap(edges->right, region, encoding, response.mutable_right());
-      ToProto(edges->options, response.mutable_parameters());
-      response.set_ready_ms(edges->ready_ms);
-      response.set_left_ms(edges->left_ms);
-      response.set_right_ms(edges->right_ms);
-      pending->done(net::Status::Ok(), response);
-    });
-  });
+  lookup.record->OnEdgesReady(
+      [this, pending, encoding, side, id, region](std::shared_ptr<const StereoEdges> edges) {
+        encode_pool_.Post([pending, edges, encoding, side, id, region] {
+          if (pending->answered.exchange(true)) return;
+          boost::asio::post(pending->strand, [pending] { pending->timer.cancel(); });
+          if (!edges->error.empty()) {
+            pending->done(net::Status::Error(igms::INTERNAL, edges->error), {});
+            return;
+          }
+          GetEdgesResponse response;
+          response.set_frame_id(id);
+          if (side != RIGHT) FillEdgeMap(edges->left, region, encoding, response.mutable_left());
+          if (side != LEFT) FillEdgeMap(edges->right, region, encoding, response.mutable_right());
+          ToProto(edges->options, response.mutable_parameters());
+          response.set_ready_ms(edges->ready_ms);
+          response.set_left_ms(edges->left_ms);
+          response.set_right_ms(edges->right_ms);
+          pending->done(net::Status::Ok(), response);
+        });
+      });
 }
 
 net::Status VideoService::SetOverlay(const SetOverlayRequest& request,
@@ -272,7 +272,8 @@ void VideoService::Register(net::Server& server) {
         return net::Status::Ok();
       });
   server.Handle<SetOverlayRequest, SetOverlayResponse>(
-      prefix + "SetOverlay", [this](const SetOverlayRequest& request, SetOverlayResponse& response) {
+      prefix + "SetOverlay",
+      [this](const SetOverlayRequest& request, SetOverlayResponse& response) {
         return SetOverlay(request, response);
       });
   server.Handle<StatusRequest, StatusResponse>(

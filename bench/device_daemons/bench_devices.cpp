@@ -5,22 +5,24 @@
 // The simulator runs here on a real pseudo-terminal paced at 9600 baud; the daemon is the
 // real process, started with --serial on that pseudo-terminal as it would be on hardware.
 // Baseline, same run: the same simulator read in-process by a bare SerialLink (no daemon,
-// no TCP). Last, the gamepad stand-in (--gamepad) fed js_event records through a FIFO. Both clocks are CLOCK_MONOTONIC, shared by processes on one host.
+// no TCP). Last, the gamepad stand-in (--gamepad) fed js_event records through a FIFO. Both clocks
+// are CLOCK_MONOTONIC, shared by processes on one host.
 //
 //   build/bench/bench_devices [seconds per device, default 5]
 #include <linux/joystick.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <boost/asio/io_context.hpp>
 #include <cmath>
-#include <thread>
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <thread>
 #include <vector>
 
+#include "common/base/clock.h"
 #include "common/net/client.h"
 #include "common/sim/ranger/site_ranger.h"
 #include "common/stats/percentile.h"
@@ -28,7 +30,6 @@
 #include "device_daemons/joystick/gamepad.h"
 #include "device_daemons/platform/molly_sim.h"
 #include "device_daemons/ranger/ranger_sim.h"
-#include "common/base/clock.h"
 #include "device_daemons/serial/pty_host.h"
 #include "device_daemons/serial/serial_link.h"
 #include "device_daemons/viewer/viewer_sim.h"
@@ -39,8 +40,8 @@
 namespace {
 
 using namespace igms::devices;
-using testing::DaemonProcess;
 using igms::testing::IoThread;
+using testing::DaemonProcess;
 
 // Times at which the simulator finished writing each chunk.
 class ChunkTimes {
@@ -89,8 +90,10 @@ double RssMb(pid_t pid) {
   return 0;
 }
 
-std::unique_ptr<PtyHost> StartSim(std::unique_ptr<SimulatedDevice> device, const std::string& name, ChunkTimes* times) {
-  auto host = std::make_unique<PtyHost>(std::move(device), PtyHostOptions{igms::testing::TempPath(name), 9600});
+std::unique_ptr<PtyHost> StartSim(std::unique_ptr<SimulatedDevice> device, const std::string& name,
+                                  ChunkTimes* times) {
+  auto host = std::make_unique<PtyHost>(std::move(device),
+                                        PtyHostOptions{igms::testing::TempPath(name), 9600});
   host->SetOnChunkWritten([times](int64_t t) { times->Add(t); });
   std::string error;
   if (!host->Start(&error)) {
@@ -102,8 +105,8 @@ std::unique_ptr<PtyHost> StartSim(std::unique_ptr<SimulatedDevice> device, const
 
 // Baseline: a bare SerialLink reading the simulator; a reading ends with its last byte.
 // request: what to write periodically (polled devices), empty for none.
-Figures Baseline(std::unique_ptr<SimulatedDevice> device, const std::string& init, const std::string& request,
-                 double hz, size_t reply_length, double seconds) {
+Figures Baseline(std::unique_ptr<SimulatedDevice> device, const std::string& init,
+                 const std::string& request, double hz, size_t reply_length, double seconds) {
   ChunkTimes times;
   auto host = StartSim(std::move(device), "baseline", &times);
   IoThread io;
@@ -111,14 +114,17 @@ Figures Baseline(std::unique_ptr<SimulatedDevice> device, const std::string& ini
   std::vector<double> latencies;
   size_t pending = 0;
   bool measuring = false;
-  SerialLink link(io.io(), {host->port()}, [&](const uint8_t*, size_t n, int64_t now) {
-    std::lock_guard lock(mutex);
-    pending += n;
-    while (pending >= reply_length) {
-      pending -= reply_length;
-      if (measuring && pending == 0) latencies.push_back((now - times.LastBefore(now)) / 1e6);
-    }
-  }, nullptr);
+  SerialLink link(
+      io.io(), {host->port()},
+      [&](const uint8_t*, size_t n, int64_t now) {
+        std::lock_guard lock(mutex);
+        pending += n;
+        while (pending >= reply_length) {
+          pending -= reply_length;
+          if (measuring && pending == 0) latencies.push_back((now - times.LastBefore(now)) / 1e6);
+        }
+      },
+      nullptr);
   link.Start();
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   if (!init.empty()) link.Write(init);
@@ -191,9 +197,11 @@ void RunDevice(const std::string& label, const std::string& program, std::vector
   io.Stop();
   daemon.Stop();
   host->Stop();
-  std::printf("%-9s %8.1f/s   last byte -> subscriber p50 %6.3f ms  p99 %6.3f ms   (of which last byte -> daemon p50 %6.3f ms)   "
-              "baseline bare SerialLink p50 %6.3f ms p99 %6.3f ms   RSS %5.1f MB\n",
-              label.c_str(), f.rate, f.p50_ms, f.p99_ms, s.p50_ms, baseline.p50_ms, baseline.p99_ms, rss);
+  std::printf(
+      "%-9s %8.1f/s   last byte -> subscriber p50 %6.3f ms  p99 %6.3f ms   (of which last byte -> "
+      "daemon p50 %6.3f ms)   "
+      "baseline bare SerialLink p50 %6.3f ms p99 %6.3f ms   RSS %5.1f MB\n",
+      label.c_str(), f.rate, f.p50_ms, f.p99_ms, s.p50_ms, baseline.p50_ms, baseline.p99_ms, rss);
 }
 
 // The gamepad stand-in: js_event records written into a FIFO at 50 Hz, each a new x value;
@@ -213,7 +221,8 @@ void WriteEvents(int fd, double seconds, std::vector<int64_t>* times, std::mutex
   const int count = static_cast<int>(seconds * 50);
   auto next = std::chrono::steady_clock::now();
   for (int i = 1; i <= count; ++i) {
-    const std::string e = EncodeJsEvent(static_cast<uint32_t>(i), static_cast<int16_t>(-(i % 30000)), JS_EVENT_AXIS, 1);
+    const std::string e = EncodeJsEvent(static_cast<uint32_t>(i),
+                                        static_cast<int16_t>(-(i % 30000)), JS_EVENT_AXIS, 1);
     {
       // Stamped just before the write, so the reader never sees a value before its time.
       std::lock_guard lock(*mutex);
@@ -270,7 +279,8 @@ void RunGamepad(double seconds) {
   size_t readings = 0;
   int last_index = 0;
   client.Subscribe<igms::devices::JoystickState>(
-      "igms.devices.JoystickService.Live", igms::devices::SubscribeRequest(), [&](const igms::devices::JoystickState& m) {
+      "igms.devices.JoystickService.Live", igms::devices::SubscribeRequest(),
+      [&](const igms::devices::JoystickState& m) {
         const int64_t now = igms::MonotonicNs();
         std::lock_guard lock(mutex);
         ++readings;
@@ -301,9 +311,10 @@ void RunGamepad(double seconds) {
   io.Stop();
   daemon.Stop();
   std::filesystem::remove(fifo);
-  std::printf("%-9s %8.1f/s   event write -> subscriber p50 %6.3f ms  p99 %6.3f ms   (%zu changes)   "
-              "baseline bare FIFO read p50 %6.3f ms p99 %6.3f ms   RSS %5.1f MB\n",
-              "gamepad", n / seconds, f.p50_ms, f.p99_ms, f.n, baseline.p50_ms, baseline.p99_ms, rss);
+  std::printf(
+      "%-9s %8.1f/s   event write -> subscriber p50 %6.3f ms  p99 %6.3f ms   (%zu changes)   "
+      "baseline bare FIFO read p50 %6.3f ms p99 %6.3f ms   RSS %5.1f MB\n",
+      "gamepad", n / seconds, f.p50_ms, f.p99_ms, f.n, baseline.p50_ms, baseline.p99_ms, rss);
 }
 
 }  // namespace
@@ -311,33 +322,44 @@ void RunGamepad(double seconds) {
 int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 5.0;
   if (!std::getenv("IGMS_BIN_DIR")) {
-    const auto bin = std::filesystem::canonical("/proc/self/exe").parent_path().parent_path() / "bin";
+    const auto bin =
+        std::filesystem::canonical("/proc/self/exe").parent_path().parent_path() / "bin";
     setenv("IGMS_BIN_DIR", bin.c_str(), 1);
   }
-  std::printf("device daemons, %.0f s each, simulators paced at 9600 baud on pseudo-terminals\n", seconds);
+  std::printf("device daemons, %.0f s each, simulators paced at 9600 baud on pseudo-terminals\n",
+              seconds);
 
   auto flybox = std::make_unique<FlyBoxSim>();
   flybox->OnInput(cerealbox::ConfigCommand(cerealbox::kFlyBoxLayout), 0);
-  const Figures joy_base = Baseline(std::move(flybox), "", "p", 50, cerealbox::kFlyBoxLayout.report_length(), seconds);
-  RunDevice<igms::devices::JoystickState>("joystick", "igms-joystickd", {}, std::make_unique<FlyBoxSim>(),
+  const Figures joy_base =
+      Baseline(std::move(flybox), "", "p", 50, cerealbox::kFlyBoxLayout.report_length(), seconds);
+  RunDevice<igms::devices::JoystickState>("joystick", "igms-joystickd", {},
+                                          std::make_unique<FlyBoxSim>(),
                                           "igms.devices.JoystickService.Live", seconds, joy_base);
 
-  const Figures viewer_base = Baseline(std::make_unique<ViewerSim>(), "", "P", 70, boom::kReportLength, seconds);
-  RunDevice<igms::devices::ViewerState>("viewer", "igms-viewerd", {"--poll-hz", "70"}, std::make_unique<ViewerSim>(),
+  const Figures viewer_base =
+      Baseline(std::make_unique<ViewerSim>(), "", "P", 70, boom::kReportLength, seconds);
+  RunDevice<igms::devices::ViewerState>("viewer", "igms-viewerd", {"--poll-hz", "70"},
+                                        std::make_unique<ViewerSim>(),
                                         "igms.devices.ViewerService.Live", seconds, viewer_base);
 
-  RunDevice<igms::devices::ViewerState>("viewer-S", "igms-viewerd", {"--stream"}, std::make_unique<ViewerSim>(),
+  RunDevice<igms::devices::ViewerState>("viewer-S", "igms-viewerd", {"--stream"},
+                                        std::make_unique<ViewerSim>(),
                                         "igms.devices.ViewerService.Live", seconds, viewer_base);
 
-  const Figures platform_base = Baseline(std::make_unique<MollySim>(), "", molly::EncodeQuery(), 50, 9, seconds);
-  RunDevice<igms::devices::PlatformState>("platform", "igms-platformd", {}, std::make_unique<MollySim>(),
-                                          "igms.devices.PlatformService.Live", seconds, platform_base);
+  const Figures platform_base =
+      Baseline(std::make_unique<MollySim>(), "", molly::EncodeQuery(), 50, 9, seconds);
+  RunDevice<igms::devices::PlatformState>(
+      "platform", "igms-platformd", {}, std::make_unique<MollySim>(),
+      "igms.devices.PlatformService.Live", seconds, platform_base);
 
   // The thesis's testbed, as igms-rangerd ranges it by default.
   RangerSimOptions testbed;
   testbed.world = TestbedRangerWorld();
-  const Figures ranger_base = Baseline(std::make_unique<RangerSim>(testbed), "", "R", 6, 5, seconds);
-  RunDevice<igms::devices::RangerState>("ranger", "igms-rangerd", {"--poll-hz", "6"}, std::make_unique<RangerSim>(testbed),
+  const Figures ranger_base =
+      Baseline(std::make_unique<RangerSim>(testbed), "", "R", 6, 5, seconds);
+  RunDevice<igms::devices::RangerState>("ranger", "igms-rangerd", {"--poll-hz", "6"},
+                                        std::make_unique<RangerSim>(testbed),
                                         "igms.devices.RangerService.Live", seconds, ranger_base);
 
   RunGamepad(seconds);

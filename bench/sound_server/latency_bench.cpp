@@ -36,8 +36,8 @@
 #include "sound_server/audio_file.h"
 #include "sound_server/engine.h"
 #include "sound_server/wave_capture.h"
-#include "tests/support/sound_server_process.h"
 #include "tests/support/sound_bank.h"
+#include "tests/support/sound_server_process.h"
 
 namespace igms::sound {
 namespace {
@@ -146,11 +146,12 @@ void Print(const Run& run) {
 }
 
 Run ServerRun(const std::string& key, const AudioClip& clip, int plays, int period) {
-  const std::filesystem::path dir = igms::testing::FreshTempDir("bench-server-" + std::to_string(period));
+  const std::filesystem::path dir =
+      igms::testing::FreshTempDir("bench-server-" + std::to_string(period));
   const std::filesystem::path wave = dir / "capture.wav";
-  testing::ServerProcess server(
-      {"--output", "wave", "--wave-file", wave.string(), "--wave-rate",
-       std::to_string(clip.sample_rate), "--period-frames", std::to_string(period)});
+  testing::ServerProcess server({"--output", "wave", "--wave-file", wave.string(), "--wave-rate",
+                                 std::to_string(clip.sample_rate), "--period-frames",
+                                 std::to_string(period)});
   const uint16_t port = server.WaitListening();
   if (port == 0) {
     std::fprintf(stderr, "the server did not start:\n%s\n", server.Log().c_str());
@@ -192,8 +193,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "no bank or no sound '%s': %s\n", key.c_str(), manifest.error().c_str());
     return 1;
   }
-  Result<AudioClip> source =
-      ReadAudioFile(manifest->FileOf(*manifest->FindKey(key)));
+  Result<AudioClip> source = ReadAudioFile(manifest->FileOf(*manifest->FindKey(key)));
   if (!source.ok()) return 1;
   const AudioClip clip = *source;
   std::printf("request to first audio sample, '%s', %d plays a run, %d Hz wave output\n",

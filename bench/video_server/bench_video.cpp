@@ -108,7 +108,8 @@ struct Server {
 
 std::unique_ptr<Server> StartServer(cv::Size size, std::vector<std::string> extra) {
   auto server = std::make_unique<Server>();
-  const std::string left = server->scratch.File("left.png"), right = server->scratch.File("right.png");
+  const std::string left = server->scratch.File("left.png"),
+                    right = server->scratch.File("right.png");
   cv::imwrite(left, Resized("aloeL.jpg", size));
   cv::imwrite(right, Resized("aloeR.jpg", size));
   // The server's log goes to a file of the test support's, where its port is read from.
@@ -143,15 +144,15 @@ void LiveFigures(int subscribers, double seconds) {
   const auto warmup = Clock::now() + 1s;
   for (auto& sub : subs) {
     Sub* s = sub.get();
-    (*s->client)->Subscribe<LiveFrame>("igms.video.VideoService.Live", request,
-                                       [s, warmup](const LiveFrame& frame) {
-                                         if (Clock::now() < warmup) return;
-                                         if (s->frames++ == 0) s->first_seq = frame.sequence();
-                                         s->last_seq = frame.sequence();
-                                         std::lock_guard lock(s->mutex);
-                                         s->age_ms.push_back(
-                                             (igms::UnixNs() - frame.capture_unix_ns()) / 1e6);
-                                       });
+    (*s->client)
+        ->Subscribe<LiveFrame>(
+            "igms.video.VideoService.Live", request, [s, warmup](const LiveFrame& frame) {
+              if (Clock::now() < warmup) return;
+              if (s->frames++ == 0) s->first_seq = frame.sequence();
+              s->last_seq = frame.sequence();
+              std::lock_guard lock(s->mutex);
+              s->age_ms.push_back((igms::UnixNs() - frame.capture_unix_ns()) / 1e6);
+            });
   }
   std::this_thread::sleep_for(1s + std::chrono::duration<double>(seconds));
   for (auto& sub : subs) sub->client.reset();
@@ -196,9 +197,11 @@ void MemoryFigures(int grabs) {
       edges.mutable_region()->set_height(16);
       client->CallSync<GetEdgesResponse>("igms.video.VideoService.GetEdges", edges, 30s);
     }
-    if (i == 16 || i == grabs / 2 || i == grabs) hwm_at.push_back(StatusKb(server->process->pid(), "VmHWM"));
+    if (i == 16 || i == grabs / 2 || i == grabs)
+      hwm_at.push_back(StatusKb(server->process->pid(), "VmHWM"));
   }
-  auto s = client->CallSync<StatusResponse>("igms.video.VideoService.GetStatus", StatusRequest{}, 10s);
+  auto s =
+      client->CallSync<StatusResponse>("igms.video.VideoService.GetStatus", StatusRequest{}, 10s);
   status = s.value;
   std::printf(
       "memory, 1920x1080 grey pairs, store capacity %u: RSS at start %.1f MB; peak RSS after 16 "

@@ -91,7 +91,7 @@ Result<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& lef
   if (std::string why; !options.Check(&why)) return ErrorMessage{why};
   if (left.size() != right.size()) {
     return ErrorMessage{"got " + std::to_string(left.size()) + " left images but " +
-                 std::to_string(right.size()) + " right images"};
+                        std::to_string(right.size()) + " right images"};
   }
   const cv::Size board(options.cols, options.rows);
   ChessboardResult result;
@@ -126,7 +126,7 @@ Result<ChessboardResult> CalibrateChessboard(const std::vector<std::string>& lef
   result.pairs_used = static_cast<int>(corners[0].size());
   if (result.pairs_used < 3) {
     return ErrorMessage{"only " + std::to_string(result.pairs_used) +
-                 " pairs show the board in both images; at least 3 are needed"};
+                        " pairs show the board in both images; at least 3 are needed"};
   }
   const std::vector<std::vector<cv::Point3f>> object(result.pairs_used, BoardPoints(options));
   cv::Mat K[2], dist[2];

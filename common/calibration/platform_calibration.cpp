@@ -119,7 +119,8 @@ Result<PlatformCalibrationResult> CalibratePlatform(
   const int np = param.size();
   if (static_cast<int>(2 * observations.size()) < np) {
     return ErrorMessage{"need at least " + std::to_string((np + 1) / 2) + " observations for " +
-                    std::to_string(np) + " parameters, got " + std::to_string(observations.size())};
+                        std::to_string(np) + " parameters, got " +
+                        std::to_string(observations.size())};
   }
   const geometry::Matrix34 P0[2] = {left_P0, right_P0};
   auto residuals = [&](const Eigen::VectorXd& x) {
@@ -238,8 +239,8 @@ Result<std::vector<PlatformObservation>> ParsePlatformObservations(const std::st
     }
     if (static_cast<int>(v.size()) != joints + 5) {
       return ErrorMessage{where + "expected camera, " + std::to_string(joints) +
-                      " joint values, x y z u v (" + std::to_string(joints + 5) +
-                      " numbers), got " + std::to_string(v.size())};
+                          " joint values, x y z u v (" + std::to_string(joints + 5) +
+                          " numbers), got " + std::to_string(v.size())};
     }
     o.ticks.assign(v.begin(), v.begin() + joints);
     o.world = Eigen::Vector3d(v[joints], v[joints + 1], v[joints + 2]);

@@ -17,8 +17,8 @@
 #include "common/config/exit_codes.h"
 #include "common/config/keys.h"
 #include "common/config/lab_config.h"
-#include "common/version/version.h"
 #include "common/process/process.h"
+#include "common/version/version.h"
 
 namespace {
 
@@ -42,9 +42,8 @@ std::string CheckProcess(const igms::config::LabConfig& config, const std::strin
   const std::filesystem::path output =
       std::filesystem::temp_directory_path() /
       ("igms-config-check-" + std::to_string(::getpid()) + "-" + name + ".log");
-  const std::string failed =
-      igms::RunProgram({path.string(), "--check-config", "--config", file, "--name", name},
-                       output.string());
+  const std::string failed = igms::RunProgram(
+      {path.string(), "--check-config", "--config", file, "--name", name}, output.string());
   std::ifstream in(output);
   std::string problems;
   for (std::string line; std::getline(in, line);) {

@@ -30,8 +30,8 @@ std::size_t EditDistance(const std::string& a, const std::string& b) {
   for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i) {
     for (std::size_t j = 1; j <= b.size(); ++j) {
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
-                          d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      d[i][j] = std::min(
+          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
       if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
         d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
       }
@@ -79,8 +79,8 @@ std::string FullKey(const std::string& name, const std::string& key) {
 
 KeySpec& Keys::Declare(const std::string& key, KeyType type, const std::string& default_value,
                        const std::string& help) {
-  auto it = std::find_if(specs_.begin(), specs_.end(),
-                         [&](const KeySpec& s) { return s.key == key; });
+  auto it =
+      std::find_if(specs_.begin(), specs_.end(), [&](const KeySpec& s) { return s.key == key; });
   if (it == specs_.end()) it = specs_.insert(specs_.end(), KeySpec{});
   it->key = key;
   it->type = type;
@@ -102,7 +102,8 @@ Keys& Keys::Choice(const std::string& key, std::vector<std::string> choices,
 }
 
 Keys& Keys::Merge(const Keys& other) {
-  for (const auto& spec : other.specs_) Declare(spec.key, spec.type, spec.default_value, spec.help) = spec;
+  for (const auto& spec : other.specs_)
+    Declare(spec.key, spec.type, spec.default_value, spec.help) = spec;
   readers_.insert(readers_.end(), other.readers_.begin(), other.readers_.end());
   return *this;
 }
@@ -125,7 +126,7 @@ const Keys& CommonKeys() {
           "a shared secret every client must present; empty: none (a closed lab network)");
     k.Path("lab.calibration", "the cameras' calibration file (docs/calibration.md)");
     k.Add("lab.database", KeyType::kOutputPath, "", "the geometric database");
-    const std::vector<std::string> levels = {"trace", "debug", "info", "warn",
+    const std::vector<std::string> levels = {"trace", "debug",    "info", "warn",
                                              "error", "critical", "off"};
     k.Choice("lab.log_level", levels, "info",
              "every process's log level, under its own log_level and --log-level");
@@ -208,9 +209,8 @@ std::vector<KeyProblem> BadValues(const LabConfig& config, const std::string& na
           bad("must be a single value, not a list or a map");
           break;
         }
-        if (!spec.choices.empty() &&
-            std::find(spec.choices.begin(), spec.choices.end(), node.Scalar()) ==
-                spec.choices.end()) {
+        if (!spec.choices.empty() && std::find(spec.choices.begin(), spec.choices.end(),
+                                               node.Scalar()) == spec.choices.end()) {
           std::string list;
           for (const auto& c : spec.choices) list += (list.empty() ? "" : ", ") + c;
           bad("must be one of " + list + found);

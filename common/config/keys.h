@@ -32,14 +32,14 @@ enum class KeyType {
   kInt,
   kNumber,
   kBool,
-  kList,  // a YAML sequence
-  kMap,   // a YAML map whose keys the component reads itself
-  kPath,  // a file or folder the process reads: --check-config checks that it exists
+  kList,        // a YAML sequence
+  kMap,         // a YAML map whose keys the component reads itself
+  kPath,        // a file or folder the process reads: --check-config checks that it exists
   kOutputPath,  // a file the process writes (created when missing)
 };
 
 struct KeySpec {
-  std::string key;            // "poll_hz" (in processes.NAME) or "lab.calibration"
+  std::string key;  // "poll_hz" (in processes.NAME) or "lab.calibration"
   KeyType type = KeyType::kString;
   std::string default_value;  // as text, for help and docs ("" when there is none)
   std::string help;
@@ -94,15 +94,21 @@ class Keys {
 namespace detail {
 template <class T>
 KeyType TypeOf() {
-  if constexpr (std::is_same_v<T, bool>) return KeyType::kBool;
-  else if constexpr (std::is_integral_v<T>) return KeyType::kInt;
-  else if constexpr (std::is_floating_point_v<T>) return KeyType::kNumber;
-  else return KeyType::kString;
+  if constexpr (std::is_same_v<T, bool>)
+    return KeyType::kBool;
+  else if constexpr (std::is_integral_v<T>)
+    return KeyType::kInt;
+  else if constexpr (std::is_floating_point_v<T>)
+    return KeyType::kNumber;
+  else
+    return KeyType::kString;
 }
 template <class T>
 std::string DefaultText(const T& value) {
-  if constexpr (std::is_same_v<T, bool>) return value ? "true" : "false";
-  else if constexpr (std::is_same_v<T, std::string>) return value;
+  if constexpr (std::is_same_v<T, bool>)
+    return value ? "true" : "false";
+  else if constexpr (std::is_same_v<T, std::string>)
+    return value;
   else {
     std::ostringstream out;
     out << value;

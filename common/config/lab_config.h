@@ -74,7 +74,8 @@ class LabConfig {
     try {
       return node.as<T>();
     } catch (const YAML::Exception&) {
-      throw Error(key, node, "cannot be read as " + TypeName<T>() + " (found '" + Text(node) + "')");
+      throw Error(key, node,
+                  "cannot be read as " + TypeName<T>() + " (found '" + Text(node) + "')");
     }
   }
   template <class T>
@@ -88,11 +89,16 @@ class LabConfig {
 
 template <class T>
 std::string LabConfig::TypeName() {
-  if constexpr (std::is_same_v<T, bool>) return "true or false";
-  else if constexpr (std::is_integral_v<T>) return "an integer";
-  else if constexpr (std::is_floating_point_v<T>) return "a number";
-  else if constexpr (std::is_same_v<T, std::string>) return "a string";
-  else return "the expected type";
+  if constexpr (std::is_same_v<T, bool>)
+    return "true or false";
+  else if constexpr (std::is_integral_v<T>)
+    return "an integer";
+  else if constexpr (std::is_floating_point_v<T>)
+    return "a number";
+  else if constexpr (std::is_same_v<T, std::string>)
+    return "a string";
+  else
+    return "the expected type";
 }
 
 }  // namespace igms::config

@@ -23,10 +23,10 @@ struct LabPort {
   std::uint16_t port;
 };
 inline constexpr LabPort kLabPorts[] = {
-    {"video", "igms-video-server", kVideo},   {"object", "igms-object-server", kObject},
-    {"sound", "igms-sound-server", kSound},   {"viewer", "igms-viewerd", kViewer},
+    {"video", "igms-video-server", kVideo},    {"object", "igms-object-server", kObject},
+    {"sound", "igms-sound-server", kSound},    {"viewer", "igms-viewerd", kViewer},
     {"joystick", "igms-joystickd", kJoystick}, {"ranger", "igms-rangerd", kRanger},
-    {"voice", "igms-voiced", kVoice},         {"platform", "igms-platformd", kPlatform},
+    {"voice", "igms-voiced", kVoice},          {"platform", "igms-platformd", kPlatform},
 };
 
 }  // namespace igms::config::ports

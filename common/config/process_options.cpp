@@ -1,14 +1,12 @@
 #include "common/config/process_options.h"
 
-#include <spdlog/spdlog.h>
-
 #include <malloc.h>
+#include <spdlog/spdlog.h>
 
 #include <filesystem>
 #include <iostream>
 
 #include "common/config/exit_codes.h"
-
 #include "common/log/log.h"
 #include "common/version/version.h"
 
@@ -51,8 +49,8 @@ std::string ProgramName(const char* argv0) {
 
 // The keys the --set flags name, checked like the file's (a --set that names no key is a typo
 // too). Returns the problems.
-std::vector<KeyProblem> UnknownSetKeys(const std::vector<std::string>& sets, const std::string& name,
-                                       const Keys& keys) {
+std::vector<KeyProblem> UnknownSetKeys(const std::vector<std::string>& sets,
+                                       const std::string& name, const Keys& keys) {
   std::vector<KeyProblem> problems;
   for (const auto& kv : sets) {
     const std::string key = kv.substr(0, kv.find('='));
@@ -162,22 +160,27 @@ std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
       out.config.Set(kv.substr(0, eq), kv.substr(eq + 1));
     }
     for (const auto& p : UnknownSetKeys(sets, out.name, keys)) unknown.push_back(p);
-    if (out.flags.count("host")) out.config.Set(out.Key("host"), out.flags["host"].as<std::string>());
-    if (out.flags.count("port")) out.config.Set(out.Key("port"), std::to_string(out.flags["port"].as<int>()));
-    if (out.flags.count("bind")) out.config.Set(out.Key("bind"), out.flags["bind"].as<std::string>());
+    if (out.flags.count("host"))
+      out.config.Set(out.Key("host"), out.flags["host"].as<std::string>());
+    if (out.flags.count("port"))
+      out.config.Set(out.Key("port"), std::to_string(out.flags["port"].as<int>()));
+    if (out.flags.count("bind"))
+      out.config.Set(out.Key("bind"), out.flags["bind"].as<std::string>());
     const bool allow_unknown = out.flags["allow-unknown-keys"].as<bool>();
     std::vector<KeyProblem> problems = BadValues(out.config, out.name, keys, out.check_only);
     if (!unknown.empty() && (out.check_only || !allow_unknown)) {
       problems.insert(problems.begin(), unknown.begin(), unknown.end());
       if (!out.check_only) {
-        problems.push_back({"", "refusing to start on unknown keys (--allow-unknown-keys to go on)"});
+        problems.push_back(
+            {"", "refusing to start on unknown keys (--allow-unknown-keys to go on)"});
       }
     }
     if (!problems.empty()) return fail(problems);
     if (out.flags.count("log-level")) {
       out.log_level = out.flags["log-level"].as<std::string>();
     } else {
-      out.log_level = out.Get<std::string>("log_level", out.config.Get<std::string>("lab.log_level", "info"));
+      out.log_level =
+          out.Get<std::string>("log_level", out.config.Get<std::string>("lab.log_level", "info"));
     }
     // A check prints its result, not the process's chatter.
     igms::log::Init(out.name, out.check_only ? "warn" : out.log_level);

@@ -57,8 +57,7 @@ void TuneAllocator();
 // *exit_code says which.
 std::optional<ProcessOptions> ParseProcessOptions(
     int argc, char** argv, const std::string& default_name, const std::string& summary,
-    const boost::program_options::options_description& extra, const Keys& keys,
-    int* exit_code);
+    const boost::program_options::options_description& extra, const Keys& keys, int* exit_code);
 
 // For --check-config, once the main has validated everything it would validate to start:
 // prints one line saying the configuration is good for this process and returns 0.

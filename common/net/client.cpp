@@ -1,6 +1,7 @@
 #include "common/net/client.h"
 
 #include <spdlog/spdlog.h>
+#include <sys/socket.h>
 
 #include <algorithm>
 #include <atomic>
@@ -15,7 +16,6 @@
 #include <deque>
 #include <map>
 #include <mutex>
-#include <sys/socket.h>
 
 #include "common/base/clock.h"
 #include "common/net/framing.h"
@@ -67,15 +67,16 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   // another thread; it is taken before calls_mutex when both are needed.
   std::mutex write_mutex;
   std::deque<std::string> out;
-  bool writing = false;       // a write is in flight (async_write, or a queued remainder)
-  bool live = false;          // connected, greeted: callers may write directly
+  bool writing = false;  // a write is in flight (async_write, or a queued remainder)
+  bool live = false;     // connected, greeted: callers may write directly
   std::uint64_t live_generation = 0;
   std::atomic<bool> sent_since_heartbeat{false};
 
   // Calls in flight, registered from any thread, answered on the strand.
   std::mutex calls_mutex;
   std::map<std::uint64_t, Pending> pending;
-  std::chrono::steady_clock::time_point deadline_armed = std::chrono::steady_clock::time_point::max();
+  std::chrono::steady_clock::time_point deadline_armed =
+      std::chrono::steady_clock::time_point::max();
 
   // Touched only on the strand.
   std::map<std::uint64_t, Subscription> subscriptions;
@@ -137,16 +138,16 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     auto bytes = std::make_shared<std::string>(std::move(out.front()));
     out.pop_front();
     lock.unlock();
-    asio::async_write(socket, asio::buffer(*bytes),
-                      [self = shared_from_this(), bytes, gen](boost::system::error_code ec,
-                                                              std::size_t) {
-                        if (gen != self->generation) return;
-                        if (ec) {
-                          self->Drop("write failed: " + ec.message());
-                          return;
-                        }
-                        self->WriteNext(gen);
-                      });
+    asio::async_write(
+        socket, asio::buffer(*bytes),
+        [self = shared_from_this(), bytes, gen](boost::system::error_code ec, std::size_t) {
+          if (gen != self->generation) return;
+          if (ec) {
+            self->Drop("write failed: " + ec.message());
+            return;
+          }
+          self->WriteNext(gen);
+        });
   }
 
   // On the caller's thread, with write_mutex held, live set and nothing in flight: writes
@@ -168,9 +169,8 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     if (done == frame.size()) return;
     out.push_back(frame.substr(done));
     writing = true;
-    asio::post(strand, [self = shared_from_this(), gen = live_generation] {
-      self->WriteNext(gen);
-    });
+    asio::post(strand,
+               [self = shared_from_this(), gen = live_generation] { self->WriteNext(gen); });
   }
 
   void Connect() {
@@ -297,10 +297,9 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
       case igms::Envelope::ERROR: {
         Status status;
         if (e.kind() == igms::Envelope::ERROR) {
-          status = Status::Error(e.error().code() == igms::ERROR_CODE_UNSPECIFIED
-                                     ? igms::INTERNAL
-                                     : e.error().code(),
-                                 e.error().message());
+          status = Status::Error(
+              e.error().code() == igms::ERROR_CODE_UNSPECIFIED ? igms::INTERNAL : e.error().code(),
+              e.error().message());
         }
         RawDone done;
         {
@@ -489,14 +488,13 @@ void Client::OnStateChange(std::function<void(ConnectionState, const std::string
 
 bool Client::WaitConnected(std::chrono::milliseconds timeout) {
   std::unique_lock lock(impl_->state_mutex);
-  return impl_->state_cv.wait_for(
-      lock, timeout, [&] { return impl_->state == ConnectionState::kConnected; });
+  return impl_->state_cv.wait_for(lock, timeout,
+                                  [&] { return impl_->state == ConnectionState::kConnected; });
 }
 
 std::uint64_t Client::NextId() { return impl_->next_id.fetch_add(1); }
 
-std::string Client::FrameFor(igms::Envelope::Kind kind, std::uint64_t id,
-                             const std::string& method,
+std::string Client::FrameFor(igms::Envelope::Kind kind, std::uint64_t id, const std::string& method,
                              const google::protobuf::MessageLite& payload) const {
   std::string frame;
   AppendFrame(impl_->Make(kind, id, method), payload, &frame);
@@ -586,20 +584,20 @@ std::uint64_t Client::SubscribeRaw(const std::string& method, std::string payloa
 
 void Client::SendSubscribe(std::uint64_t id, std::string frame, RawStream on_message,
                            std::function<void(const Status&)> on_error) {
-  asio::post(impl_->strand, [impl = impl_, id, frame = std::move(frame),
-                             on_message = std::move(on_message),
-                             on_error = std::move(on_error)]() mutable {
-    if (impl->IsStopped()) return;
-    auto& s = impl->subscriptions[id];
-    s.frame = std::move(frame);
-    s.on_message = std::move(on_message);
-    s.on_error = std::move(on_error);
-    const bool is_connected = [&] {
-      std::lock_guard lock(impl->state_mutex);
-      return impl->state == ConnectionState::kConnected;
-    }();
-    if (is_connected) impl->WriteFrame(s.frame);
-  });
+  asio::post(impl_->strand,
+             [impl = impl_, id, frame = std::move(frame), on_message = std::move(on_message),
+              on_error = std::move(on_error)]() mutable {
+               if (impl->IsStopped()) return;
+               auto& s = impl->subscriptions[id];
+               s.frame = std::move(frame);
+               s.on_message = std::move(on_message);
+               s.on_error = std::move(on_error);
+               const bool is_connected = [&] {
+                 std::lock_guard lock(impl->state_mutex);
+                 return impl->state == ConnectionState::kConnected;
+               }();
+               if (is_connected) impl->WriteFrame(s.frame);
+             });
 }
 
 void Client::Unsubscribe(std::uint64_t id) {

@@ -13,17 +13,17 @@
 // given to the constructor, which the owner runs (on one thread or several).
 #pragma once
 
+#include <google/protobuf/message_lite.h>
+
+#include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <atomic>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <thread>
-
-#include <google/protobuf/message_lite.h>
 
 #include "common/net/status.h"
 
@@ -76,16 +76,16 @@ class Client {
     // The request is framed here, on the caller's thread, in one copy.
     const std::uint64_t id = NextId();
     SendCall(id, method, FrameFor(igms::Envelope::REQUEST, id, method, req), timeout,
-            [done = std::move(done)](const Status& status, std::string_view payload) {
-              Result<Resp> r;
-              r.status = status;
-              if (status.ok() &&
-                  !r.value.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
-                r.status = Status::Error(igms::BAD_REQUEST,
-                                         "response is not a " + r.value.GetTypeName());
-              }
-              done(std::move(r));
-            });
+             [done = std::move(done)](const Status& status, std::string_view payload) {
+               Result<Resp> r;
+               r.status = status;
+               if (status.ok() &&
+                   !r.value.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
+                 r.status =
+                     Status::Error(igms::BAD_REQUEST, "response is not a " + r.value.GetTypeName());
+               }
+               done(std::move(r));
+             });
   }
 
   template <class Resp, class Req>

@@ -1,12 +1,12 @@
 #include "common/net/framing.h"
 
-#include "common/base/clock.h"
-
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/wire_format_lite.h>
 
 #include <limits>
 #include <stdexcept>
+
+#include "common/base/clock.h"
 
 namespace igms::net {
 
@@ -109,8 +109,8 @@ void AppendFrame(const igms::Envelope& envelope, const google::protobuf::Message
   payload.SerializeWithCachedSizesToArray(p);
 }
 
-bool ParseEnvelopeView(std::string_view frame, igms::Envelope* envelope,
-                       std::string_view* payload, std::string* error) {
+bool ParseEnvelopeView(std::string_view frame, igms::Envelope* envelope, std::string_view* payload,
+                       std::string* error) {
   using google::protobuf::internal::WireFormatLite;
   if (frame.empty()) {
     *error = "empty frame";

@@ -60,7 +60,7 @@ void AppendFrame(const igms::Envelope& envelope, const google::protobuf::Message
 bool ParseEnvelope(std::string_view frame, igms::Envelope* envelope, std::string* error);
 // The same, except that the payload is not copied: *payload points into `frame` and
 // envelope->payload() stays empty.
-bool ParseEnvelopeView(std::string_view frame, igms::Envelope* envelope,
-                       std::string_view* payload, std::string* error);
+bool ParseEnvelopeView(std::string_view frame, igms::Envelope* envelope, std::string_view* payload,
+                       std::string* error);
 
 }  // namespace igms::net

@@ -2,13 +2,13 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <atomic>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/read.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/write.hpp>
-#include <algorithm>
-#include <atomic>
 #include <future>
 #include <stdexcept>
 
@@ -40,24 +40,24 @@ struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
   std::atomic<bool> acceptor_closed{false};
 
   void Accept() {
-    acceptor.async_accept(asio::make_strand(io), [self = shared_from_this()](
-                                                     boost::system::error_code ec,
-                                                     tcp::socket socket) {
-      if (ec == asio::error::operation_aborted) return;
-      if (ec) {
-        // Out of file descriptors and the like: log, keep serving the others.
-        spdlog::warn("{}: accept failed: {}", self->options.name, ec.message());
-      } else {
-        auto session = std::make_shared<Session>(std::move(socket), self);
-        {
-          std::lock_guard lock(self->mutex);
-          if (self->stopped) return;
-          self->sessions.insert(session);
-        }
-        session->Start();
-      }
-      self->Accept();
-    });
+    acceptor.async_accept(
+        asio::make_strand(io),
+        [self = shared_from_this()](boost::system::error_code ec, tcp::socket socket) {
+          if (ec == asio::error::operation_aborted) return;
+          if (ec) {
+            // Out of file descriptors and the like: log, keep serving the others.
+            spdlog::warn("{}: accept failed: {}", self->options.name, ec.message());
+          } else {
+            auto session = std::make_shared<Session>(std::move(socket), self);
+            {
+              std::lock_guard lock(self->mutex);
+              if (self->stopped) return;
+              self->sessions.insert(session);
+            }
+            session->Start();
+          }
+          self->Accept();
+        });
   }
 
   void Forget(const std::shared_ptr<Session>& s) {
@@ -68,18 +68,18 @@ struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
 
 Server::Server(asio::io_context& io, ServerOptions options)
     : options_(std::move(options)), impl_(std::make_shared<Impl>(io, options_)) {
-  AddMethod("igms.Server.Ping", [this](std::string_view, std::weak_ptr<Session> s,
-                                       std::uint64_t id) {
-    igms::PingResponse r;
-    r.set_server_name(options_.name);
-    r.set_program(version::ProgramName());
-    r.set_version(version::Full());
-    r.set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
-    r.set_uptime_ms(std::chrono::duration_cast<std::chrono::milliseconds>(
-                        std::chrono::steady_clock::now() - impl_->started)
-                        .count());
-    Reply<igms::PingResponse>(s, id, "igms.Server.Ping")(Status::Ok(), r);
-  });
+  AddMethod("igms.Server.Ping",
+            [this](std::string_view, std::weak_ptr<Session> s, std::uint64_t id) {
+              igms::PingResponse r;
+              r.set_server_name(options_.name);
+              r.set_program(version::ProgramName());
+              r.set_version(version::Full());
+              r.set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
+              r.set_uptime_ms(std::chrono::duration_cast<std::chrono::milliseconds>(
+                                  std::chrono::steady_clock::now() - impl_->started)
+                                  .count());
+              Reply<igms::PingResponse>(s, id, "igms.Server.Ping")(Status::Ok(), r);
+            });
 }
 
 Server::~Server() { Stop(); }
@@ -106,8 +106,8 @@ void Server::Start() {
   if (!ec) acceptor.bind(endpoint, ec);
   if (!ec) acceptor.listen(asio::socket_base::max_listen_connections, ec);
   if (ec) {
-    throw std::runtime_error(options_.name + ": cannot listen on " + options_.bind_address +
-                             ":" + std::to_string(options_.port) + ": " + ec.message());
+    throw std::runtime_error(options_.name + ": cannot listen on " + options_.bind_address + ":" +
+                             std::to_string(options_.port) + ": " + ec.message());
   }
   port_ = acceptor.local_endpoint().port();
   spdlog::info("{}: listening on {}:{}", options_.name, options_.bind_address, port_);
@@ -209,7 +209,8 @@ void Session::ArmIdleTimer() {
     if (ec) return;
     auto self = weak.lock();
     if (!self) return;
-    if (std::chrono::steady_clock::now() - self->last_activity_ >= self->server_->options.idle_timeout) {
+    if (std::chrono::steady_clock::now() - self->last_activity_ >=
+        self->server_->options.idle_timeout) {
       self->Close("idle for longer than the idle timeout");
     } else {
       self->ArmIdleTimer();
@@ -223,8 +224,8 @@ void Session::ReadMore() {
   const std::size_t need = std::max<std::size_t>(BytesStillNeeded(in_.pending()), 4096);
   char* at = in_.prepare(need);
   socket_.async_read_some(
-      asio::buffer(at, in_.room()), [self = shared_from_this()](boost::system::error_code ec,
-                                                                std::size_t n) {
+      asio::buffer(at, in_.room()),
+      [self = shared_from_this()](boost::system::error_code ec, std::size_t n) {
         if (ec) {
           self->Close(ec == asio::error::eof ? "peer closed the connection" : ec.message());
           return;
@@ -267,8 +268,11 @@ void Session::Dispatch(igms::Envelope& e, std::string_view payload) {
     const auto version = e.header().protocol_version();
     if (version != 0 && version != igms::PROTOCOL_VERSION_CURRENT) {
       SendError(id, "", igms::VERSION_MISMATCH,
-                "protocol version " + std::to_string(version) + " is not supported (this server "
-                "speaks " + std::to_string(igms::PROTOCOL_VERSION_CURRENT) + ")", true);
+                "protocol version " + std::to_string(version) +
+                    " is not supported (this server "
+                    "speaks " +
+                    std::to_string(igms::PROTOCOL_VERSION_CURRENT) + ")",
+                true);
       return;
     }
     if (!options.token.empty() && e.token() != options.token) {
@@ -391,7 +395,8 @@ bool Session::Send(std::string frame, std::uint64_t latest_only_key) {
     }
   }
   // dispatch: a handler answering on the session's own strand writes without a hop.
-  if (start) asio::dispatch(socket_.get_executor(), [self = shared_from_this()] { self->WriteNext(); });
+  if (start)
+    asio::dispatch(socket_.get_executor(), [self = shared_from_this()] { self->WriteNext(); });
   return true;
 }
 
@@ -413,15 +418,15 @@ void Session::WriteNext() {
     queued_bytes_ -= current->size();
     queue_.pop_front();
   }
-  asio::async_write(socket_, asio::buffer(*current),
-                    [self = shared_from_this(), current](boost::system::error_code ec,
-                                                         std::size_t) {
-                      if (ec) {
-                        self->Close("write failed: " + ec.message());
-                        return;
-                      }
-                      self->WriteNext();
-                    });
+  asio::async_write(
+      socket_, asio::buffer(*current),
+      [self = shared_from_this(), current](boost::system::error_code ec, std::size_t) {
+        if (ec) {
+          self->Close("write failed: " + ec.message());
+          return;
+        }
+        self->WriteNext();
+      });
 }
 
 bool Session::SubscriptionOpen(std::uint64_t id) {

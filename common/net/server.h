@@ -18,6 +18,8 @@
 // heartbeats. Stop() closes the acceptor and every session.
 #pragma once
 
+#include <google/protobuf/message_lite.h>
+
 #include <boost/asio/io_context.hpp>
 #include <chrono>
 #include <cstdint>
@@ -29,14 +31,12 @@
 #include <string>
 #include <string_view>
 
-#include <google/protobuf/message_lite.h>
-
 #include "common/net/status.h"
 
 namespace igms::net {
 
 struct ServerOptions {
-  std::string name = "server";           // for logs and Ping
+  std::string name = "server";             // for logs and Ping
   std::string bind_address = "127.0.0.1";  // loopback unless the lab says otherwise
   std::uint16_t port = 0;                  // 0: any free port (tests)
   std::size_t max_frame_bytes = 4u << 20;
@@ -122,24 +122,24 @@ class Server {
 
   template <class Req, class Resp>
   void HandleAsync(const std::string& method, std::function<void(const Req&, Reply<Resp>)> fn) {
-    AddMethod(method, [fn, method](std::string_view payload, std::weak_ptr<Session> s,
-                                   std::uint64_t id) {
-      Req req;
-      if (!req.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
-        Reply<Resp>(s, id, method)(Status::Error(igms::BAD_REQUEST,
-                                                 "payload is not a " + req.GetTypeName()));
-        return;
-      }
-      fn(req, Reply<Resp>(s, id, method));
-    });
+    AddMethod(method,
+              [fn, method](std::string_view payload, std::weak_ptr<Session> s, std::uint64_t id) {
+                Req req;
+                if (!req.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
+                  Reply<Resp>(s, id, method)(
+                      Status::Error(igms::BAD_REQUEST, "payload is not a " + req.GetTypeName()));
+                  return;
+                }
+                fn(req, Reply<Resp>(s, id, method));
+              });
   }
 
   template <class Req, class Msg>
   void HandleStream(const std::string& method,
                     std::function<Status(const Req&, std::shared_ptr<Publisher<Msg>>)> fn,
                     bool latest_only = false) {
-    AddStream(method, [fn, method, latest_only](std::string_view payload,
-                                                std::weak_ptr<Session> s, std::uint64_t id) {
+    AddStream(method, [fn, method, latest_only](std::string_view payload, std::weak_ptr<Session> s,
+                                                std::uint64_t id) {
       Req req;
       if (!req.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
         return Status::Error(igms::BAD_REQUEST, "payload is not a " + req.GetTypeName());

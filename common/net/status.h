@@ -18,9 +18,7 @@ struct Status {
     return {code, std::move(message)};
   }
   // "NOT_FOUND: frame 12 was evicted"
-  std::string ToString() const {
-    return ok() ? "OK" : igms::ErrorCode_Name(code) + ": " + message;
-  }
+  std::string ToString() const { return ok() ? "OK" : igms::ErrorCode_Name(code) + ": " + message; }
 };
 
 template <class T>

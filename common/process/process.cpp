@@ -31,8 +31,8 @@ std::string RunProgram(const std::vector<std::string>& argv, const std::string& 
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   if (!output_path.empty()) {
-    posix_spawn_file_actions_addopen(&actions, 1, output_path.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&actions, 1, output_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
     posix_spawn_file_actions_adddup2(&actions, 1, 2);
   }
   pid_t pid = 0;
@@ -46,8 +46,7 @@ std::string RunProgram(const std::vector<std::string>& argv, const std::string& 
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
   const std::string where = output_path.empty() ? "" : " (its messages are in " + output_path + ")";
   if (WIFEXITED(status)) {
-    return "'" + Join(argv) + "' exited with status " + std::to_string(WEXITSTATUS(status)) +
-           where;
+    return "'" + Join(argv) + "' exited with status " + std::to_string(WEXITSTATUS(status)) + where;
   }
   return "'" + Join(argv) + "' was killed by signal " + std::to_string(WTERMSIG(status)) + where;
 }

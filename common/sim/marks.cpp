@@ -20,8 +20,8 @@ std::optional<Marks> GenerateMarks(const Shape& shape, const geometry::Projectiv
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> margin(model.margin_min, model.margin_max);
-  const double depth_error = std::clamp(model.depth_sigma * normal(rng), -model.depth_clip,
-                                        model.depth_clip);
+  const double depth_error =
+      std::clamp(model.depth_sigma * normal(rng), -model.depth_clip, model.depth_clip);
   const double depth = FrontDepth(shape, left) + depth_error;
   if (depth <= 0) return std::nullopt;
   // A pixel's point at the chosen depth: depth grows linearly along each ray.
@@ -37,8 +37,7 @@ std::optional<Marks> GenerateMarks(const Shape& shape, const geometry::Projectiv
   const Eigen::Vector3d br = at_depth(u1, v1);
   Marks marks = {tl - m_left * eu - m_top * ev, tr + m_right * eu - m_top * ev,
                  br + m_right * eu + m_bottom * ev, bl - m_left * eu + m_bottom * ev};
-  for (auto& m : marks)
-    m += model.lateral_sigma * (normal(rng) * eu + normal(rng) * ev);
+  for (auto& m : marks) m += model.lateral_sigma * (normal(rng) * eu + normal(rng) * ev);
   return marks;
 }
 

@@ -35,8 +35,8 @@ std::optional<double> RangeInCone(const Scene& scene, const Eigen::Vector3d& ori
     const int count = 6 * ring;
     for (int k = 0; k < count; ++k) {
       const double phi = 2 * M_PI * k / count;
-      const Eigen::Vector3d d = std::cos(theta) * w +
-                                std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * v);
+      const Eigen::Vector3d d =
+          std::cos(theta) * w + std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * v);
       if (auto t = CastRay(scene, origin, d); t && (!best || *t < *best)) best = t;
     }
   }

@@ -28,7 +28,8 @@ double Number(const YAML::Node& node, const std::string& where) {
   }
 }
 
-double Get(const YAML::Node& map, const std::string& key, double fallback, const std::string& where) {
+double Get(const YAML::Node& map, const std::string& key, double fallback,
+           const std::string& where) {
   if (!map[key]) return fallback;
   return Number(map[key], where + "." + key);
 }
@@ -47,7 +48,8 @@ Eigen::Vector3d Vec3(const YAML::Node& map, const std::string& key, const Eigen:
   return Vec(map[key], 3, where + "." + key);
 }
 
-double Positive(const YAML::Node& map, const std::string& key, double fallback, const std::string& where) {
+double Positive(const YAML::Node& map, const std::string& key, double fallback,
+                const std::string& where) {
   const double v = Get(map, key, fallback, where);
   if (v <= 0) throw ParseError(where + "." + key + ": must be positive");
   return v;
@@ -205,7 +207,8 @@ std::string SceneToYaml(const Scene& s) {
   const auto size = s.cameras.left.image_size();
   out << YAML::Key << "image_size" << YAML::Value;
   EmitVec(out, Eigen::Vector2d(size.width, size.height));
-  for (auto [key, cam] : {std::pair{"left", &s.cameras.left}, std::pair{"right", &s.cameras.right}}) {
+  for (auto [key, cam] :
+       {std::pair{"left", &s.cameras.left}, std::pair{"right", &s.cameras.right}}) {
     Eigen::VectorXd v(12);
     for (int i = 0; i < 12; ++i) v[i] = cam->P()(i / 4, i % 4);
     out << YAML::Key << key << YAML::Value;
@@ -214,8 +217,8 @@ std::string SceneToYaml(const Scene& s) {
   out << YAML::EndMap;
   out << YAML::Key << "sensor" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
       << "noise_sigma" << YAML::Value << s.sensor.noise_sigma << YAML::Key << "blur_sigma"
-      << YAML::Value << s.sensor.blur_sigma << YAML::Key << "seed" << YAML::Value
-      << s.sensor.seed << YAML::EndMap;
+      << YAML::Value << s.sensor.blur_sigma << YAML::Key << "seed" << YAML::Value << s.sensor.seed
+      << YAML::EndMap;
   out << YAML::Key << "lighting" << YAML::Value << YAML::BeginMap << YAML::Key << "ambient"
       << YAML::Value << s.lighting.ambient << YAML::Key << "lights" << YAML::Value
       << YAML::BeginSeq;
@@ -228,9 +231,14 @@ std::string SceneToYaml(const Scene& s) {
   const Table& t = s.table;
   out << YAML::Key << "table" << YAML::Value << YAML::Flow << YAML::BeginMap;
   out << YAML::Key << "enabled" << YAML::Value << t.enabled;
-  for (auto [k, v] : {std::pair{"x_min", t.x_min}, {"x_max", t.x_max}, {"y_min", t.y_min},
-                      {"y_max", t.y_max}, {"albedo", t.albedo}, {"hole_albedo", t.hole_albedo},
-                      {"hole_pitch", t.hole_pitch}, {"hole_radius", t.hole_radius},
+  for (auto [k, v] : {std::pair{"x_min", t.x_min},
+                      {"x_max", t.x_max},
+                      {"y_min", t.y_min},
+                      {"y_max", t.y_max},
+                      {"albedo", t.albedo},
+                      {"hole_albedo", t.hole_albedo},
+                      {"hole_pitch", t.hole_pitch},
+                      {"hole_radius", t.hole_radius},
                       {"background", t.background}})
     out << YAML::Key << k << YAML::Value << v;
   out << YAML::Key << "hole_origin" << YAML::Value;
@@ -266,9 +274,9 @@ std::string SceneToYaml(const Scene& s) {
     }
     out << YAML::Key << "albedo" << YAML::Value << o.albedo;
     if (o.texture.enabled()) {
-      out << YAML::Key << "texture" << YAML::Value << YAML::Flow << YAML::BeginMap
-          << YAML::Key << "contrast" << YAML::Value << o.texture.contrast << YAML::Key << "period"
-          << YAML::Value << o.texture.period << YAML::EndMap;
+      out << YAML::Key << "texture" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+          << "contrast" << YAML::Value << o.texture.contrast << YAML::Key << "period" << YAML::Value
+          << o.texture.period << YAML::EndMap;
     }
     out << YAML::EndMap;
   }

@@ -66,7 +66,8 @@ Box Block(double x, double y, double sx, double sy, double sz, double yaw_deg) {
   Box b;
   b.center = {x, y, sz / 2};
   b.size = {sx, sy, sz};
-  b.rotation = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  b.rotation =
+      Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return b;
 }
 
@@ -140,17 +141,17 @@ Scene RandomTestbedScene(uint64_t seed, const RandomSceneOptions& opt) {
   for (int i = 0; i < opt.upright_cylinders; ++i) {
     const double r = uni(0, 1) < 0.5 ? 0.5 : 0.25;
     const double h = uni(3.0, 12.0);
-    place("upright_" + std::to_string(i), [&](double x, double y) -> Shape {
-      return Upright(x, y, r, h);
-    }, 0.85);
+    place(
+        "upright_" + std::to_string(i),
+        [&](double x, double y) -> Shape { return Upright(x, y, r, h); }, 0.85);
   }
   for (int i = 0; i < opt.lying_cylinders; ++i) {
     const double r = uni(0, 1) < 0.5 ? 0.5 : 0.25;
     const double len = uni(3.0, 8.0);
     const double yaw = uni(-60.0, 60.0);
-    place("lying_" + std::to_string(i), [&](double x, double y) -> Shape {
-      return Lying(x, y, r, len, yaw);
-    }, 0.85);
+    place(
+        "lying_" + std::to_string(i),
+        [&](double x, double y) -> Shape { return Lying(x, y, r, len, yaw); }, 0.85);
   }
   std::mt19937_64 yaw_rng(seed ^ 0x9e3779b97f4a7c15ULL);
   auto yaw_uni = [&](double a, double b) {
@@ -160,9 +161,10 @@ Scene RandomTestbedScene(uint64_t seed, const RandomSceneOptions& opt) {
     const double sx = uni(1.0, 4.0), sy = uni(1.0, 4.0), sz = uni(1.0, 4.0);
     const bool turned = yaw_uni(0, 1) < opt.turned_box_share;
     const double yaw = yaw_uni(-opt.box_max_yaw_deg, opt.box_max_yaw_deg);
-    place("box_" + std::to_string(i), [&](double x, double y) -> Shape {
-      return Block(x, y, sx, sy, sz, turned ? yaw : 0.0);
-    }, 0.8);
+    place(
+        "box_" + std::to_string(i),
+        [&](double x, double y) -> Shape { return Block(x, y, sx, sy, sz, turned ? yaw : 0.0); },
+        0.8);
   }
   return s;
 }

@@ -78,7 +78,8 @@ const pb::MethodDescriptor* FindMethod(const std::string& name, std::string* err
   for (const auto* m : AllMethods()) {
     const std::string& full = m->full_name();
     if (full == name) return m;
-    if (full.size() > name.size() && full.compare(full.size() - name.size(), name.size(), name) == 0 &&
+    if (full.size() > name.size() &&
+        full.compare(full.size() - name.size(), name.size(), name) == 0 &&
         full[full.size() - name.size() - 1] == '.') {
       matches.push_back(m);
     }
@@ -137,8 +138,9 @@ int IgmsctlMain(int argc, char** argv) {
       "count,n", po::value<long>()->default_value(0), "subscribe: stop after N messages")(
       "duration", po::value<double>()->default_value(0), "subscribe: stop after S seconds")(
       "quiet,q", "subscribe: print only the summary")(
-      "max-frame", po::value<std::size_t>()->default_value(64u << 20), "largest frame accepted, bytes")(
-      "log-level", po::value<std::string>()->default_value("warn"), "igmsctl's own log level");
+      "max-frame", po::value<std::size_t>()->default_value(64u << 20),
+      "largest frame accepted, bytes")("log-level", po::value<std::string>()->default_value("warn"),
+                                       "igmsctl's own log level");
   po::options_description hidden;
   hidden.add_options()("args", po::value<std::vector<std::string>>(), "");
   po::options_description all;
@@ -253,28 +255,28 @@ int IgmsctlMain(int argc, char** argv) {
     std::mutex m;
     std::condition_variable cv;
     bool done = false;
-    client.CallRaw(method->full_name(), request->SerializeAsString(), timeout,
-                   [&](const net::Status& status, std::string_view payload) {
-                     if (!status.ok()) {
-                       std::cerr << "igmsctl: " << method->full_name() << ": " << status.ToString() << "\n";
-                       // A server that cannot be reached is a wrong address as far as igmsctl can tell.
-                       rc = status.code == igms::TIMEOUT || status.code == igms::UNAVAILABLE
-                                ? kExitUsage
-                                : kExitFailure;
-                     } else {
-                       auto response = NewMessage(method->output_type());
-                       if (!response->ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
-                         std::cerr << "igmsctl: the response is not a "
-                                   << method->output_type()->full_name() << "\n";
-                         rc = kExitUsage;
-                       } else {
-                         std::cout << ToJson(*response) << std::endl;
-                       }
-                     }
-                     std::lock_guard lock(m);
-                     done = true;
-                     cv.notify_all();
-                   });
+    client.CallRaw(
+        method->full_name(), request->SerializeAsString(), timeout,
+        [&](const net::Status& status, std::string_view payload) {
+          if (!status.ok()) {
+            std::cerr << "igmsctl: " << method->full_name() << ": " << status.ToString() << "\n";
+            // A server that cannot be reached is a wrong address as far as igmsctl can tell.
+            rc = status.code == igms::TIMEOUT || status.code == igms::UNAVAILABLE ? kExitUsage
+                                                                                  : kExitFailure;
+          } else {
+            auto response = NewMessage(method->output_type());
+            if (!response->ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
+              std::cerr << "igmsctl: the response is not a " << method->output_type()->full_name()
+                        << "\n";
+              rc = kExitUsage;
+            } else {
+              std::cout << ToJson(*response) << std::endl;
+            }
+          }
+          std::lock_guard lock(m);
+          done = true;
+          cv.notify_all();
+        });
     std::unique_lock lock(m);
     cv.wait(lock, [&] { return done; });
   } else {
@@ -299,7 +301,8 @@ int IgmsctlMain(int argc, char** argv) {
           last_ns = now;
           if (sent_ns > 0) latencies_ms.push_back((now - sent_ns) / 1e6);
           if (!quiet) {
-            if (response->ParseFromArray(payload.data(), static_cast<int>(payload.size()))) std::cout << ToJson(*response) << std::endl;
+            if (response->ParseFromArray(payload.data(), static_cast<int>(payload.size())))
+              std::cout << ToJson(*response) << std::endl;
           }
           if (count > 0 && received >= count) cv.notify_all();
         },
@@ -313,8 +316,8 @@ int IgmsctlMain(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_lock lock(m);
     while (!failed && !g_interrupted && !(count > 0 && received >= count) &&
-           !(duration > 0 && std::chrono::steady_clock::now() - t0 >
-                                 std::chrono::duration<double>(duration))) {
+           !(duration > 0 &&
+             std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(duration))) {
       cv.wait_for(lock, 50ms);
     }
     if (failed) rc = 1;

@@ -6,7 +6,8 @@
 
 namespace igms::wire {
 
-std::optional<cv::Rect> ResolveRegion(const PixelRegion& region, cv::Size size, std::string* error) {
+std::optional<cv::Rect> ResolveRegion(const PixelRegion& region, cv::Size size,
+                                      std::string* error) {
   if (region.whole()) return cv::Rect(0, 0, size.width, size.height);
   auto fail = [&](const std::string& why) -> std::optional<cv::Rect> {
     if (error) {

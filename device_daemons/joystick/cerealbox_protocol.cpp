@@ -126,7 +126,8 @@ void ReportParser::Decode() {
   size_t at = 1;
   const auto next = [this, &at] { return static_cast<uint32_t>(buffer_[at++] - kOffset) & 0x3F; };
   report_ = Report{};
-  for (int i = 2 * layout_.digital_banks - 1; i >= 0; --i) report_.digital |= (next() & 0x0F) << (4 * i);
+  for (int i = 2 * layout_.digital_banks - 1; i >= 0; --i)
+    report_.digital |= (next() & 0x0F) << (4 * i);
   report_.analog_count = layout_.analog_count();
   for (int i = 0; i < report_.analog_count; ++i) {
     const uint32_t hi = next();
@@ -137,7 +138,8 @@ void ReportParser::Decode() {
   for (int i = 0; i < report_.encoder_count; ++i) {
     uint32_t v = 0;
     for (int k = 0; k < 4; ++k) v |= next() << (6 * k);
-    report_.encoders[i] = (v & 0x800000) ? static_cast<int32_t>(v) - 0x1000000 : static_cast<int32_t>(v);
+    report_.encoders[i] =
+        (v & 0x800000) ? static_cast<int32_t>(v) - 0x1000000 : static_cast<int32_t>(v);
   }
 }
 

@@ -8,11 +8,13 @@ namespace igms::devices {
 namespace {
 
 template <class T, size_t N>
-bool ReadList(const config::ProcessOptions& p, const std::string& sub, std::array<T, N>* out, std::string* error) {
+bool ReadList(const config::ProcessOptions& p, const std::string& sub, std::array<T, N>* out,
+              std::string* error) {
   const std::vector<T> values = p.Get<std::vector<T>>(sub, {});
   if (values.empty()) return true;
   if (values.size() != N) {
-    *error = p.Key(sub) + ": expected " + std::to_string(N) + " values, got " + std::to_string(values.size());
+    *error = p.Key(sub) + ": expected " + std::to_string(N) + " values, got " +
+             std::to_string(values.size());
     return false;
   }
   std::copy(values.begin(), values.end(), out->begin());
@@ -24,8 +26,8 @@ bool ReadList(const config::ProcessOptions& p, const std::string& sub, std::arra
 config::Keys JoystickKeys(JoystickDaemonOptions* options) {
   using config::KeyType;
   config::Keys keys = DaemonKeys();
-  keys.Bind("continuous", &options->continuous,
-            "let the box stream ('C') instead of polling", "continuous");
+  keys.Bind("continuous", &options->continuous, "let the box stream ('C') instead of polling",
+            "continuous");
   keys.Add("gamepad", KeyType::kString, "",
            "read a Linux joystick or gamepad (e.g. /dev/input/js0) instead of a FlyBox");
   keys.Add("gamepad_map.axes", KeyType::kList, "",
@@ -36,9 +38,11 @@ config::Keys JoystickKeys(JoystickDaemonOptions* options) {
   return keys;
 }
 
-bool ReadGamepadMapping(const config::ProcessOptions& p, GamepadMapping* mapping, std::string* error) {
+bool ReadGamepadMapping(const config::ProcessOptions& p, GamepadMapping* mapping,
+                        std::string* error) {
   GamepadMapping m;
-  if (!ReadList(p, "gamepad_map.axes", &m.axes, error) || !ReadList(p, "gamepad_map.invert", &m.invert, error) ||
+  if (!ReadList(p, "gamepad_map.axes", &m.axes, error) ||
+      !ReadList(p, "gamepad_map.invert", &m.invert, error) ||
       !ReadList(p, "gamepad_map.buttons", &m.buttons, error)) {
     return false;
   }
@@ -53,8 +57,8 @@ bool ReadGamepadMapping(const config::ProcessOptions& p, GamepadMapping* mapping
 
 JoystickDaemon::JoystickDaemon(boost::asio::io_context& io, DaemonOptions options,
                                net::ServerOptions server, JoystickDaemonOptions joystick)
-    : DaemonBase(io, "joystick", "igms.devices.JoystickService", std::move(options), std::move(server),
-                 FlyBoxSim::kMaxRateHz),
+    : DaemonBase(io, "joystick", "igms.devices.JoystickService", std::move(options),
+                 std::move(server), FlyBoxSim::kMaxRateHz),
       joystick_(std::move(joystick)) {}
 
 std::unique_ptr<SimulatedDevice> JoystickDaemon::MakeSimulator(std::string*) {
@@ -69,7 +73,8 @@ bool JoystickDaemon::StartDevice(const SerialLinkOptions& link, std::string* err
     options.backoff_min = link.backoff_min;
     options.backoff_max = link.backoff_max;
     if (!options.Check(error)) return false;
-    gamepad_ = std::make_unique<GamepadReader>(io_, options, [this](const JoystickState& s) { hub().Publish(s); });
+    gamepad_ = std::make_unique<GamepadReader>(
+        io_, options, [this](const JoystickState& s) { hub().Publish(s); });
     gamepad_->Start();
     return true;
   }
@@ -77,7 +82,8 @@ bool JoystickDaemon::StartDevice(const SerialLinkOptions& link, std::string* err
   options.link = link;
   options.continuous = joystick_.continuous;
   if (!options.Check(error)) return false;
-  driver_ = std::make_unique<JoystickDriver>(io_, options, [this](const JoystickState& s) { hub().Publish(s); });
+  driver_ = std::make_unique<JoystickDriver>(io_, options,
+                                             [this](const JoystickState& s) { hub().Publish(s); });
   driver_->Start();
   return true;
 }

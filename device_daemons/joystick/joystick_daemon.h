@@ -6,10 +6,10 @@
 // JoystickState.
 #pragma once
 
+#include "common/config/process_options.h"
 #include "device_daemons/joystick/flybox_sim.h"
 #include "device_daemons/joystick/gamepad_reader.h"
 #include "device_daemons/joystick/joystick_driver.h"
-#include "common/config/process_options.h"
 #include "device_daemons/serial/daemon_base.h"
 
 namespace igms::devices {
@@ -28,7 +28,8 @@ config::Keys JoystickKeys(JoystickDaemonOptions* options);
 // optional, defaults as GamepadMapping's): axes: [x, y, twist, lever0, lever1] (device axis
 // numbers, -1 unmapped), invert: [5 booleans], buttons: [the device buttons of FlyBox
 // buttons 1-8], trigger: N. False with a message naming the key when it is invalid.
-bool ReadGamepadMapping(const config::ProcessOptions& process, GamepadMapping* mapping, std::string* error);
+bool ReadGamepadMapping(const config::ProcessOptions& process, GamepadMapping* mapping,
+                        std::string* error);
 
 class JoystickDaemon : public DaemonBase<JoystickState> {
  public:

@@ -2,9 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
-#include <boost/asio/post.hpp>
-
 #include <algorithm>
+#include <boost/asio/post.hpp>
 
 #include "common/base/clock.h"
 
@@ -37,9 +36,9 @@ JoystickDriver::JoystickDriver(boost::asio::io_context& io, JoystickDriverOption
       options_(std::move(options)),
       on_reading_(std::move(on_reading)),
       on_status_(std::move(on_status)),
-      link_(io, options_.link,
-            [this](const uint8_t* d, size_t n, int64_t t) { OnBytes(d, n, t); },
-            [this](LinkState s, const std::string& m) { OnState(s, m); }),
+      link_(
+          io, options_.link, [this](const uint8_t* d, size_t n, int64_t t) { OnBytes(d, n, t); },
+          [this](LinkState s, const std::string& m) { OnState(s, m); }),
       init_timer_(io),
       poll_timer_(io) {
   options_.poll_hz = std::min(options_.poll_hz, 50.0);

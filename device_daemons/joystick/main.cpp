@@ -13,14 +13,15 @@ int main(int argc, char** argv) {
   namespace po = boost::program_options;
   po::options_description flags("Joystick");
   igms::devices::AddDaemonFlags(&flags);
-  flags.add_options()
-      ("continuous", po::bool_switch(), "let the box stream ('C') instead of polling")
-      ("gamepad", po::value<std::string>(), "read a Linux joystick or gamepad (e.g. /dev/input/js0) instead of a FlyBox");
+  flags.add_options()("continuous", po::bool_switch(),
+                      "let the box stream ('C') instead of polling")(
+      "gamepad", po::value<std::string>(),
+      "read a Linux joystick or gamepad (e.g. /dev/input/js0) instead of a FlyBox");
   igms::devices::JoystickDaemonOptions joystick;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
-      argc, argv, "joystick", "The FlyBox joystick daemon: CerealBox protocol to TCP readings.", flags,
-      igms::devices::JoystickKeys(&joystick), &exit_code);
+      argc, argv, "joystick", "The FlyBox joystick daemon: CerealBox protocol to TCP readings.",
+      flags, igms::devices::JoystickKeys(&joystick), &exit_code);
   if (!process) return exit_code;
   try {
     // A gamepad is the source when named by the flag, or by the configuration unless a
@@ -49,8 +50,9 @@ int main(int argc, char** argv) {
     }
     if (process->check_only) return igms::config::CheckPassed(*process);
     boost::asio::io_context io;
-    igms::devices::JoystickDaemon daemon(io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kJoystick),
-                                         joystick);
+    igms::devices::JoystickDaemon daemon(
+        io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kJoystick),
+        joystick);
     return igms::devices::RunDaemonProcess(
         io,
         [&](std::string* e) {

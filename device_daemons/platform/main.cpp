@@ -13,15 +13,17 @@ int main(int argc, char** argv) {
   namespace po = boost::program_options;
   po::options_description flags("Platform");
   igms::devices::AddDaemonFlags(&flags);
-  flags.add_options()
-      ("poll-hz", po::value<double>(), "orientation polling rate, at most 80 Hz (default 50)")
-      ("backlash-deg", po::value<double>(), "simulator: gear backlash on pitch and roll (thesis: 1.59)");
+  flags.add_options()("poll-hz", po::value<double>(),
+                      "orientation polling rate, at most 80 Hz (default 50)")(
+      "backlash-deg", po::value<double>(),
+      "simulator: gear backlash on pitch and roll (thesis: 1.59)");
   igms::devices::MollySimOptions sim;
   double poll_hz = 50;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
-      argc, argv, "platform", "The MOLLY camera platform daemon: orientation commands and readings over TCP.",
-      flags, igms::devices::PlatformKeys(&sim, &poll_hz), &exit_code);
+      argc, argv, "platform",
+      "The MOLLY camera platform daemon: orientation commands and readings over TCP.", flags,
+      igms::devices::PlatformKeys(&sim, &poll_hz), &exit_code);
   if (!process) return exit_code;
   try {
     igms::devices::DaemonOptions options;
@@ -32,8 +34,9 @@ int main(int argc, char** argv) {
     }
     if (process->check_only) return igms::config::CheckPassed(*process);
     boost::asio::io_context io;
-    igms::devices::PlatformDaemon daemon(io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kPlatform),
-                                         sim, poll_hz);
+    igms::devices::PlatformDaemon daemon(
+        io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kPlatform), sim,
+        poll_hz);
     return igms::devices::RunDaemonProcess(
         io,
         [&](std::string* e) {

@@ -6,12 +6,17 @@ namespace igms::devices::molly {
 
 int BodyLength(uint8_t head) {
   switch (head) {
-    case kSet: return 7;
-    case kSpeed: return 2;
+    case kSet:
+      return 7;
+    case kSpeed:
+      return 2;
     case kQuery:
-    case kZero: return 0;
-    case kAck: return 1;
-    default: break;
+    case kZero:
+      return 0;
+    case kAck:
+      return 1;
+    default:
+      break;
   }
   if ((head & ~(kFlagMoving | kFlagLimit)) == kOrientation) return 7;
   return -1;
@@ -48,8 +53,8 @@ std::string EncodeQuery() { return EncodeFrame7(kQuery, ""); }
 std::string EncodeZero() { return EncodeFrame7(kZero, ""); }
 
 std::string EncodeOrientation(const Ticks& ticks, bool moving, bool at_limit) {
-  const auto head = static_cast<uint8_t>(kOrientation | (moving ? kFlagMoving : 0) |
-                                         (at_limit ? kFlagLimit : 0));
+  const auto head =
+      static_cast<uint8_t>(kOrientation | (moving ? kFlagMoving : 0) | (at_limit ? kFlagLimit : 0));
   return EncodeFrame7(head, TicksBody(ticks));
 }
 
@@ -77,7 +82,8 @@ std::optional<Message> Decode(const Frame7& f) {
       return m;
     case kAck:
       m.acked = static_cast<uint8_t>(f.body[0] | 0x80);
-      if (BodyLength(m.acked) < 0 || m.acked == kAck || (m.acked & 0xF0) == kOrientation) return std::nullopt;
+      if (BodyLength(m.acked) < 0 || m.acked == kAck || (m.acked & 0xF0) == kOrientation)
+        return std::nullopt;
       return m;
     default:
       m.head = kOrientation;

@@ -62,7 +62,7 @@ struct Message {
 // Frame7 body length for any head of this protocol, either direction; -1 otherwise.
 int BodyLength(uint8_t head);
 
-std::string EncodeSet(const Ticks& ticks);  // ticks clamped to their fields
+std::string EncodeSet(const Ticks& ticks);         // ticks clamped to their fields
 std::string EncodeSpeed(uint32_t steps_per_move);  // clamped to 1..16383
 std::string EncodeQuery();
 std::string EncodeZero();

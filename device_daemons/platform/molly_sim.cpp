@@ -40,7 +40,8 @@ void MollySim::SetTarget(const molly::Ticks& t) {
       at_limit_ = true;
     }
     target_deg_[a] = target;
-    move_speed_[a] = std::min(options_.max_speed_deg_s[a], std::abs(target - motor_deg_[a]) / duration);
+    move_speed_[a] =
+        std::min(options_.max_speed_deg_s[a], std::abs(target - motor_deg_[a]) / duration);
     move_speed_[a] = std::max(move_speed_[a], 1e-3);
   }
 }
@@ -81,7 +82,9 @@ void MollySim::AdvanceTo(int64_t now_ns) {
 }
 
 molly::Ticks MollySim::Encoders() const {
-  const auto q = [this](int a) { return static_cast<int32_t>(std::lround(motor_deg_[a] / DegPerTick(a))); };
+  const auto q = [this](int a) {
+    return static_cast<int32_t>(std::lround(motor_deg_[a] / DegPerTick(a)));
+  };
   return {q(0), q(1), q(2)};
 }
 
@@ -131,7 +134,8 @@ std::vector<std::string> MollySim::OnInput(std::string_view bytes, int64_t now_n
 
 std::vector<std::string> MollySim::Poll(int64_t now_ns, int64_t* next_wake_ns) {
   AdvanceTo(now_ns);
-  if (Moving()) *next_wake_ns = std::min(*next_wake_ns, now_ns + static_cast<int64_t>(1e9 / options_.servo_hz));
+  if (Moving())
+    *next_wake_ns = std::min(*next_wake_ns, now_ns + static_cast<int64_t>(1e9 / options_.servo_hz));
   return {};
 }
 

@@ -25,11 +25,11 @@ namespace igms::devices {
 
 struct MollySimOptions {
   double servo_hz = 200;
-  std::array<double, 3> max_speed_deg_s{90, 60, 60};     // yaw, pitch, roll
+  std::array<double, 3> max_speed_deg_s{90, 60, 60};  // yaw, pitch, roll
   std::array<double, 3> max_accel_deg_s2{360, 240, 240};
-  std::array<double, 3> limit_deg{170, 60, 30};          // +- from zero
-  double backlash_deg = 0;                               // pitch and roll
-  uint32_t steps_per_move = 1;                           // at power-up: full speed
+  std::array<double, 3> limit_deg{170, 60, 30};  // +- from zero
+  double backlash_deg = 0;                       // pitch and roll
+  uint32_t steps_per_move = 1;                   // at power-up: full speed
   bool Check(std::string* error) const;
 };
 

@@ -10,9 +10,10 @@ config::Keys PlatformKeys(MollySimOptions* sim, double* poll_hz) {
   return keys;
 }
 
-PlatformDaemon::PlatformDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
-                               MollySimOptions sim, double poll_hz)
-    : DaemonBase(io, "platform", "igms.devices.PlatformService", std::move(options), std::move(server), poll_hz),
+PlatformDaemon::PlatformDaemon(boost::asio::io_context& io, DaemonOptions options,
+                               net::ServerOptions server, MollySimOptions sim, double poll_hz)
+    : DaemonBase(io, "platform", "igms.devices.PlatformService", std::move(options),
+                 std::move(server), poll_hz),
       sim_options_(sim),
       poll_hz_(poll_hz) {}
 
@@ -26,7 +27,8 @@ bool PlatformDaemon::StartDevice(const SerialLinkOptions& link, std::string* err
   options.link = link;
   options.poll_hz = poll_hz_;
   if (!options.Check(error)) return false;
-  driver_ = std::make_unique<PlatformDriver>(io_, options, [this](const PlatformState& s) { hub().Publish(s); });
+  driver_ = std::make_unique<PlatformDriver>(io_, options,
+                                             [this](const PlatformState& s) { hub().Publish(s); });
   driver_->Start();
   return true;
 }
@@ -35,7 +37,9 @@ void PlatformDaemon::StopDevice() {
   if (driver_) driver_->Stop();
 }
 
-LinkStatus PlatformDaemon::DeviceStatus() const { return driver_ ? driver_->status() : LinkStatus(); }
+LinkStatus PlatformDaemon::DeviceStatus() const {
+  return driver_ ? driver_->status() : LinkStatus();
+}
 
 bool PlatformDaemon::InjectInput(const SimInjectRequest&, SimulatedDevice&, SimInjectResponse*,
                                  std::string* error) {
@@ -49,7 +53,8 @@ void PlatformDaemon::RegisterMethods(net::Server& server) {
   };
   server.HandleAsync<SetOrientationRequest, SetOrientationResponse>(
       "igms.devices.PlatformService.SetOrientation",
-      [this, unavailable](const SetOrientationRequest& req, net::Reply<SetOrientationResponse> reply) {
+      [this, unavailable](const SetOrientationRequest& req,
+                          net::Reply<SetOrientationResponse> reply) {
         if (!driver_) return unavailable(reply);
         if (req.steps_per_move() > molly::kMaxStepsPerMove) {
           return reply(net::Status::Error(igms::BAD_REQUEST, "steps_per_move must be <= 16383"));
@@ -58,16 +63,22 @@ void PlatformDaemon::RegisterMethods(net::Server& server) {
         const int32_t pr_max = SignedFieldMax(molly::kPitchRollBits);
         if (std::abs(req.yaw_ticks()) > yaw_max || std::abs(req.pitch_ticks()) > pr_max ||
             std::abs(req.roll_ticks()) > pr_max) {
-          return reply(net::Status::Error(igms::BAD_REQUEST, "ticks out of the protocol's range (yaw +-1048575, pitch and roll +-8191)"));
+          return reply(net::Status::Error(
+              igms::BAD_REQUEST,
+              "ticks out of the protocol's range (yaw +-1048575, pitch and roll +-8191)"));
         }
-        driver_->SetOrientation({req.yaw_ticks(), req.pitch_ticks(), req.roll_ticks()}, req.steps_per_move(),
-                                [reply](bool ok, const std::string& message) {
-                                  reply(ok ? net::Status::Ok() : net::Status::Error(igms::UNAVAILABLE, message));
-                                });
+        driver_->SetOrientation(
+            {req.yaw_ticks(), req.pitch_ticks(), req.roll_ticks()}, req.steps_per_move(),
+            [reply](bool ok, const std::string& message) {
+              reply(ok ? net::Status::Ok() : net::Status::Error(igms::UNAVAILABLE, message));
+            });
       });
   server.HandleAsync<ResetZeroRequest, ResetZeroResponse>(
-      "igms.devices.PlatformService.ResetZero", [this](const ResetZeroRequest&, net::Reply<ResetZeroResponse> reply) {
-        if (!driver_) return reply(net::Status::Error(igms::UNAVAILABLE, "the platform is being replayed, not driven"));
+      "igms.devices.PlatformService.ResetZero",
+      [this](const ResetZeroRequest&, net::Reply<ResetZeroResponse> reply) {
+        if (!driver_)
+          return reply(
+              net::Status::Error(igms::UNAVAILABLE, "the platform is being replayed, not driven"));
         driver_->ResetZero([reply](bool ok, const std::string& message) {
           reply(ok ? net::Status::Ok() : net::Status::Error(igms::UNAVAILABLE, message));
         });

@@ -16,11 +16,16 @@ int main(int argc, char** argv) {
   namespace po = boost::program_options;
   po::options_description flags("Ranger");
   igms::devices::AddDaemonFlags(&flags);
-  flags.add_options()
-      ("poll-hz", po::value<double>(), "also range continuously at this rate, at most 6 Hz (default: on request only)")
-      ("scene", po::value<std::string>(), "simulator: the site's scene file (default: the thesis testbed)")
-      ("calibration", po::value<std::string>(), "simulator: the calibration file with the ranger's mount and the platform model (default: lab.calibration)")
-      ("follow-platform", po::value<uint16_t>(), "simulator: turn the beam with the platform daemon on this port (default: the process named by processes.NAME.platform)");
+  flags.add_options()(
+      "poll-hz", po::value<double>(),
+      "also range continuously at this rate, at most 6 Hz (default: on request only)")(
+      "scene", po::value<std::string>(),
+      "simulator: the site's scene file (default: the thesis testbed)")(
+      "calibration", po::value<std::string>(),
+      "simulator: the calibration file with the ranger's mount and the platform model (default: "
+      "lab.calibration)")("follow-platform", po::value<uint16_t>(),
+                          "simulator: turn the beam with the platform daemon on this port "
+                          "(default: the process named by processes.NAME.platform)");
   igms::devices::RangerDaemonOptions ranger;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
@@ -41,13 +46,15 @@ int main(int argc, char** argv) {
     };
     ranger.scene_file = path("scene", process->Key("scene"));
     ranger.calibration_file = path("calibration", process->Key("calibration"));
-    if (ranger.calibration_file.empty()) ranger.calibration_file = path("calibration", "lab.calibration");
+    if (ranger.calibration_file.empty())
+      ranger.calibration_file = path("calibration", "lab.calibration");
     const std::string platform_name = process->Get<std::string>("platform", "");
     if (f.count("follow-platform")) {
       ranger.follow_platform_port = f["follow-platform"].as<uint16_t>();
     } else if (!platform_name.empty() && options.source == igms::devices::SourceKind::kSimulate) {
       if (!process->config.Has("processes." + platform_name + ".port")) {
-        spdlog::error("{}: no process named {} in the lab configuration", process->Key("platform"), platform_name);
+        spdlog::error("{}: no process named {} in the lab configuration", process->Key("platform"),
+                      platform_name);
         return igms::kExitUsage;
       }
       ranger.platform_host = process->HostOf(platform_name);
@@ -56,8 +63,8 @@ int main(int argc, char** argv) {
     ranger.token = process->Token();
     if (process->check_only) return igms::config::CheckPassed(*process);
     boost::asio::io_context io;
-    igms::devices::RangerDaemon daemon(io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kRanger),
-                                       ranger);
+    igms::devices::RangerDaemon daemon(
+        io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kRanger), ranger);
     return igms::devices::RunDaemonProcess(
         io,
         [&](std::string* e) {

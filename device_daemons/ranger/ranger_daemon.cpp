@@ -16,9 +16,10 @@ config::Keys RangerKeys(RangerDaemonOptions* options) {
   return keys;
 }
 
-RangerDaemon::RangerDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
-                           RangerDaemonOptions ranger)
-    : DaemonBase(io, "ranger", "igms.devices.RangerService", std::move(options), std::move(server), udm::kMaxRateHz),
+RangerDaemon::RangerDaemon(boost::asio::io_context& io, DaemonOptions options,
+                           net::ServerOptions server, RangerDaemonOptions ranger)
+    : DaemonBase(io, "ranger", "igms.devices.RangerService", std::move(options), std::move(server),
+                 udm::kMaxRateHz),
       ranger_(std::move(ranger)) {}
 
 RangerDaemon::~RangerDaemon() {
@@ -34,8 +35,11 @@ std::unique_ptr<SimulatedDevice> RangerDaemon::MakeSimulator(std::string* error)
     spdlog::warn("ranger simulator: the calibration has no platform model, so the beam stays put");
   }
   const RangerBeam beam = sim_options.world.mount.BeamAt({});
-  spdlog::info("ranger simulator: beam from ({:.2f}, {:.2f}, {:.2f}) along ({:.3f}, {:.3f}, {:.3f}) at the zero pose",
-               beam.origin.x(), beam.origin.y(), beam.origin.z(), beam.axis.x(), beam.axis.y(), beam.axis.z());
+  spdlog::info(
+      "ranger simulator: beam from ({:.2f}, {:.2f}, {:.2f}) along ({:.3f}, {:.3f}, {:.3f}) at the "
+      "zero pose",
+      beam.origin.x(), beam.origin.y(), beam.origin.z(), beam.axis.x(), beam.axis.y(),
+      beam.axis.z());
   auto sim = std::make_unique<RangerSim>(std::move(sim_options));
   if (ranger_.follow_platform_port != 0) {
     net::ClientOptions o;
@@ -47,10 +51,11 @@ std::unique_ptr<SimulatedDevice> RangerDaemon::MakeSimulator(std::string* error)
     platform_ = std::make_unique<net::Client>(io_, o);
     platform_->Start();
     RangerSim* raw = sim.get();
-    platform_->Subscribe<PlatformState>("igms.devices.PlatformService.Live", SubscribeRequest(),
-                                        [this, raw](const PlatformState& p) {
-                                          simulator()->WithDevice([&](SimulatedDevice&) { raw->SetPlatform(p); });
-                                        });
+    platform_->Subscribe<PlatformState>(
+        "igms.devices.PlatformService.Live", SubscribeRequest(),
+        [this, raw](const PlatformState& p) {
+          simulator()->WithDevice([&](SimulatedDevice&) { raw->SetPlatform(p); });
+        });
   }
   return sim;
 }
@@ -60,7 +65,8 @@ bool RangerDaemon::StartDevice(const SerialLinkOptions& link, std::string* error
   options.link = link;
   options.poll_hz = ranger_.poll_hz;
   if (!options.Check(error)) return false;
-  driver_ = std::make_unique<RangerDriver>(io_, options, [this](const RangerState& s) { hub().Publish(s); });
+  driver_ = std::make_unique<RangerDriver>(io_, options,
+                                           [this](const RangerState& s) { hub().Publish(s); });
   driver_->Start();
   return true;
 }
@@ -94,8 +100,11 @@ bool RangerDaemon::InjectInput(const SimInjectRequest& request, SimulatedDevice&
 
 void RangerDaemon::RegisterMethods(net::Server& server) {
   server.HandleAsync<RangeRequest, RangerState>(
-      "igms.devices.RangerService.Range", [this](const RangeRequest&, net::Reply<RangerState> reply) {
-        if (!driver_) return reply(net::Status::Error(igms::UNAVAILABLE, "the ranger is being replayed, not driven"));
+      "igms.devices.RangerService.Range",
+      [this](const RangeRequest&, net::Reply<RangerState> reply) {
+        if (!driver_)
+          return reply(
+              net::Status::Error(igms::UNAVAILABLE, "the ranger is being replayed, not driven"));
         driver_->Range([reply](bool ok, const RangerState& state, const std::string& message) {
           reply(ok ? net::Status::Ok() : net::Status::Error(igms::UNAVAILABLE, message), state);
         });

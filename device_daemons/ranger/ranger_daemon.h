@@ -4,9 +4,9 @@
 // no echo when not valid; valid with range_in 0 ends the override; a PlatformState as the
 // platform's pose, in encoder ticks). The simulator ranges the world the program registered
 // (ranger_site.h; the simulated site in igms-rangerd): scene_file (default: the thesis
-// testbed) from the mount of calibration_file. With follow_platform_port the simulator's beam turns with the camera
-// platform: it subscribes to that daemon's PlatformService.Live (reconnecting when the
-// platform daemon restarts) and feeds the reached orientation to the simulator. See
+// testbed) from the mount of calibration_file. With follow_platform_port the simulator's beam turns
+// with the camera platform: it subscribes to that daemon's PlatformService.Live (reconnecting when
+// the platform daemon restarts) and feeds the reached orientation to the simulator. See
 // daemon_base.h.
 #pragma once
 

@@ -13,14 +13,17 @@ bool RangerDriverOptions::Check(std::string* error) const {
   return true;
 }
 
-RangerDriver::RangerDriver(boost::asio::io_context& io, RangerDriverOptions options, ReadingFn on_reading,
-                           StatusFn on_status)
-    : DeviceDriver(io, [&] {
-        SerialLinkOptions link = options.link;
-        // A ranger asked only on request is silent in between: that is no fault.
-        if (options.poll_hz == 0) link.silence_timeout = std::chrono::hours(24);
-        return link;
-      }(), "ranger", std::move(on_status)),
+RangerDriver::RangerDriver(boost::asio::io_context& io, RangerDriverOptions options,
+                           ReadingFn on_reading, StatusFn on_status)
+    : DeviceDriver(
+          io,
+          [&] {
+            SerialLinkOptions link = options.link;
+            // A ranger asked only on request is silent in between: that is no fault.
+            if (options.poll_hz == 0) link.silence_timeout = std::chrono::hours(24);
+            return link;
+          }(),
+          "ranger", std::move(on_status)),
       options_(std::move(options)),
       on_reading_(std::move(on_reading)) {}
 

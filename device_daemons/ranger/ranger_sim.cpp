@@ -5,7 +5,8 @@
 
 namespace igms::devices {
 
-RangerSim::RangerSim(RangerSimOptions options) : options_(std::move(options)), rng_(options_.seed) {}
+RangerSim::RangerSim(RangerSimOptions options)
+    : options_(std::move(options)), rng_(options_.seed) {}
 
 std::optional<double> RangerSim::TrueRange() const {
   if (override_) return *override_;

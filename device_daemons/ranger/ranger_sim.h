@@ -1,6 +1,6 @@
 // A simulated UDM-FL ranger (udm_protocol.h): on each 'R' it ranges its world (ranger_site.h:
-// the simulated site, in igms-rangerd) from its mount at the current platform pose, and answers after the
-// measurement time (udm::kMeasureNs: at most 6 ranges a second; requests while measuring
+// the simulated site, in igms-rangerd) from its mount at the current platform pose, and answers
+// after the measurement time (udm::kMeasureNs: at most 6 ranges a second; requests while measuring
 // are ignored). Beam 12 degrees, 2 in to 60 ft (outside: no echo), as the thesis's table
 // 2.3 and section 2.1.5 give them.
 //

@@ -11,7 +11,8 @@ int BodyLength(uint8_t head) {
 }
 
 std::string EncodeRange(std::optional<double> range_in) {
-  if (!range_in || !std::isfinite(*range_in) || *range_in < kMinRangeIn || *range_in > kMaxRangeIn) {
+  if (!range_in || !std::isfinite(*range_in) || *range_in < kMinRangeIn ||
+      *range_in > kMaxRangeIn) {
     return EncodeFrame7(kNoEcho, "");
   }
   Frame7Writer w;

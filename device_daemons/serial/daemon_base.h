@@ -48,15 +48,18 @@ class DaemonBase {
       auto recording = LoadRecording(options_.replay_file, error);
       if (!recording) return false;
       if (recording->header.device() != device_) {
-        *error = options_.replay_file + " records a " + recording->header.device() + ", not a " + device_;
+        *error = options_.replay_file + " records a " + recording->header.device() + ", not a " +
+                 device_;
         return false;
       }
-      replayer_ = std::make_unique<Replayer>(std::move(*recording), options_.replay_speed, options_.loop);
+      replayer_ =
+          std::make_unique<Replayer>(std::move(*recording), options_.replay_speed, options_.loop);
     } else {
       if (options_.source == SourceKind::kSimulate) {
         auto sim = MakeSimulator(error);
         if (!sim) return false;
-        sim_ = std::make_unique<PtyHost>(std::move(sim), PtyHostOptions{options_.link.port, options_.link.baud});
+        sim_ = std::make_unique<PtyHost>(std::move(sim),
+                                         PtyHostOptions{options_.link.port, options_.link.baud});
         if (!sim_->Start(error)) return false;
       }
       if (!StartDevice(options_.link, error)) return false;
@@ -110,8 +113,10 @@ class DaemonBase {
     server_.HandleStream<SubscribeRequest, Msg>(
         service_ + ".Live",
         [this](const SubscribeRequest& req, std::shared_ptr<net::Publisher<Msg>> pub) {
-          if (!(req.rate_hz() >= 0)) return net::Status::Error(igms::BAD_REQUEST, "rate_hz must be >= 0");
-          const double rate = req.rate_hz() == 0 || req.rate_hz() >= max_rate_hz_ ? 0 : req.rate_hz();
+          if (!(req.rate_hz() >= 0))
+            return net::Status::Error(igms::BAD_REQUEST, "rate_hz must be >= 0");
+          const double rate =
+              req.rate_hz() == 0 || req.rate_hz() >= max_rate_hz_ ? 0 : req.rate_hz();
           hub_.Subscribe(std::move(pub), rate);
           return net::Status::Ok();
         },
@@ -132,12 +137,15 @@ class DaemonBase {
         "igms.devices.SimService.Inject",
         [this](const SimInjectRequest& req, SimInjectResponse& response) {
           if (!sim_) {
-            return net::Status::Error(igms::UNAVAILABLE, "the " + device_ + " is not simulated (start with --simulate)");
+            return net::Status::Error(
+                igms::UNAVAILABLE, "the " + device_ + " is not simulated (start with --simulate)");
           }
           if (req.has_fault()) {
             const SimFault& f = req.fault();
             if (f.garbage_bytes() > 4096 || f.stall_ms() > 60000 || f.vanish_ms() > 60000) {
-              return net::Status::Error(igms::BAD_REQUEST, "fault too large (garbage <= 4096 bytes, stall and vanish <= 60 s)");
+              return net::Status::Error(
+                  igms::BAD_REQUEST,
+                  "fault too large (garbage <= 4096 bytes, stall and vanish <= 60 s)");
             }
             if (f.garbage_bytes()) sim_->InjectGarbage(f.garbage_bytes());
             if (f.stall_ms()) sim_->Stall(std::chrono::milliseconds(f.stall_ms()));
@@ -147,7 +155,8 @@ class DaemonBase {
           }
           std::string error;
           bool ok = false;
-          sim_->WithDevice([&](SimulatedDevice& d) { ok = InjectInput(req, d, &response, &error); });
+          sim_->WithDevice(
+              [&](SimulatedDevice& d) { ok = InjectInput(req, d, &response, &error); });
           return ok ? net::Status::Ok() : net::Status::Error(igms::BAD_REQUEST, error);
         });
   }

@@ -33,7 +33,8 @@ config::Keys DaemonKeys() {
   keys.Add("sim_port", KeyType::kString, "",
            "link path of the simulator's pseudo-terminal (default: a fresh temporary one)");
   keys.Path("replay", "publish readings from this recording");
-  keys.Add("replay_speed", KeyType::kNumber, "1", "replay at this many times the original rate; 0 = at once");
+  keys.Add("replay_speed", KeyType::kNumber, "1",
+           "replay at this many times the original rate; 0 = at once");
   keys.Add("loop", KeyType::kBool, "false", "repeat the replay");
   keys.Add("record", KeyType::kOutputPath, "", "record every reading to this file");
   keys.Add("silence_ms", KeyType::kInt, "500", "watchdog: the device is stale after this silence");
@@ -41,48 +42,59 @@ config::Keys DaemonKeys() {
 }
 
 void AddDaemonFlags(po::options_description* flags) {
-  flags->add_options()
-      ("serial", po::value<std::string>(), "serial port of the device, or \"simulate\"")
-      ("baud", po::value<unsigned>(), "baud rate (default 9600)")
-      ("simulate", po::bool_switch(), "run the device's simulator on a pseudo-terminal")
-      ("sim-port", po::value<std::string>(), "link path of the simulator's pseudo-terminal")
-      ("replay", po::value<std::string>(), "publish readings from a recording")
-      ("replay-speed", po::value<double>(), "replay at this many times the original rate; 0 = at once")
-      ("loop", po::bool_switch(), "repeat the replay")
-      ("record", po::value<std::string>(), "record every reading to this file")
-      ("silence-ms", po::value<int>(), "watchdog: the device is stale after this silence");
+  flags->add_options()("serial", po::value<std::string>(),
+                       "serial port of the device, or \"simulate\"")("baud", po::value<unsigned>(),
+                                                                     "baud rate (default 9600)")(
+      "simulate", po::bool_switch(), "run the device's simulator on a pseudo-terminal")(
+      "sim-port", po::value<std::string>(), "link path of the simulator's pseudo-terminal")(
+      "replay", po::value<std::string>(), "publish readings from a recording")(
+      "replay-speed", po::value<double>(),
+      "replay at this many times the original rate; 0 = at once")(
+      "loop", po::bool_switch(), "repeat the replay")("record", po::value<std::string>(),
+                                                      "record every reading to this file")(
+      "silence-ms", po::value<int>(), "watchdog: the device is stale after this silence");
 }
 
 bool ReadDaemonOptions(const config::ProcessOptions& p, const std::string& device,
                        DaemonOptions* out, std::string* error) {
   const auto& f = p.flags;
-  std::string serial = f.count("serial") ? f["serial"].as<std::string>() : p.Get<std::string>("serial", "");
-  std::string replay = f.count("replay") ? f["replay"].as<std::string>() : p.Get<std::string>("replay", "");
+  std::string serial =
+      f.count("serial") ? f["serial"].as<std::string>() : p.Get<std::string>("serial", "");
+  std::string replay =
+      f.count("replay") ? f["replay"].as<std::string>() : p.Get<std::string>("replay", "");
   const bool simulate = (f.count("simulate") && f["simulate"].as<bool>()) || serial == "simulate";
   if (simulate && serial == "simulate") serial.clear();
   const int sources = (simulate ? 1 : 0) + (!serial.empty() ? 1 : 0) + (!replay.empty() ? 1 : 0);
   if (sources != 1) {
-    *error = sources == 0 ? "name where the " + device + " is: --serial PORT, --simulate or --replay FILE"
-                          : "name only one of --serial, --simulate and --replay";
+    *error = sources == 0
+                 ? "name where the " + device + " is: --serial PORT, --simulate or --replay FILE"
+                 : "name only one of --serial, --simulate and --replay";
     return false;
   }
   DaemonOptions o;
-  o.source = simulate ? SourceKind::kSimulate : !serial.empty() ? SourceKind::kSerial : SourceKind::kReplay;
+  o.source = simulate          ? SourceKind::kSimulate
+             : !serial.empty() ? SourceKind::kSerial
+                               : SourceKind::kReplay;
   o.link.baud = f.count("baud") ? f["baud"].as<unsigned>() : p.Get<unsigned>("baud", 9600);
-  const int silence = f.count("silence-ms") ? f["silence-ms"].as<int>() : p.Get<int>("silence_ms", 500);
+  const int silence =
+      f.count("silence-ms") ? f["silence-ms"].as<int>() : p.Get<int>("silence_ms", 500);
   o.link.silence_timeout = std::chrono::milliseconds(silence);
   if (o.source == SourceKind::kSerial) o.link.port = serial;
   if (o.source == SourceKind::kSimulate) {
-    o.link.port = f.count("sim-port") ? f["sim-port"].as<std::string>() : p.Get<std::string>("sim_port", "");
+    o.link.port =
+        f.count("sim-port") ? f["sim-port"].as<std::string>() : p.Get<std::string>("sim_port", "");
     if (o.link.port.empty()) {
       o.link.port = (std::filesystem::temp_directory_path() /
-                     ("igms-" + device + "-sim-" + std::to_string(::getpid()))).string();
+                     ("igms-" + device + "-sim-" + std::to_string(::getpid())))
+                        .string();
     }
   }
   o.replay_file = replay;
-  o.replay_speed = f.count("replay-speed") ? f["replay-speed"].as<double>() : p.Get<double>("replay_speed", 1.0);
+  o.replay_speed =
+      f.count("replay-speed") ? f["replay-speed"].as<double>() : p.Get<double>("replay_speed", 1.0);
   o.loop = (f.count("loop") && f["loop"].as<bool>()) || p.Get<bool>("loop", false);
-  o.record_file = f.count("record") ? f["record"].as<std::string>() : p.Get<std::string>("record", "");
+  o.record_file =
+      f.count("record") ? f["record"].as<std::string>() : p.Get<std::string>("record", "");
   if (!o.Check(error)) return false;
   *out = o;
   return true;

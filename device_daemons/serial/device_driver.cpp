@@ -13,9 +13,10 @@ DeviceDriver::DeviceDriver(boost::asio::io_context& io, SerialLinkOptions link, 
     : io_(io),
       name_(std::move(name)),
       on_status_(std::move(on_status)),
-      link_(io, std::move(link),
-            [this](const uint8_t* d, size_t n, int64_t t) { OnSerialBytes(d, n, t); },
-            [this](LinkState s, const std::string& m) { OnState(s, m); }),
+      link_(
+          io, std::move(link),
+          [this](const uint8_t* d, size_t n, int64_t t) { OnSerialBytes(d, n, t); },
+          [this](LinkState s, const std::string& m) { OnState(s, m); }),
       poll_timer_(io) {
   status_.set_port(link_.port());
   status_.set_state(CONNECTING);

@@ -200,7 +200,8 @@ void PtyHost::Run() {
     }
     pollfd fds[2] = {{wake_pipe_[0], POLLIN, 0}, {master, POLLIN, 0}};
     const int64_t wait_ns = std::max<int64_t>(0, wake_ns - MonotonicNs());
-    timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};
+    timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000),
+                     static_cast<long>(wait_ns % 1'000'000'000)};
     const int ready = ppoll(fds, master >= 0 ? 2 : 1, &timeout, nullptr);
     if (ready <= 0) continue;
     if (fds[0].revents & POLLIN) {

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "common/net/server.h"
 #include "common/base/clock.h"
+#include "common/net/server.h"
 #include "device_daemons/serial/recording.h"
 #include "igms/devices.pb.h"
 

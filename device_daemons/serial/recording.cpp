@@ -1,11 +1,11 @@
 #include "device_daemons/serial/recording.h"
 
+#include <fcntl.h>
 #include <google/protobuf/io/zero_copy_stream_impl.h>
 #include <google/protobuf/util/delimited_message_util.h>
+#include <unistd.h>
 
 #include <chrono>
-#include <fcntl.h>
-#include <unistd.h>
 
 #include "common/base/clock.h"
 
@@ -15,30 +15,41 @@ namespace pbu = google::protobuf::util;
 
 const Stamp& StampOf(const Reading& r) {
   switch (r.device_case()) {
-    case Reading::kViewer: return r.viewer().stamp();
-    case Reading::kJoystick: return r.joystick().stamp();
-    case Reading::kRanger: return r.ranger().stamp();
-    case Reading::kPlatform: return r.platform().stamp();
-    case Reading::kVoice: return r.voice().stamp();
-    case Reading::DEVICE_NOT_SET: break;
+    case Reading::kViewer:
+      return r.viewer().stamp();
+    case Reading::kJoystick:
+      return r.joystick().stamp();
+    case Reading::kRanger:
+      return r.ranger().stamp();
+    case Reading::kPlatform:
+      return r.platform().stamp();
+    case Reading::kVoice:
+      return r.voice().stamp();
+    case Reading::DEVICE_NOT_SET:
+      break;
   }
   return Stamp::default_instance();
 }
 
 Stamp* MutableStampOf(Reading* r) {
   switch (r->device_case()) {
-    case Reading::kViewer: return r->mutable_viewer()->mutable_stamp();
-    case Reading::kJoystick: return r->mutable_joystick()->mutable_stamp();
-    case Reading::kRanger: return r->mutable_ranger()->mutable_stamp();
-    case Reading::kPlatform: return r->mutable_platform()->mutable_stamp();
-    case Reading::kVoice: return r->mutable_voice()->mutable_stamp();
-    case Reading::DEVICE_NOT_SET: break;
+    case Reading::kViewer:
+      return r->mutable_viewer()->mutable_stamp();
+    case Reading::kJoystick:
+      return r->mutable_joystick()->mutable_stamp();
+    case Reading::kRanger:
+      return r->mutable_ranger()->mutable_stamp();
+    case Reading::kPlatform:
+      return r->mutable_platform()->mutable_stamp();
+    case Reading::kVoice:
+      return r->mutable_voice()->mutable_stamp();
+    case Reading::DEVICE_NOT_SET:
+      break;
   }
   return nullptr;
 }
 
-bool RecordingWriter::Open(const std::string& path, const std::string& device,
-                           std::string* error) {
+bool RecordingWriter::Open(const std::string& path, const std::string& device, std::string* error) {
   out_.open(path, std::ios::binary | std::ios::trunc);
   if (!out_) {
     *error = "cannot create recording " + path;
@@ -69,7 +80,8 @@ std::optional<Recording> LoadRecording(const std::string& path, std::string* err
   {
     google::protobuf::io::FileInputStream in(fd);
     bool eof = false;
-    if (!pbu::ParseDelimitedFromZeroCopyStream(&rec.header, &in, &eof) || rec.header.device().empty()) {
+    if (!pbu::ParseDelimitedFromZeroCopyStream(&rec.header, &in, &eof) ||
+        rec.header.device().empty()) {
       ::close(fd);
       *error = path + " is not a device recording (no header)";
       return std::nullopt;

@@ -97,21 +97,21 @@ void SerialLink::ScheduleReopen(const std::string& why) {
 
 void SerialLink::ReadMore() {
   const uint64_t generation = generation_;
-  port_.async_read_some(asio::buffer(buffer_), [this, generation](
-                                                   const boost::system::error_code& ec,
-                                                   size_t n) {
-    if (generation != generation_ || stopped_) return;
-    if (ec) {
-      ScheduleReopen(options_.port + " failed: " + ec.message());
-      return;
-    }
-    const int64_t now = MonotonicNs();
-    last_rx_ = std::chrono::steady_clock::now();
-    backoff_ = options_.backoff_min;
-    if (state_ != CONNECTED) SetState(CONNECTED, "receiving from " + options_.port);
-    on_bytes_(buffer_, n, now);
-    ReadMore();
-  });
+  port_.async_read_some(asio::buffer(buffer_),
+                        [this, generation](const boost::system::error_code& ec, size_t n) {
+                          if (generation != generation_ || stopped_) return;
+                          if (ec) {
+                            ScheduleReopen(options_.port + " failed: " + ec.message());
+                            return;
+                          }
+                          const int64_t now = MonotonicNs();
+                          last_rx_ = std::chrono::steady_clock::now();
+                          backoff_ = options_.backoff_min;
+                          if (state_ != CONNECTED)
+                            SetState(CONNECTED, "receiving from " + options_.port);
+                          on_bytes_(buffer_, n, now);
+                          ReadMore();
+                        });
 }
 
 void SerialLink::Write(std::string bytes) {
@@ -150,9 +150,11 @@ void SerialLink::ArmWatchdog() {
       if (silent > 2 * options_.silence_timeout) {
         ScheduleReopen(options_.port + " silent; reopening");
       } else if (silent > options_.silence_timeout && state_ == CONNECTED) {
-        SetState(STALE, options_.port + " silent for " +
-                            std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(
-                                               silent).count()) + " ms");
+        SetState(STALE,
+                 options_.port + " silent for " +
+                     std::to_string(
+                         std::chrono::duration_cast<std::chrono::milliseconds>(silent).count()) +
+                     " ms");
       }
     }
     ArmWatchdog();

@@ -28,7 +28,8 @@ double WrapDegrees(double deg) {
 
 std::string EncodeReport(const Pose& pose) {
   Frame7Writer w;
-  for (double p : {pose.x_m, pose.y_m, pose.z_m}) w.PutSigned(Count(p, kPositionStepM), kPositionBits);
+  for (double p : {pose.x_m, pose.y_m, pose.z_m})
+    w.PutSigned(Count(p, kPositionStepM), kPositionBits);
   for (double a : {pose.yaw_deg, pose.pitch_deg, pose.roll_deg}) {
     int32_t c = Count(WrapDegrees(a), kAngleStepDeg);
     if (c == 4096) c = -4096;  // +180 rounds up to the wrap

@@ -16,11 +16,13 @@ int main(int argc, char** argv) {
   namespace po = boost::program_options;
   po::options_description flags("Viewer");
   igms::devices::AddDaemonFlags(&flags);
-  flags.add_options()
-      ("stream", po::bool_switch(), "let the viewer stream ('S') instead of polling it")
-      ("poll-hz", po::value<double>(), "polling rate, at most 70 Hz (default 70)")
-      ("path", po::value<std::string>(), "simulator: a head-motion path file")
-      ("power-up", po::value<std::string>(), "simulator: the head's power-up pose in the site, \"x y z yaw pitch roll\" (metres, degrees)");
+  flags.add_options()("stream", po::bool_switch(),
+                      "let the viewer stream ('S') instead of polling it")(
+      "poll-hz", po::value<double>(), "polling rate, at most 70 Hz (default 70)")(
+      "path", po::value<std::string>(), "simulator: a head-motion path file")(
+      "power-up", po::value<std::string>(),
+      "simulator: the head's power-up pose in the site, \"x y z yaw pitch roll\" (metres, "
+      "degrees)");
   igms::devices::ViewerDaemonOptions viewer;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
@@ -52,8 +54,8 @@ int main(int argc, char** argv) {
     }
     if (process->check_only) return igms::config::CheckPassed(*process);
     boost::asio::io_context io;
-    igms::devices::ViewerDaemon daemon(io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kViewer),
-                                       viewer);
+    igms::devices::ViewerDaemon daemon(
+        io, options, igms::net::ServerOptionsFor(*process, igms::config::ports::kViewer), viewer);
     return igms::devices::RunDaemonProcess(
         io,
         [&](std::string* e) {

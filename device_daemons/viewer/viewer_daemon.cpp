@@ -17,8 +17,8 @@ config::Keys ViewerKeys(ViewerDaemonOptions* options) {
   return keys;
 }
 
-ViewerDaemon::ViewerDaemon(boost::asio::io_context& io, DaemonOptions options, net::ServerOptions server,
-                           ViewerDaemonOptions viewer)
+ViewerDaemon::ViewerDaemon(boost::asio::io_context& io, DaemonOptions options,
+                           net::ServerOptions server, ViewerDaemonOptions viewer)
     : DaemonBase(io, "viewer", "igms.devices.ViewerService", std::move(options), std::move(server),
                  boom::kMaxRateHz),
       viewer_(std::move(viewer)) {}
@@ -49,7 +49,8 @@ bool ViewerDaemon::StartDevice(const SerialLinkOptions& link, std::string* error
   options.stream = viewer_.stream;
   options.poll_hz = viewer_.poll_hz;
   if (!options.Check(error)) return false;
-  driver_ = std::make_unique<ViewerDriver>(io_, options, [this](const ViewerState& s) { hub().Publish(s); });
+  driver_ = std::make_unique<ViewerDriver>(io_, options,
+                                           [this](const ViewerState& s) { hub().Publish(s); });
   driver_->Start();
   return true;
 }

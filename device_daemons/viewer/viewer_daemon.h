@@ -11,10 +11,10 @@
 namespace igms::devices {
 
 struct ViewerDaemonOptions {
-  bool stream = false;      // the viewer streams instead of being polled
+  bool stream = false;  // the viewer streams instead of being polled
   double poll_hz = boom::kMaxRateHz;
-  std::string path_file;    // simulator: scripted head motion
-  ViewerSimOptions sim;     // simulator: the head's power-up pose in the site
+  std::string path_file;  // simulator: scripted head motion
+  ViewerSimOptions sim;   // simulator: the head's power-up pose in the site
 };
 
 // The viewer's keys (processes.NAME): the daemon's shared ones (DaemonKeys), stream, poll_hz

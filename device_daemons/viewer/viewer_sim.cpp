@@ -75,7 +75,7 @@ namespace {
 
 Eigen::Isometry3d SitePose(const boom::Pose& p, double units_per_metre) {
   return HeadPoseFromMetres({p.x_m, p.y_m, p.z_m}, {p.yaw_deg, p.pitch_deg, p.roll_deg},
-                                  units_per_metre);
+                            units_per_metre);
 }
 
 PoseTrackerOptions TrackerOptions(const ViewerSimOptions& o) {

@@ -133,15 +133,14 @@ int main(int argc, char** argv) try {
   desc.add_options()("help,h", "this help")("version", "print the version and exit")(
       "out", po::value(&options.out_dir), "folder for the adapted model (replaced)")(
       "model-dir", po::value(&options.model_dir)->default_value(options.model_dir),
-      "the pocketsphinx model to adapt")(
-      "record", "read the prompts aloud into the microphone")(
+      "the pocketsphinx model to adapt")("record", "read the prompts aloud into the microphone")(
       "device", po::value(&device), "capture device for --record (default: the system's)")(
       "list", po::value(&list), "recordings: lines of 'sound file<TAB>what was said'")(
       "espeak", po::value(&espeak)->multitoken(), "espeak-ng voices VOICE:WPM say the prompts")(
       "sphinxtrain-dir",
       po::value(&options.sphinxtrain_dir)->default_value(options.sphinxtrain_dir),
-      "where sphinxtrain's bw and map_adapt are")(
-      "keep-work", po::value(&options.work_dir), "keep features, counts and logs here")(
+      "where sphinxtrain's bw and map_adapt are")("keep-work", po::value(&options.work_dir),
+                                                  "keep features, counts and logs here")(
       "prompts", po::value(&prompts_file), "prompts to read, one a line, instead of the built-in")(
       "print-prompts", "print the enrolment prompts and exit");
   po::variables_map vm;
@@ -183,7 +182,7 @@ int main(int argc, char** argv) try {
   }
   std::signal(SIGINT, [](int) { g_stop = 1; });
   std::signal(SIGTERM, [](int) { g_stop = 1; });
-  const auto utterances = !list.empty()      ? ReadList(list)
+  const auto utterances = !list.empty()     ? ReadList(list)
                           : !espeak.empty() ? Espeak(espeak, prompts)
                                             : Record(device, prompts);
   if (!utterances) return igms::kExitFailure;

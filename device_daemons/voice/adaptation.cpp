@@ -232,9 +232,12 @@ struct SourceModel {
   std::vector<std::string> Args() const {
     const auto kind = feat_params.find("-model");
     const std::string tying = kind == feat_params.end() ? "cont" : kind->second;
-    return {"-moddeffn", mdef.string(), "-ts2cbfn", "." + tying + ".",
-            "-meanfn", (dir / "means").string(), "-varfn", (dir / "variances").string(),
-            "-mixwfn", mixture_weights.string(), "-tmatfn", (dir / "transition_matrices").string()};
+    return {"-moddeffn", mdef.string(),
+            "-ts2cbfn",  "." + tying + ".",
+            "-meanfn",   (dir / "means").string(),
+            "-varfn",    (dir / "variances").string(),
+            "-mixwfn",   mixture_weights.string(),
+            "-tmatfn",   (dir / "transition_matrices").string()};
   }
 };
 
@@ -280,12 +283,11 @@ std::string Count(const SourceModel& model, const fs::path& tools, const fs::pat
   fs::create_directories(work / "counts");
   std::vector<std::string> bw = {(tools / "bw").string()};
   for (std::string& a : model.Args()) bw.push_back(std::move(a));
-  bw.insert(bw.end(), {"-dictfn", (work / "words.dict").string(), "-fdictfn",
-                       (model.dir / "noisedict").string(), "-ctlfn",
-                       (work / "utterances.ctl").string(), "-lsnfn",
-                       (work / "transcripts.txt").string(), "-cepdir",
-                       (work / "features").string(), "-cepext", "mfc", "-accumdir",
-                       (work / "counts").string()});
+  bw.insert(bw.end(),
+            {"-dictfn", (work / "words.dict").string(), "-fdictfn",
+             (model.dir / "noisedict").string(), "-ctlfn", (work / "utterances.ctl").string(),
+             "-lsnfn", (work / "transcripts.txt").string(), "-cepdir", (work / "features").string(),
+             "-cepext", "mfc", "-accumdir", (work / "counts").string()});
   for (const char* key : {"-feat", "-svspec", "-cmn", "-agc", "-varnorm", "-cmninit"}) {
     const auto it = model.feat_params.find(key);
     if (it != model.feat_params.end()) bw.insert(bw.end(), {key, it->second});
@@ -301,10 +303,11 @@ std::string WriteModel(const SourceModel& model, const AdaptationOptions& option
   fs::create_directories(adapted);
   std::vector<std::string> map = {(fs::path(options.sphinxtrain_dir) / "map_adapt").string()};
   for (std::string& a : model.Args()) map.push_back(std::move(a));
-  map.insert(map.end(), {"-accumdir", (work / "counts").string(), "-mapmeanfn",
-                         (adapted / "means").string(), "-mapvarfn", (adapted / "variances").string(),
-                         "-mapmixwfn", (adapted / "mixture_weights").string(), "-maptmatfn",
-                         (adapted / "transition_matrices").string()});
+  map.insert(map.end(),
+             {"-accumdir", (work / "counts").string(), "-mapmeanfn", (adapted / "means").string(),
+              "-mapvarfn", (adapted / "variances").string(), "-mapmixwfn",
+              (adapted / "mixture_weights").string(), "-maptmatfn",
+              (adapted / "transition_matrices").string()});
   if (std::string e = RunProgram(map, (work / "map_adapt.log").string()); !e.empty()) return e;
   std::error_code ec;
   for (const char* file : {"mdef", "feat.params", "noisedict"}) {
@@ -362,37 +365,36 @@ const std::vector<std::string>& EnrolmentPrompts() {
     std::vector<std::string> out;
     for (const CommandInfo& info : AllCommands()) out.emplace_back(info.phrase);
     // Sentences of the lab's own work, which between them say every phone of the model.
-    for (const char* s : {
-             "move the pointer to the top of the pipe",
-             "the camera platform turns slowly to the left",
-             "mark four points around the edge of the block",
-             "the valve on the far wall looks rusty",
-             "put the cursor just above the joint",
-             "the tank floor is covered with thick sludge",
-             "check the depth with the ultrasonic ranger",
-             "the robot arm should avoid the hot vessel",
-             "draw the outline in green over the video",
-             "a yellow cable hangs from the ceiling",
-             "the thin rod leans against the support beam",
-             "zoom out and show me the whole room",
-             "the boiler pipe bends sharply near the pump",
-             "the wheel is jammed by a heavy chain",
-             "we measured each object twice to be sure",
-             "judge the shape by looking at both images",
-             "the shiny drum sits behind the orange crate",
-             "please hold the joystick still for a moment",
-             "this view gives a clear sight of the bottom",
-             "they found three loose bolts under the hatch",
-             "the voice was quiet but the words were clear",
-             "the operator pushed the trigger with her thumb",
-             "a small leak could spoil the whole measurement",
-             "the pressure gauge reads nearly zero",
-             "choose the nearest surface inside the beam",
-             "the vision system finds the exact pose",
-             "go back and check the corner again",
-             "a thousand points were matched in the pair",
-             "the light was dim and the picture was noisy",
-             "use the left button to toggle the display"}) {
+    for (const char* s : {"move the pointer to the top of the pipe",
+                          "the camera platform turns slowly to the left",
+                          "mark four points around the edge of the block",
+                          "the valve on the far wall looks rusty",
+                          "put the cursor just above the joint",
+                          "the tank floor is covered with thick sludge",
+                          "check the depth with the ultrasonic ranger",
+                          "the robot arm should avoid the hot vessel",
+                          "draw the outline in green over the video",
+                          "a yellow cable hangs from the ceiling",
+                          "the thin rod leans against the support beam",
+                          "zoom out and show me the whole room",
+                          "the boiler pipe bends sharply near the pump",
+                          "the wheel is jammed by a heavy chain",
+                          "we measured each object twice to be sure",
+                          "judge the shape by looking at both images",
+                          "the shiny drum sits behind the orange crate",
+                          "please hold the joystick still for a moment",
+                          "this view gives a clear sight of the bottom",
+                          "they found three loose bolts under the hatch",
+                          "the voice was quiet but the words were clear",
+                          "the operator pushed the trigger with her thumb",
+                          "a small leak could spoil the whole measurement",
+                          "the pressure gauge reads nearly zero",
+                          "choose the nearest surface inside the beam",
+                          "the vision system finds the exact pose",
+                          "go back and check the corner again",
+                          "a thousand points were matched in the pair",
+                          "the light was dim and the picture was noisy",
+                          "use the left button to toggle the display"}) {
       out.emplace_back(s);
     }
     return out;

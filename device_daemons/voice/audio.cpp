@@ -10,8 +10,7 @@
 
 namespace igms::voice {
 
-std::optional<Audio> LoadSoundFile(const std::string& path, std::string* error,
-                                   int target_rate) {
+std::optional<Audio> LoadSoundFile(const std::string& path, std::string* error, int target_rate) {
   auto fail = [&](const std::string& why) -> std::optional<Audio> {
     if (error) *error = path + ": " + why;
     return std::nullopt;

@@ -28,7 +28,7 @@ constexpr std::array<OperatorState, 3> kStates = {
 constexpr std::array<Command, 4> kVerification = {Command::kFreeze, Command::kWireframe,
                                                   Command::kSolid, Command::kRemoveModel};
 constexpr std::array<Command, 8> kModelBuilding = {
-    Command::kRange,     Command::kUnfreeze, Command::kMark,  Command::kUnmark,
+    Command::kRange,        Command::kUnfreeze,  Command::kMark,  Command::kUnmark,
     Command::kRemovePoints, Command::kWireframe, Command::kSolid, Command::kRemoveModel};
 constexpr std::array<Command, 5> kAwaitingType = {Command::kUnfreeze, Command::kBox,
                                                   Command::kCylinder, Command::kUnmark,

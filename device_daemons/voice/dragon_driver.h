@@ -54,8 +54,8 @@ class DragonDriver : public devices::DeviceDriver {
   ReadingFn on_reading_;
   boost::asio::steady_timer probe_timer_;
   boost::asio::steady_timer idle_timer_;  // bare digit pairs: see ReportParser::Idle
-  uint64_t requests_ = 0;  // requests written since the port opened
-  uint64_t answers_ = 0;   // "00" lines received since then
+  uint64_t requests_ = 0;                 // requests written since the port opened
+  uint64_t answers_ = 0;                  // "00" lines received since then
   struct Waiter {
     uint64_t request;
     std::function<void()> done;

@@ -41,9 +41,9 @@ class Endpointer {
 
   EndpointerOptions options_;
   size_t frame_size_;
-  std::vector<int16_t> partial_;   // samples not yet making a whole frame
-  std::vector<int16_t> history_;   // recent frames before speech (pre-roll)
-  std::vector<int16_t> current_;   // the utterance in progress
+  std::vector<int16_t> partial_;  // samples not yet making a whole frame
+  std::vector<int16_t> history_;  // recent frames before speech (pre-roll)
+  std::vector<int16_t> current_;  // the utterance in progress
   bool in_speech_ = false;
   bool discarding_ = false;  // inside overlong speech, waiting for its end
   int loud_run_ = 0;

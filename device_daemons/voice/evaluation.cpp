@@ -20,11 +20,18 @@ std::string VoiceLabel(const SpeechRequest& speech) {
 const std::vector<Voice>& TuningVoices() {
   // Two accents and two variants at two speeds were the first tuning set; the other eight
   // add two more accents, six more variants and six more speeds (none of the test set's).
-  static const std::vector<Voice> voices = {
-      {"en-us", 140},           {"en-us", 190},         {"en-gb+f3", 140},
-      {"en-gb+f3", 190},        {"en-gb-x-gbclan+m1", 170}, {"en-gb-x-gbcwmd+f1", 130},
-      {"en-us+m2", 220},        {"en-gb+m5", 180},      {"en-us+f5", 165},
-      {"en-gb-x-gbcwmd+m7", 145}, {"en-us+m6", 230},    {"en-gb-x-gbclan+f3", 185}};
+  static const std::vector<Voice> voices = {{"en-us", 140},
+                                            {"en-us", 190},
+                                            {"en-gb+f3", 140},
+                                            {"en-gb+f3", 190},
+                                            {"en-gb-x-gbclan+m1", 170},
+                                            {"en-gb-x-gbcwmd+f1", 130},
+                                            {"en-us+m2", 220},
+                                            {"en-gb+m5", 180},
+                                            {"en-us+f5", 165},
+                                            {"en-gb-x-gbcwmd+m7", 145},
+                                            {"en-us+m6", 230},
+                                            {"en-gb-x-gbclan+f3", 185}};
   return voices;
 }
 
@@ -37,11 +44,11 @@ const std::vector<std::string>& TuningWords() {
       // range
       "rang", "ranger", "rage", "ranch", "grange", "wrench", "ray", "danger", "arranged",
       // mark, unmark
-      "market", "marked", "remark", "mask", "bark", "march", "spark", "monk", "unmask",
-      "embark", "mike",
+      "market", "marked", "remark", "mask", "bark", "march", "spark", "monk", "unmask", "embark",
+      "mike",
       // remove points, remove model
-      "remove", "points", "model", "remote", "removing", "appoints", "remodel", "movie",
-      "joints", "bottle", "move it",
+      "remove", "points", "model", "remote", "removing", "appoints", "remodel", "movie", "joints",
+      "bottle", "move it",
       // box
       "blocks", "boxes", "books", "bucks", "locks", "rocks", "bob", "ox",
       // cylinder
@@ -58,8 +65,10 @@ const std::vector<std::string>& TuningWords() {
 }
 
 const std::vector<Voice>& TestVoices() {
-  static const std::vector<Voice> voices = {
-      {"en-gb-scotland+m3", 160}, {"en-029+f2", 210}, {"en-us-nyc+m4", 150}, {"en-gb-x-rp+f4", 200}};
+  static const std::vector<Voice> voices = {{"en-gb-scotland+m3", 160},
+                                            {"en-029+f2", 210},
+                                            {"en-us-nyc+m4", 150},
+                                            {"en-gb-x-rp+f4", 200}};
   return voices;
 }
 
@@ -247,8 +256,7 @@ std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
 }
 
 std::optional<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
-    const std::vector<Voice>& voices, std::string* error,
-    const std::vector<std::string>& prompts) {
+    const std::vector<Voice>& voices, std::string* error, const std::vector<std::string>& prompts) {
   std::vector<AdaptationUtterance> out;
   for (const Voice& voice : voices) {
     for (const std::string& prompt : prompts) {

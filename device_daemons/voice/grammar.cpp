@@ -107,7 +107,8 @@ const std::vector<std::string>& ModelPhones() {
 
 std::string PhoneToken(std::string_view phone) {
   std::string token = "ph_";
-  for (char c : phone) token.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  for (char c : phone)
+    token.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
   return token;
 }
 

@@ -94,7 +94,8 @@ int main(int argc, char** argv) {
     }
     if (process->check_only) return config::CheckPassed(*process);
     boost::asio::io_context io;
-    voice::VoiceDaemon daemon(io, options, net::ServerOptionsFor(*process, igms::config::ports::kVoice), voice);
+    voice::VoiceDaemon daemon(io, options,
+                              net::ServerOptionsFor(*process, igms::config::ports::kVoice), voice);
     return devices::RunDaemonProcess(
         io,
         [&](std::string* e) {

@@ -24,8 +24,8 @@ Microphone::~Microphone() = default;
 std::unique_ptr<Microphone> Microphone::Open(const std::string& device, std::string* error) {
   auto impl = std::make_unique<Impl>();
   // Half a second of buffer: the caller polls far more often than that.
-  impl->device = alcCaptureOpenDevice(device.empty() ? nullptr : device.c_str(),
-                                      kModelSampleRate, AL_FORMAT_MONO16, kModelSampleRate / 2);
+  impl->device = alcCaptureOpenDevice(device.empty() ? nullptr : device.c_str(), kModelSampleRate,
+                                      AL_FORMAT_MONO16, kModelSampleRate / 2);
   if (impl->device == nullptr) {
     if (error) {
       *error = "cannot open the capture device " +

@@ -39,8 +39,8 @@ std::string BaseWord(const char* token) {
 const std::vector<std::string>& FrontEndArgs() {
   // Noise removal hurt synthetic speech; dither with a fixed seed keeps digital silence from
   // upsetting the features and makes every result repeatable.
-  static const std::vector<std::string> args = {"-remove_noise", "no", "-dither", "yes",
-                                                "-seed", "1"};
+  static const std::vector<std::string> args = {"-remove_noise", "no",    "-dither",
+                                                "yes",           "-seed", "1"};
   return args;
 }
 
@@ -117,8 +117,8 @@ struct Recognizer::Impl {
     if (!words) return false;
     // Beams narrower than pocketsphinx's defaults (1e-48, 7e-29, 1e-48): speech far from
     // every command then more often finds no path at all (tuned on the tuning voices).
-    std::vector<std::string> args = {"-hmm",        hmm,   "-dict", dict,    "-bestpath", "no",
-                                     "-allphone_ci", "yes", "-beam", "1e-20", "-pbeam",    "1e-20",
+    std::vector<std::string> args = {"-hmm",         hmm,    "-dict", dict,    "-bestpath", "no",
+                                     "-allphone_ci", "yes",  "-beam", "1e-20", "-pbeam",    "1e-20",
                                      "-wbeam",       "1e-15"};
     args.insert(args.end(), FrontEndArgs().begin(), FrontEndArgs().end());
     // pocketsphinx refuses an argument given twice: one in decoder_args replaces the built-in.
@@ -276,8 +276,8 @@ struct Recognizer::Impl {
     int agree = 0;
     for (double f : options.perturbations) {
       // Read at f times the rate: f times faster, every frequency f times higher.
-      const std::vector<int16_t> played = Resample(
-          samples, static_cast<int>(std::lround(kModelSampleRate * f)), kModelSampleRate);
+      const std::vector<int16_t> played =
+          Resample(samples, static_cast<int>(std::lround(kModelSampleRate * f)), kModelSampleRate);
       ps_set_search(decoder, std::string(StateName(state)).c_str());
       if (played.empty() || ps_start_utt(decoder) < 0) continue;
       ps_process_raw(decoder, played.data(), played.size(), FALSE, TRUE);

@@ -19,13 +19,13 @@ enum class Synthesizer {
 std::string_view SynthesizerName(Synthesizer synthesizer);  // "espeak-ng", "flite"
 
 struct SpeechRequest {
-  std::string text;           // what to say
+  std::string text;  // what to say
   // espeak-ng: a voice, optionally with a variant, "en-gb+f3". flite: one of its built-in
   // 16 kHz voices, "slt", "awb", "rms", "kal16" (a name only: flite would fetch a URL).
   std::string voice = "en-us";
-  int words_per_minute = 175;       // espeak-ng's -s, 80..450; flite's own pace counts as 175
-  int pitch = 50;                   // espeak-ng's -p, 0..99 (flite keeps its voice's pitch)
-  double leading_silence_s = 0.0;   // digital silence added before and after
+  int words_per_minute = 175;      // espeak-ng's -s, 80..450; flite's own pace counts as 175
+  int pitch = 50;                  // espeak-ng's -p, 0..99 (flite keeps its voice's pitch)
+  double leading_silence_s = 0.0;  // digital silence added before and after
   double trailing_silence_s = 0.0;
   Synthesizer synthesizer = Synthesizer::kEspeakNg;
   bool Check(std::string* error) const;

@@ -15,9 +15,11 @@ config::Keys VoiceKeys() {
               "the operator's state at start");
   keys.Add("microphone", KeyType::kBool, "false",
            "recognise speech from a microphone instead of a Dragon on a serial line");
-  keys.Add("device", KeyType::kString, "", "capture device for the microphone (default: the system's)");
-  keys.Path("model_dir", "recogniser: the pocketsphinx en-us model folder, or an operator's "
-                         "adapted model (igms-voice-adapt)");
+  keys.Add("device", KeyType::kString, "",
+           "capture device for the microphone (default: the system's)");
+  keys.Path("model_dir",
+            "recogniser: the pocketsphinx en-us model folder, or an operator's "
+            "adapted model (igms-voice-adapt)");
   return keys;
 }
 
@@ -145,8 +147,7 @@ void VoiceDaemon::RegisterMethods(net::Server& server) {
   // is decoded, with what was heard.
   server.HandleAsync<devices::SimInjectRequest, devices::SimInjectResponse>(
       "igms.devices.SimService.Inject",
-      [this](const devices::SimInjectRequest& req,
-             net::Reply<devices::SimInjectResponse> reply) {
+      [this](const devices::SimInjectRequest& req, net::Reply<devices::SimInjectResponse> reply) {
         std::string phrase;
         if (req.has_spoken()) {
           phrase = req.spoken();

@@ -30,9 +30,9 @@ enum class Layer {
 };
 
 const char* LayerName(Layer layer) {
-  static const char* const kNames[] = {"messages",   "foundation", "calibration",
-                                       "wire",       "components", "simulation",
-                                       "operator",   "tools",      "tests and benchmarks"};
+  static const char* const kNames[] = {"messages", "foundation", "calibration",
+                                       "wire",     "components", "simulation",
+                                       "operator", "tools",      "tests and benchmarks"};
   return kNames[static_cast<int>(layer)];
 }
 
@@ -48,8 +48,7 @@ bool StandsOn(Layer from, Layer to) {
       return to == L::kMessages || to == L::kFoundation;
     case L::kComponents:
     case L::kOperator:
-      return to == L::kMessages || to == L::kFoundation || to == L::kCalibration ||
-             to == L::kWire;
+      return to == L::kMessages || to == L::kFoundation || to == L::kCalibration || to == L::kWire;
     case L::kSimulation:
       return to != L::kOperator && to != L::kTools && to != L::kTestsAndBenchmarks;
     case L::kTools:
@@ -119,8 +118,9 @@ bool IsProgramMain(const std::string& file) {
 std::string CheckInclude(const std::string& file, const std::string& header) {
   const auto from = ComponentOf(file);
   if (!from) {
-    return file + " is in no layer of docs/architecture.md: add its folder to the table and "
-                  "to this test";
+    return file +
+           " is in no layer of docs/architecture.md: add its folder to the table and "
+           "to this test";
   }
   const auto to = ComponentOf(header);
   if (!to) {
@@ -155,9 +155,9 @@ TEST(IncludeLayers, RulesRefuseWhatTheTableForbids) {
   EXPECT_EQ(CheckInclude("video_server/main.cpp", "common/sim/capture/sim_capture.h"), "");
   EXPECT_EQ(CheckInclude("device_daemons/ranger/main.cpp", "common/sim/ranger/site_ranger.h"), "");
   EXPECT_EQ(CheckInclude("common/sim/capture/sim_capture.h", "video_server/capture_backend.h"), "");
-  EXPECT_EQ(CheckInclude("device_daemons/ranger/ranger_daemon.h",
-                         "device_daemons/serial/daemon_base.h"),
-            "");
+  EXPECT_EQ(
+      CheckInclude("device_daemons/ranger/ranger_daemon.h", "device_daemons/serial/daemon_base.h"),
+      "");
   EXPECT_EQ(CheckInclude("common/calibration/cli/commands.cpp", "common/sim/synthetic_platform.h"),
             "");
   EXPECT_EQ(CheckInclude("common/net/server.h", "igms/common.pb.h"), "");
@@ -173,8 +173,8 @@ TEST(IncludeLayers, RulesRefuseWhatTheTableForbids) {
   EXPECT_NE(
       CheckInclude("device_daemons/ranger/ranger_sim.h", "device_daemons/viewer/viewer_sim.h"), "");
   EXPECT_NE(CheckInclude("common/calibration/dlt.cpp", "common/sim/testbed.h"), "");
-  EXPECT_NE(
-      CheckInclude("common/geometry/camera.cpp", "common/calibration/calibration_file.h"), "");
+  EXPECT_NE(CheckInclude("common/geometry/camera.cpp", "common/calibration/calibration_file.h"),
+            "");
   EXPECT_NE(CheckInclude("common/wire/image_message.h", "video_server/edges.h"), "");
   EXPECT_NE(CheckInclude("video_server/edges.cpp", "tests/support/child_process.h"), "");
   EXPECT_NE(CheckInclude("common/newthing/a.cpp", "common/log/log.h").find("no layer"),
@@ -182,8 +182,9 @@ TEST(IncludeLayers, RulesRefuseWhatTheTableForbids) {
 }
 
 // Every folder of the project that holds sources, tests and benchmarks aside.
-const char* const kSourceRoots[] = {"common",        "proto",   "video_server", "object_server",
-                                    "sound_server", "device_daemons", "control"};
+const char* const kSourceRoots[] = {"common",        "proto",        "video_server",
+                                    "object_server", "sound_server", "device_daemons",
+                                    "control"};
 
 TEST(IncludeLayers, EverySourceFileKeepsToItsLayer) {
   const char* dir = std::getenv("IGMS_SOURCE_DIR");

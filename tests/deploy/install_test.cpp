@@ -27,14 +27,16 @@ using testing::ScratchDir;
 using testing::SourceDir;
 
 // Every scalar of a YAML tree by its dotted key ("processes.video.port" -> "7301").
-void Leaves(const YAML::Node& node, const std::string& key, std::map<std::string, std::string>* out) {
+void Leaves(const YAML::Node& node, const std::string& key,
+            std::map<std::string, std::string>* out) {
   if (node.IsMap()) {
     for (const auto& entry : node) {
       const std::string name = entry.first.as<std::string>();
       Leaves(entry.second, key.empty() ? name : key + "." + name, out);
     }
   } else if (node.IsSequence()) {
-    for (std::size_t i = 0; i < node.size(); ++i) Leaves(node[i], key + "." + std::to_string(i), out);
+    for (std::size_t i = 0; i < node.size(); ++i)
+      Leaves(node[i], key + "." + std::to_string(i), out);
   } else {
     (*out)[key] = node.IsNull() ? "" : node.Scalar();
   }
@@ -58,9 +60,9 @@ class Installed : public ::testing::Test {
   // One install for every test here: it copies every program.
   static void SetUpTestSuite() {
     prefix_ = new ScratchDir();
-    install_ = RunShell(std::string(IGMS_CMAKE_COMMAND) + " --install '" +
-                        std::getenv("IGMS_BUILD_DIR") + "' --prefix '" + prefix_->path().string() +
-                        "' 2>&1");
+    install_ =
+        RunShell(std::string(IGMS_CMAKE_COMMAND) + " --install '" + std::getenv("IGMS_BUILD_DIR") +
+                 "' --prefix '" + prefix_->path().string() + "' 2>&1");
   }
   static void TearDownTestSuite() {
     delete prefix_;
@@ -73,7 +75,9 @@ class Installed : public ::testing::Test {
 
   static fs::path Prefix() { return prefix_->path(); }
   static fs::path Bin() { return Prefix() / IGMS_INSTALL_BINDIR; }
-  static std::string Lab() { return (Prefix() / IGMS_INSTALL_SYSCONFDIR / "igms/lab.yaml").string(); }
+  static std::string Lab() {
+    return (Prefix() / IGMS_INSTALL_SYSCONFDIR / "igms/lab.yaml").string();
+  }
   // The installed `igms config ARGS --config LAB`.
   static testing::ShellRun Config(const std::string& args) {
     return RunShell("'" + (Bin() / "igms").string() + "' config " + args + " --config '" + Lab() +

@@ -68,7 +68,8 @@ TEST_F(Failures, CoincidentMarksAreDegenerate) {
 }
 
 TEST_F(Failures, MarkBehindTheCamera) {
-  input_.marks[1] = scene_.cameras.left.Center() + Eigen::Vector3d(0, 10, 0);  // cameras look along -y
+  input_.marks[1] =
+      scene_.cameras.left.Center() + Eigen::Vector3d(0, 10, 0);  // cameras look along -y
   EXPECT_EQ(Run().reason, Failure::kMarksBehindCamera);
 }
 
@@ -97,7 +98,8 @@ TEST_F(Failures, ASmallSpotInsideWideMarksIsNotAnOutline) {
   const auto spot = scene_.cameras.left.ProjectObserved(middle);
   ASSERT_TRUE(spot);
   input_.left = cv::Mat(images_.left.size(), images_.left.type(), cv::Scalar::all(90));
-  cv::rectangle(input_.left, cv::Rect(static_cast<int>(spot->x()) - 1, static_cast<int>(spot->y()) - 1, 3, 3),
+  cv::rectangle(input_.left,
+                cv::Rect(static_cast<int>(spot->x()) - 1, static_cast<int>(spot->y()) - 1, 3, 3),
                 cv::Scalar::all(220), cv::FILLED);
   const auto r = Run();
   EXPECT_EQ(r.reason, Failure::kEdgeCountMismatch) << FailureName(r.reason) << ": " << r.detail;
@@ -112,7 +114,8 @@ TEST_F(Failures, RightImageWithoutTheObjectHasNoMatch) {
   input_.right = site::Render(without, without.cameras.right, 1);
   const auto r = Run();
   EXPECT_FALSE(r.found);
-  EXPECT_TRUE(r.reason == Failure::kMatchOverThreshold || r.reason == Failure::kLeftRightInconsistent)
+  EXPECT_TRUE(r.reason == Failure::kMatchOverThreshold ||
+              r.reason == Failure::kLeftRightInconsistent)
       << FailureName(r.reason) << ": " << r.detail;
 }
 
@@ -122,7 +125,8 @@ TEST_F(Failures, WrongDepthMarksAreInconsistentOrUnmatched) {
   for (auto& m : input_.marks) m = c + (m - c) * ((m - c).norm() + 12) / (m - c).norm();
   const auto r = Run();
   EXPECT_FALSE(r.found);
-  EXPECT_TRUE(r.reason == Failure::kMatchOverThreshold || r.reason == Failure::kLeftRightInconsistent)
+  EXPECT_TRUE(r.reason == Failure::kMatchOverThreshold ||
+              r.reason == Failure::kLeftRightInconsistent)
       << FailureName(r.reason) << ": " << r.detail;
 }
 

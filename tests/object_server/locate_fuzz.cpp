@@ -101,12 +101,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const LocateResult result = Locate(input);
   // A found solid has finite, positive dimensions; a failure says why.
   if (result.found) {
-    const bool finite =
-        result.type == SolidType::kCylinder
-            ? std::isfinite(result.cylinder.radius) && std::isfinite(result.cylinder.height) &&
-                  result.cylinder.radius > 0 && result.cylinder.center.allFinite()
-            : result.box.size.allFinite() && result.box.size.minCoeff() > 0 &&
-                  result.box.center.allFinite();
+    const bool finite = result.type == SolidType::kCylinder
+                            ? std::isfinite(result.cylinder.radius) &&
+                                  std::isfinite(result.cylinder.height) &&
+                                  result.cylinder.radius > 0 && result.cylinder.center.allFinite()
+                            : result.box.size.allFinite() && result.box.size.minCoeff() > 0 &&
+                                  result.box.center.allFinite();
     if (!finite) __builtin_trap();
   } else if (result.detail.empty()) {
     __builtin_trap();

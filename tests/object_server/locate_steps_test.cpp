@@ -1,6 +1,8 @@
 // Each step of the locator (object_server/locate_steps.h) on its own: on a rendered testbed
 // scene with the operator's marks as modelled, and on small synthetic images and solids where
 // the right answer is known exactly. Failure modes are triggered on purpose.
+#include "object_server/locate_steps.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -10,7 +12,6 @@
 #include "common/sim/marks.h"
 #include "common/sim/renderer.h"
 #include "common/sim/testbed.h"
-#include "object_server/locate_steps.h"
 #include "object_server/solid_models.h"
 
 namespace igms::object {
@@ -76,9 +77,9 @@ class LocateSteps : public ::testing::Test {
     EXPECT_TRUE(marks.ok()) << marks.failure().detail;
     t.marks = *marks;
     const cv::Rect image(0, 0, t.pair.left.cols, t.pair.left.rows);
-    left_gradients_ = Gradients(
-        t.pair.left, GrowRect(cv::boundingRect(t.marks.hull), RegionPad(options_), image),
-        options_.edge_sigma);
+    left_gradients_ =
+        Gradients(t.pair.left, GrowRect(cv::boundingRect(t.marks.hull), RegionPad(options_), image),
+                  options_.edge_sigma);
     if (grad_left) *grad_left = &left_gradients_;
     t.boundary = FindBoundary(left_gradients_, t.marks, cv::Mat(), options_);
     t.search = ObjectDepthSearch(t.boundary.pixels, t.marks.depth, options_);
@@ -137,8 +138,8 @@ TEST_F(LocateSteps, PrepareImagesRefusesMissingOddAndWrongSizedImages) {
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.failure().reason, Failure::kBadInput);
   const auto size = scene_->cameras.left.image_size();
-  EXPECT_TRUE(Contains(r.failure().detail,
-                       std::to_string(size.width) + "x" + std::to_string(size.height)))
+  EXPECT_TRUE(
+      Contains(r.failure().detail, std::to_string(size.width) + "x" + std::to_string(size.height)))
       << r.failure().detail;
 }
 
@@ -383,8 +384,8 @@ TEST_F(LocateSteps, ARangeThatAgreesNarrowsTheMatchAndOneThatDoesNotIsOnlyRecord
   const Through3 t = RunThroughStep3(in);
   // No range: the match as it was, the check unused.
   RangeCheck check;
-  SsdMatch m = NarrowByRange(in, t.pair, t.search, t.boundary, t.marks.depth, t.match, options_,
-                             &check);
+  SsdMatch m =
+      NarrowByRange(in, t.pair, t.search, t.boundary, t.marks.depth, t.match, options_, &check);
   EXPECT_FALSE(check.used);
   EXPECT_EQ(m.offset, t.match.offset);
 
@@ -434,7 +435,8 @@ TEST_F(LocateSteps, AnUprightCylinderStartsNearItsTruthAndFitsOntoIt) {
   EXPECT_LT((0.5 * (x0.segment<3>(0) + x0.segment<3>(3)) - cylinder_->center).norm(), 2.0);
 
   const cv::Rect image(0, 0, t.pair.right.cols, t.pair.right.rows);
-  const Gradients grad_right(t.pair.right, RightRegion(t.search, t.match, RegionPad(options_), image),
+  const Gradients grad_right(t.pair.right,
+                             RightRegion(t.search, t.match, RegionPad(options_), image),
                              options_.edge_sigma);
   const std::array<FitView, 2> views = {FitView{&in.left_camera, &left_gradients_},
                                         FitView{&in.right_camera, &grad_right}};
@@ -461,8 +463,7 @@ TEST_F(LocateSteps, ABoxStartsWorldAlignedAtThreeDepthsAndFitsOntoIt) {
     EXPECT_DOUBLE_EQ(s[3], starts[0][3]);
     EXPECT_DOUBLE_EQ(s[5], starts[0][5]);
     // ... and one front face: the box's near end along y is where the first start's is.
-    const double near_end = std::abs(s[1] + 0.5 * s[4] - (starts[0][1] + 0.5 * starts[0][4])) <
-                                    1e-9
+    const double near_end = std::abs(s[1] + 0.5 * s[4] - (starts[0][1] + 0.5 * starts[0][4])) < 1e-9
                                 ? 0
                                 : std::abs(s[1] - 0.5 * s[4] - (starts[0][1] - 0.5 * starts[0][4]));
     EXPECT_LT(near_end, 1e-9);
@@ -474,7 +475,8 @@ TEST_F(LocateSteps, ABoxStartsWorldAlignedAtThreeDepthsAndFitsOntoIt) {
   EXPECT_NEAR(starts[2][4], 1.8 * across, 1e-9);
 
   const cv::Rect image(0, 0, t.pair.right.cols, t.pair.right.rows);
-  const Gradients grad_right(t.pair.right, RightRegion(t.search, t.match, RegionPad(options_), image),
+  const Gradients grad_right(t.pair.right,
+                             RightRegion(t.search, t.match, RegionPad(options_), image),
                              options_.edge_sigma);
   const std::array<FitView, 2> views = {FitView{&in.left_camera, &left_gradients_},
                                         FitView{&in.right_camera, &grad_right}};
@@ -557,7 +559,8 @@ TEST(LocateStepsResult, CylinderFromFitGivesItsCentreSizeAndAnUpwardAxis) {
   EXPECT_EQ(c.radius_sigma, 0);
   // A level axis points along +x.
   x << 3, 0, 0, -1, 0, 0, 1;
-  EXPECT_TRUE(CylinderFromFit(x, Eigen::MatrixXd::Zero(7, 7)).axis.isApprox(Eigen::Vector3d::UnitX()));
+  EXPECT_TRUE(
+      CylinderFromFit(x, Eigen::MatrixXd::Zero(7, 7)).axis.isApprox(Eigen::Vector3d::UnitX()));
   // The deviations come from the covariance: the radius's own variance of 0.04.
   Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(7, 7);
   cov(6, 6) = 0.04;

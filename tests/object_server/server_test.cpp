@@ -2,15 +2,14 @@
 // simulated testbed's objects from generated marks, request validation, and what happens
 // while the video server is gone and after it returns.
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cmath>
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
-
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include "common/calibration/calibration_file.h"
 #include "common/calibration/calibration_hash.h"
@@ -268,8 +267,8 @@ TEST_F(ObjectServerTest, BothServersReportTheHashOfTheirCalibration) {
   TestClient object(object_port_);
   StatusResponse status;
   ASSERT_TRUE(igms::testing::WaitUntil([&] {
-    auto got = object->CallSync<StatusResponse>("igms.object.ObjectService.Status",
-                                                StatusRequest(), 10s);
+    auto got =
+        object->CallSync<StatusResponse>("igms.object.ObjectService.Status", StatusRequest(), 10s);
     status = got.value;
     return got.ok() && status.video_connected();
   })) << status.video_detail();
@@ -314,26 +313,25 @@ TEST(ObjectServerWithoutVideo, LocateIsUnavailableAtOnceNamingTheVideoServer) {
   RefusingPort video;
   ASSERT_NE(video.port(), 0);
   const std::string where = "127.0.0.1:" + std::to_string(video.port());
-  Process object("igms-object-server",
-                 {"--name", "object", "--port", "0", "--set",
-                  "processes.video.port=" + std::to_string(video.port()), "--set",
-                  "processes.object.fetch_timeout_ms=20000", "--set",
-                  "lab.calibration=" + Calibration()});
+  Process object("igms-object-server", {"--name", "object", "--port", "0", "--set",
+                                        "processes.video.port=" + std::to_string(video.port()),
+                                        "--set", "processes.object.fetch_timeout_ms=20000", "--set",
+                                        "lab.calibration=" + Calibration()});
   const uint16_t port = object.WaitPort();
   ASSERT_NE(port, 0) << object.Log();
   TestClient client(port);
   const site::Scene scene = site::DefaultTestbedScene();
   for (int attempt = 0; attempt < 3; ++attempt) {  // each one answered, none left to time out
-    auto got = client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[0].shape, 7, 1),
-                                                2s);
+    auto got =
+        client->CallSync<LocateResponse>(kLocate, RequestFor(scene.objects[0].shape, 7, 1), 2s);
     EXPECT_EQ(got.status.code, igms::UNAVAILABLE) << got.status.ToString();
     EXPECT_NE(got.status.message.find("video server at " + where), std::string::npos)
         << got.status.message;
     EXPECT_NE(got.status.message.find("refused"), std::string::npos) << got.status.message;
     EXPECT_NE(got.status.message.find("frame 7"), std::string::npos) << got.status.message;
   }
-  auto status = client->CallSync<StatusResponse>("igms.object.ObjectService.Status",
-                                                 StatusRequest(), 2s);
+  auto status =
+      client->CallSync<StatusResponse>("igms.object.ObjectService.Status", StatusRequest(), 2s);
   ASSERT_TRUE(status.ok()) << status.status.ToString();
   EXPECT_FALSE(status.value.video_connected());
   EXPECT_EQ(status.value.video(), where);

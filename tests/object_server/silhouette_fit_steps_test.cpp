@@ -1,12 +1,12 @@
 // Each step of the silhouette fit (object_server/silhouette_fit_steps.h) on its own, on small
 // synthetic images whose edges are known to a small fraction of a pixel: a flat square plate
 // facing a stereo pair, and a disc. Then the whole fit on the same images, and its failures.
+#include "object_server/silhouette_fit_steps.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
-
-#include "object_server/silhouette_fit_steps.h"
 
 namespace igms::object {
 namespace {
@@ -37,8 +37,9 @@ cv::Mat DrawPolygon(const std::vector<Eigen::Vector2d>& polygon, cv::Size size =
   cv::Mat fine(size.height * kFine, size.width * kFine, CV_8U, cv::Scalar(40));
   std::vector<cv::Point> points;
   for (const auto& p : polygon)  // pixel u spans [u - 0.5, u + 0.5)
-    points.emplace_back(static_cast<int>(std::lround(((p.x() + 0.5) * kFine - 0.5) * (1 << kShift))),
-                        static_cast<int>(std::lround(((p.y() + 0.5) * kFine - 0.5) * (1 << kShift))));
+    points.emplace_back(
+        static_cast<int>(std::lround(((p.x() + 0.5) * kFine - 0.5) * (1 << kShift))),
+        static_cast<int>(std::lround(((p.y() + 0.5) * kFine - 0.5) * (1 << kShift))));
   cv::fillConvexPoly(fine, points, cv::Scalar(200), cv::LINE_8, kShift);
   cv::Mat image;
   cv::resize(fine, image, size, 0, 0, cv::INTER_AREA);
@@ -206,8 +207,8 @@ TEST(SilhouetteSteps, MeasureSilhouetteEdgesFindsADiscsEdgeAndCorrectsItForBlur)
   EXPECT_TRUE(MeasureSilhouetteEdges(inside, 1, grad, 1, options, &sampled).empty());
   // Nor on an image without edges.
   const cv::Mat blank(192, 256, CV_8U, cv::Scalar(90));
-  EXPECT_TRUE(MeasureSilhouetteEdges(inside, 1, Gradients(blank, cv::Rect(0, 0, 256, 192), 1.0),
-                                     4, options, &sampled)
+  EXPECT_TRUE(MeasureSilhouetteEdges(inside, 1, Gradients(blank, cv::Rect(0, 0, 256, 192), 1.0), 4,
+                                     options, &sampled)
                   .empty());
 }
 

@@ -60,8 +60,7 @@ void PlayEachAndCompare(const std::string& name,
   Result<Manifest> manifest = LoadManifest(bank.value.manifest());
   ASSERT_TRUE(manifest.ok()) << manifest.error();
   for (const Played& p : played) {
-    Result<AudioClip> source =
-        ReadAudioFile(manifest->FileOf(*manifest->FindId(p.entry.id())));
+    Result<AudioClip> source = ReadAudioFile(manifest->FileOf(*manifest->FindId(p.entry.id())));
     ASSERT_TRUE(source.ok()) << source.error();
     ASSERT_EQ(source->sample_rate, capture->sample_rate);
     const std::vector<int16_t> window(

@@ -53,8 +53,7 @@ struct Collected {
         intervals.push_back(readings[i].stamp().receive_monotonic_ns() -
                             readings[i - 1].stamp().receive_monotonic_ns());
     }
-    std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2,
-                     intervals.end());
+    std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
     const int64_t median_ns = intervals[intervals.size() / 2];
     return median_ns > 0 ? 1e9 / median_ns : 0.0;
   }

@@ -98,8 +98,8 @@ TEST(FilesCapture, BadInputGivesAClearError) {
   EXPECT_FALSE(OpenFilesCapture({OpenCvData("left%02d%d.jpg"), "right%02d.jpg"}).backend);
   EXPECT_FALSE(OpenFilesCapture({OpenCvData("left%02s.jpg"), "right%02d.jpg"}).backend);
   EXPECT_FALSE(OpenFilesCapture({OpenCvData("left%02d.jpg"), OpenCvData("right01.jpg")}).backend);
-  FilesOpenResult none = OpenFilesCapture({OpenCvData("left%02d.jpg"), OpenCvData("right%02d.jpg"),
-                                           20, 30});
+  FilesOpenResult none =
+      OpenFilesCapture({OpenCvData("left%02d.jpg"), OpenCvData("right%02d.jpg"), 20, 30});
   EXPECT_FALSE(none.backend);
   EXPECT_NE(none.error.find("no stereo pair"), std::string::npos) << none.error;
   EXPECT_FALSE(OpenFilesCapture({"", ""}).backend);

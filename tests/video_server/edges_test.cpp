@@ -1,4 +1,6 @@
 // Edge detection on real images, against a bare cv::Canny and against known geometry.
+#include "video_server/edges.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "tests/video_server/test_data.h"
-#include "video_server/edges.h"
 
 namespace igms::video {
 namespace {
@@ -76,8 +77,8 @@ TEST(Edges, DirectionPointsFromDarkToBrightAcrossADisc) {
   const cv::Point2d centre(160.3, 120.6);
   const double radius = 60.0;
   cv::Mat image(240, 320, CV_8UC1, cv::Scalar(20));
-  cv::circle(image, cv::Point(cvRound(centre.x * 16), cvRound(centre.y * 16)),
-             cvRound(radius * 16), cv::Scalar(220), cv::FILLED, cv::LINE_AA, 4);
+  cv::circle(image, cv::Point(cvRound(centre.x * 16), cvRound(centre.y * 16)), cvRound(radius * 16),
+             cv::Scalar(220), cv::FILLED, cv::LINE_AA, 4);
   const EdgeImage edges = DetectEdges(image, {});
   ASSERT_GT(edges.edge_count(), 300);
   int index = 0;
@@ -89,7 +90,8 @@ TEST(Edges, DirectionPointsFromDarkToBrightAcrossADisc) {
       double difference = std::abs(edges.direction_rad[index++] - inward);
       difference = std::min(difference, 2 * std::numbers::pi - difference);
       worst_angle = std::max(worst_angle, difference);
-      worst_radius = std::max(worst_radius, std::abs(std::hypot(u - centre.x, v - centre.y) - radius));
+      worst_radius =
+          std::max(worst_radius, std::abs(std::hypot(u - centre.x, v - centre.y) - radius));
     }
   }
   EXPECT_LT(worst_angle, 0.15);
@@ -123,7 +125,8 @@ TEST(Edges, DirectionsAreAtan2OfTheSmoothedGradient) {
 
 TEST(Edges, RegionDirectionsAreTheFullListRestrictedToTheRegion) {
   IGMS_REQUIRE_OPENCV_DATA();
-  const EdgeImage edges = DetectEdges(cv::imread(OpenCvData("left01.jpg"), cv::IMREAD_GRAYSCALE), {});
+  const EdgeImage edges =
+      DetectEdges(cv::imread(OpenCvData("left01.jpg"), cv::IMREAD_GRAYSCALE), {});
   const cv::Rect region(100, 50, 200, 150);
   std::vector<float> expected;
   int index = 0;

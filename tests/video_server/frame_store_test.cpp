@@ -1,4 +1,6 @@
 // The frame store, the frame ids and the edge pipeline, on real images.
+#include "video_server/frame_store.h"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -9,7 +11,6 @@
 #include "tests/video_server/test_data.h"
 #include "video_server/edge_pipeline.h"
 #include "video_server/frame_id.h"
-#include "video_server/frame_store.h"
 
 namespace igms::video {
 namespace {

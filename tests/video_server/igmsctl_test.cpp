@@ -18,8 +18,8 @@ struct CtlRun {
 
 // Runs igmsctl with `args` (quoted for the shell), capturing stdout and stderr.
 CtlRun Igmsctl(uint16_t port, const std::string& args) {
-  const std::string command = testing::BinDir() + "/igmsctl -p " + std::to_string(port) + " " +
-                              args + " 2>&1";
+  const std::string command =
+      testing::BinDir() + "/igmsctl -p " + std::to_string(port) + " " + args + " 2>&1";
   const igms::testing::ShellRun run = igms::testing::RunShell(command);
   return {run.status, run.out};
 }
@@ -27,10 +27,10 @@ CtlRun Igmsctl(uint16_t port, const std::string& args) {
 TEST(VideoServerWithIgmsctl, GrabEdgesOverlayAndLive) {
   IGMS_REQUIRE_OPENCV_DATA();
   testing::ScratchDir scratch;
-  testing::ServerProcess server(
-      {"--set", "processes.video.files.left=" + OpenCvData("aloeL.jpg"), "--set",
-                "processes.video.files.right=" + OpenCvData("aloeR.jpg"), "--set",
-                "processes.video.overlay_file=" + scratch.File("overlay.yaml")});
+  testing::ServerProcess server({"--set", "processes.video.files.left=" + OpenCvData("aloeL.jpg"),
+                                 "--set", "processes.video.files.right=" + OpenCvData("aloeR.jpg"),
+                                 "--set",
+                                 "processes.video.overlay_file=" + scratch.File("overlay.yaml")});
   const uint16_t port = server.WaitPort();
   ASSERT_NE(port, 0);
 
@@ -54,15 +54,18 @@ TEST(VideoServerWithIgmsctl, GrabEdgesOverlayAndLive) {
   EXPECT_EQ(unknown.status, 1) << unknown.output;
   EXPECT_NE(unknown.output.find("NOT_FOUND"), std::string::npos) << unknown.output;
 
-  const CtlRun set = Igmsctl(port, "call SetOverlay '{\"settings\": {\"u_offset_px\": 3, "
-                                "\"v_offset_px\": -2, \"key_level\": 61}}'");
+  const CtlRun set = Igmsctl(port,
+                             "call SetOverlay '{\"settings\": {\"u_offset_px\": 3, "
+                             "\"v_offset_px\": -2, \"key_level\": 61}}'");
   ASSERT_EQ(set.status, 0) << set.output;
   const CtlRun get = Igmsctl(port, "call GetOverlay");
   EXPECT_NE(get.output.find("\"u_offset_px\":3"), std::string::npos) << get.output;
   EXPECT_NE(get.output.find("\"key_level\":61"), std::string::npos) << get.output;
 
-  const CtlRun live = Igmsctl(port, "subscribe VideoService.Live '{\"fps\": 20, \"width\": 64, \"height\": 48}' "
-                                 "--count 10 -q --timeout 20000");
+  const CtlRun live =
+      Igmsctl(port,
+              "subscribe VideoService.Live '{\"fps\": 20, \"width\": 64, \"height\": 48}' "
+              "--count 10 -q --timeout 20000");
   EXPECT_EQ(live.status, 0) << live.output;
   EXPECT_NE(live.output.find("10 messages"), std::string::npos) << live.output;
 }

@@ -33,7 +33,8 @@ using testing::TestClient;
 const std::string kService = "igms.video.VideoService.";
 
 std::vector<std::string> FilesArgs(const std::string& left, const std::string& right) {
-  return {"--set", "processes.video.backend=files", "--set", "processes.video.files.left=" + left,
+  return {"--set", "processes.video.backend=files",
+          "--set", "processes.video.files.left=" + left,
           "--set", "processes.video.files.right=" + right};
 }
 
@@ -49,7 +50,8 @@ class VideoServerTest : public ::testing::Test {
 
   void Start(std::vector<std::string> extra = {}) {
     std::vector<std::string> args = FilesArgs(OpenCvData("left01.jpg"), OpenCvData("right01.jpg"));
-    args.insert(args.end(), {"--set", "processes.video.overlay_file=" + scratch_.File("overlay.yaml")});
+    args.insert(args.end(),
+                {"--set", "processes.video.overlay_file=" + scratch_.File("overlay.yaml")});
     args.insert(args.end(), extra.begin(), extra.end());
     client_.reset();
     server_ = std::make_unique<ServerProcess>(args);
@@ -110,8 +112,8 @@ TEST_F(VideoServerTest, GrabThenImagesWholeAndByRegion) {
   EXPECT_FALSE(part.value.has_left());
   EXPECT_EQ(part.value.right().data().size(), 200u * 120u);
   EXPECT_EQ(part.value.right().region().x(), 100);
-  EXPECT_TRUE(Same(DecodeProtoImage(part.value.right()),
-                   Grey("right01.jpg")(cv::Rect(100, 40, 200, 120))));
+  EXPECT_TRUE(
+      Same(DecodeProtoImage(part.value.right()), Grey("right01.jpg")(cv::Rect(100, 40, 200, 120))));
 }
 
 TEST_F(VideoServerTest, EdgesAreTheDetectorsOutputWithDirectionsForTheRegion) {
@@ -177,8 +179,9 @@ TEST_F(VideoServerTest, EvictedAndUnknownFramesAndBadInputAreErrorsAndTheServerG
 
   // A payload that is not a GetImagesRequest.
   std::promise<net::Status> garbage;
-  (*client_)->CallRaw(kService + "GetImages", std::string("\xff\xff\xff\xff", 4), 5s,
-                      [&](const net::Status& status, std::string_view) { garbage.set_value(status); });
+  (*client_)->CallRaw(
+      kService + "GetImages", std::string("\xff\xff\xff\xff", 4), 5s,
+      [&](const net::Status& status, std::string_view) { garbage.set_value(status); });
   EXPECT_EQ(garbage.get_future().get().code, igms::BAD_REQUEST);
 
   SetOverlayRequest overlay;
@@ -342,9 +345,9 @@ TEST_F(VideoServerTest, BadLiveRequestIsRefused) {
 
 TEST(VideoServerProcess, MissingCameraGrabIsUnavailableNotAHang) {
   ServerProcess server({"--set", "processes.video.backend=camera", "--set",
-                                 "processes.video.camera.left=/dev/video97", "--set",
-                                 "processes.video.camera.right=/dev/video98", "--set",
-                                 "processes.video.camera.frame_timeout_ms=500"});
+                        "processes.video.camera.left=/dev/video97", "--set",
+                        "processes.video.camera.right=/dev/video98", "--set",
+                        "processes.video.camera.frame_timeout_ms=500"});
   const uint16_t port = server.WaitPort();
   ASSERT_NE(port, 0);
   TestClient client(port);
@@ -360,8 +363,8 @@ TEST(VideoServerProcess, BadConfigurationExitsWithAClearStatus) {
   ServerProcess unknown({"--set", "processes.video.backend=telepathy"});
   EXPECT_EQ(unknown.Wait(20s), 2);
   ServerProcess bad_edges({"--set", "processes.video.files.left=" + OpenCvData("left01.jpg"),
-                                    "--set", "processes.video.files.right=" + OpenCvData("right01.jpg"),
-                                    "--set", "processes.video.edges.low=500"});
+                           "--set", "processes.video.files.right=" + OpenCvData("right01.jpg"),
+                           "--set", "processes.video.edges.low=500"});
   EXPECT_EQ(bad_edges.Wait(20s), 2);
 }
 

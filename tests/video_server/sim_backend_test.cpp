@@ -24,7 +24,6 @@ using testing::ServerProcess;
 using testing::TestClient;
 const std::string kService = "igms.video.VideoService.";
 
-
 // Grabs one pair and fetches both images losslessly.
 GetImagesResponse GrabPair(uint16_t port) {
   TestClient client(port);
@@ -48,9 +47,8 @@ void ExpectSame(const cv::Mat& expected, const Image& got) {
 TEST(SimBackend, DefaultTestbedThroughTheLabCalibration) {
   ScratchDir scratch;
   const std::string calibration = igms::testing::ThesisCalibration();
-  ServerProcess server(
-      {"--set", "processes.video.backend=sim", "--set", "lab.calibration=" + calibration,
-                "--set", "processes.video.sim.seed=7"});
+  ServerProcess server({"--set", "processes.video.backend=sim", "--set",
+                        "lab.calibration=" + calibration, "--set", "processes.video.sim.seed=7"});
   const uint16_t port = server.WaitPort();
   ASSERT_NE(port, 0) << "the server did not start";
   GetImagesResponse got = GrabPair(port);
@@ -75,8 +73,8 @@ TEST(SimBackend, SceneFileNamedInTheVideoSection) {
   scene.sensor.seed = 3;
   const std::string path = scratch.File("scene.yaml");
   std::ofstream(path) << site::SceneToYaml(scene);
-  ServerProcess server({"--set", "processes.video.backend=sim", "--set",
-                                 "processes.video.sim.scene=" + path});
+  ServerProcess server(
+      {"--set", "processes.video.backend=sim", "--set", "processes.video.sim.scene=" + path});
   const uint16_t port = server.WaitPort();
   ASSERT_NE(port, 0) << "the server did not start";
   GetImagesResponse got = GrabPair(port);
@@ -89,7 +87,7 @@ TEST(SimBackend, SceneFileNamedInTheVideoSection) {
 TEST(SimBackend, MissingSceneFileIsAConfigurationError) {
   ScratchDir scratch;
   ServerProcess server({"--set", "processes.video.backend=sim", "--set",
-                                 "processes.video.sim.scene=" + scratch.File("none.yaml")});
+                        "processes.video.sim.scene=" + scratch.File("none.yaml")});
   EXPECT_EQ(server.Wait(20s), 2);
 }
 

@@ -9,17 +9,17 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <condition_variable>
-#include <mutex>
-#include <utility>
 #include <boost/asio.hpp>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "common/config/process_options.h"
@@ -261,8 +261,9 @@ void IdleClientMemory(int clients) {
   }
   std::this_thread::sleep_for(500ms);
   const long after = RssKb(child);
-  std::printf("idle clients: %d connected, server RSS %ld KB -> %ld KB: %.1f KB per client (target < 64)\n",
-              clients, before, after, double(after - before) / clients);
+  std::printf(
+      "idle clients: %d connected, server RSS %ld KB -> %ld KB: %.1f KB per client (target < 64)\n",
+      clients, before, after, double(after - before) / clients);
   sockets.clear();
   kill(child, SIGTERM);
   waitpid(child, nullptr, 0);
@@ -283,23 +284,29 @@ int main(int argc, char** argv) {
   }
   raw_small = Summarise(raw_us, 100);
   lib_small = Summarise(lib_us, 100);
-  std::printf("small round trip   raw p50 %.1f us p99 %.1f us | igms p50 %.1f us p99 %.1f us | p50 ratio %.2fx (target <= 2x)\n",
-              raw_small.p50_us, raw_small.p99_us, lib_small.p50_us, lib_small.p99_us,
-              lib_small.p50_us / raw_small.p50_us);
+  std::printf(
+      "small round trip   raw p50 %.1f us p99 %.1f us | igms p50 %.1f us p99 %.1f us | p50 ratio "
+      "%.2fx (target <= 2x)\n",
+      raw_small.p50_us, raw_small.p99_us, lib_small.p50_us, lib_small.p99_us,
+      lib_small.p50_us / raw_small.p50_us);
   if (small_only) return 0;
   const Stats raw_big = RawRoundTrips(500000, 100, 1000);
   const Stats lib_big = LibraryRoundTrips(500000, 100, 1000);
-  std::printf("500 KB round trip  raw p50 %.1f us %.0f MB/s | igms p50 %.1f us %.0f MB/s | %.0f%% of raw, one at a time\n",
-              raw_big.p50_us, raw_big.mb_per_s, lib_big.p50_us, lib_big.mb_per_s,
-              100.0 * lib_big.mb_per_s / raw_big.mb_per_s);
+  std::printf(
+      "500 KB round trip  raw p50 %.1f us %.0f MB/s | igms p50 %.1f us %.0f MB/s | %.0f%% of raw, "
+      "one at a time\n",
+      raw_big.p50_us, raw_big.mb_per_s, lib_big.p50_us, lib_big.mb_per_s,
+      100.0 * lib_big.mb_per_s / raw_big.mb_per_s);
   // Best of three runs each, alternating, so a burst of load elsewhere doesn't decide it.
   double raw_tp = 0, lib_tp = 0;
   for (int round = 0; round < 3; ++round) {
     raw_tp = std::max(raw_tp, RawPipelinedMBps(500000, 2000));
     lib_tp = std::max(lib_tp, LibraryPipelinedMBps(500000, 2000, 8));
   }
-  std::printf("500 KB throughput  raw %.0f MB/s | igms %.0f MB/s (8 in flight) | %.0f%% of raw (target >= 70%%)\n",
-              raw_tp, lib_tp, 100.0 * lib_tp / raw_tp);
+  std::printf(
+      "500 KB throughput  raw %.0f MB/s | igms %.0f MB/s (8 in flight) | %.0f%% of raw (target >= "
+      "70%%)\n",
+      raw_tp, lib_tp, 100.0 * lib_tp / raw_tp);
   IdleClientMemory(1000);
   return 0;
 }

@@ -16,8 +16,8 @@
 #include <fstream>
 #include <mutex>
 
-#include "common/net/client.h"
 #include "common/base/clock.h"
+#include "common/net/client.h"
 #include "common/stats/percentile.h"
 #include "device_daemons/serial/pty_host.h"
 #include "device_daemons/voice/dragon_sim.h"
@@ -152,8 +152,7 @@ int main(int argc, char** argv) {
               said, got, got / seconds);
   std::printf("  last byte -> subscriber: p50 %.2f ms, p99 %.2f ms, max %.2f ms over %zu\n",
               stats::Percentile(latency_ms, 0.5), stats::Percentile(latency_ms, 0.99),
-              stats::Percentile(latency_ms, 1.0),
-              latency_ms.size());
+              stats::Percentile(latency_ms, 1.0), latency_ms.size());
   std::printf("  igms-voiced resident memory: %.1f MB\n", rss);
 
   // The recogniser's footprint: the daemon with the model loaded, idle.

@@ -385,8 +385,8 @@ int Platform(int argc, const char* const argv[], std::ostream& out, std::ostream
                    ": platform: missing (an initial model is needed; see docs/calibration.md)");
   }
   const std::string obs_path = vm["observations"].as<std::string>();
-  const auto obs = ParsePlatformObservations(ReadFile(obs_path),
-                                             static_cast<int>(cal->platform->joints.size()));
+  const auto obs =
+      ParsePlatformObservations(ReadFile(obs_path), static_cast<int>(cal->platform->joints.size()));
   if (!obs.ok()) throw BadInput(obs_path + ": " + obs.error());
   const auto r =
       CalibratePlatform(cal->left.P, cal->right.P, *cal->platform, *obs, options, progress);

@@ -115,8 +115,7 @@ Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& w
   s.position_median = stats::Percentile(position, 0.5);
   s.position_p90 = stats::Percentile(position, 0.9);
   s.size_median = {stats::Median(sx), stats::Median(sy), stats::Median(sz)};
-  s.size_p90 = {stats::Percentile(sx, 0.9), stats::Percentile(sy, 0.9),
-                stats::Percentile(sz, 0.9)};
+  s.size_p90 = {stats::Percentile(sx, 0.9), stats::Percentile(sy, 0.9), stats::Percentile(sz, 0.9)};
   s.within_2_sigma = z_count ? double(z_within) / z_count : 0;
   s.axis_median_deg = stats::Percentile(axis, 0.5);
   s.axis_p90_deg = stats::Percentile(axis, 0.9);

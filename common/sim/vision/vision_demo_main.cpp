@@ -85,10 +85,10 @@ std::string Json(const std::vector<Row>& rows, uint64_t frame_id, const std::str
         "\"true_center\": {}, \"modelled_center\": {}, \"true_size\": {}, \"modelled_size\": {}, "
         "\"position_error\": {:.5f}, \"size_error\": {:.5f}, \"axis_error_deg\": {:.4f}, "
         "\"locate_ms\": {:.2f}, \"fetch_ms\": {:.2f}, \"round_trip_ms\": {:.2f}}}{}\n",
-        igms::JsonEscape(r.name), r.kind, r.found ? "true" : "false",
-        igms::JsonEscape(r.reason), Vec(r.true_center), Vec(r.found_center),
-        Vec(r.true_size), Vec(r.found_size), r.position_error, r.size_error, r.axis_error_deg,
-        r.locate_ms, r.fetch_ms, r.round_trip_ms, i + 1 < rows.size() ? "," : "");
+        igms::JsonEscape(r.name), r.kind, r.found ? "true" : "false", igms::JsonEscape(r.reason),
+        Vec(r.true_center), Vec(r.found_center), Vec(r.true_size), Vec(r.found_size),
+        r.position_error, r.size_error, r.axis_error_deg, r.locate_ms, r.fetch_ms, r.round_trip_ms,
+        i + 1 < rows.size() ? "," : "");
   }
   return j + "]}\n";
 }

@@ -14,7 +14,8 @@ namespace {
 
 std::string ThesisText() {
   const char* dir = std::getenv("IGMS_SOURCE_DIR");
-  std::ifstream in(std::string(dir ? dir : ".") + "/common/calibration/data/thesis_calibration.yaml");
+  std::ifstream in(std::string(dir ? dir : ".") +
+                   "/common/calibration/data/thesis_calibration.yaml");
   std::stringstream text;
   text << in.rdbuf();
   EXPECT_FALSE(text.str().empty()) << "set IGMS_SOURCE_DIR";
@@ -63,8 +64,7 @@ TEST(CalibrationHash, IsSha256OfTheCanonicalText) {
   EXPECT_EQ(CalibrationHash(c), Sha256Hex(CanonicalCalibrationText(c)));
   EXPECT_EQ(CalibrationHash(c).size(), 64u);
   const std::string text = CanonicalCalibrationText(c);
-  EXPECT_EQ(text.rfind("igms-calibration-hash 1\nleft.P 3 4 -232.71000000000001 ", 0), 0u)
-      << text;
+  EXPECT_EQ(text.rfind("igms-calibration-hash 1\nleft.P 3 4 -232.71000000000001 ", 0), 0u) << text;
   EXPECT_NE(text.find("\nplatform.joints[1] 4:tilt "), std::string::npos) << text;
 }
 
@@ -88,13 +88,13 @@ TEST(CalibrationHash, OneChangedValueChangesIt) {
   const std::string original = ThesisText();
   const std::string hash = CalibrationHash(Parse(original));
   const std::vector<std::pair<std::string, std::string>> changes = {
-      {"-232.71,", "-232.7100000001,"},                       // left.P
-      {"-60.906,", "-60.907,"},                               // right.P
+      {"-232.71,", "-232.7100000001,"},  // left.P
+      {"-60.906,", "-60.907,"},          // right.P
       {"image_size: [ 512, 480 ]\nright", "image_size: [ 512, 481 ]\nright"},
       {"radians_per_tick: 6.4308373323298810e-05", "radians_per_tick: 6.43e-05"},
       {"{ name: pan,", "{ name: yaw,"},
-      {"3.71,", "3.72,"},                                     // platform.world_from_base
-      {"origin: [ -0.9972,", "origin: [ -0.9973,"},           // ranger
+      {"3.71,", "3.72,"},                            // platform.world_from_base
+      {"origin: [ -0.9972,", "origin: [ -0.9973,"},  // ranger
       {"axis: [ 0.04348,", "axis: [ 0.04349,"},
   };
   for (const auto& [from, to] : changes) {

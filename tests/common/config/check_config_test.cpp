@@ -111,8 +111,8 @@ TEST(UnknownKeys, RefusedAtStartUnlessAllowed) {
 }
 
 TEST(IgmsConfigCheck, TheDeployedLabPassesForEveryProcess) {
-  const auto r = RunShell(BinDir() + "/igms config check --config " + SourceDir() +
-                          "/deploy/lab.yaml 2>&1");
+  const auto r =
+      RunShell(BinDir() + "/igms config check --config " + SourceDir() + "/deploy/lab.yaml 2>&1");
   EXPECT_EQ(r.status, 0) << r.out;
   EXPECT_EQ(r.out,
             "lab: OK\nvideo: OK\nobject: OK\nsound: OK\nviewer: OK\njoystick: OK\nranger: OK\n"
@@ -123,7 +123,8 @@ TEST(IgmsConfigCheck, ATypoInOneProcessFailsThatProcess) {
   ScratchDir dir;
   Write(dir.File("lab.yaml"),
         Replaced(DeployLabWithAbsolutePaths(), "    video: video ", "    vidoe: video "));
-  const auto r = RunShell(BinDir() + "/igms config check --config " + dir.File("lab.yaml") + " 2>&1");
+  const auto r =
+      RunShell(BinDir() + "/igms config check --config " + dir.File("lab.yaml") + " 2>&1");
   EXPECT_NE(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("\nobject: FAILED: " + dir.File("lab.yaml") +
                        ":23: unknown key processes.object.vidoe (did you mean "
@@ -137,7 +138,8 @@ TEST(IgmsConfigCheck, AMissingCalibrationFileFails) {
   ScratchDir dir;
   Write(dir.File("lab.yaml"), Replaced(DeployLabWithAbsolutePaths(), testing::ThesisCalibration(),
                                        dir.File("no-such-calibration.yaml")));
-  const auto r = RunShell(BinDir() + "/igms config check --config " + dir.File("lab.yaml") + " 2>&1");
+  const auto r =
+      RunShell(BinDir() + "/igms config check --config " + dir.File("lab.yaml") + " 2>&1");
   EXPECT_NE(r.status, 0) << r.out;
   EXPECT_EQ(r.out.rfind("lab: FAILED: " + dir.File("lab.yaml") + ":8: lab.calibration names " +
                             dir.File("no-such-calibration.yaml") + ", which does not exist",
@@ -149,9 +151,10 @@ TEST(IgmsConfigCheck, AMissingCalibrationFileFails) {
 
 TEST(IgmsConfigCheck, AProgramThatIsNotInstalledIsSaidSo) {
   ScratchDir dir;
-  Write(dir.File("lab.yaml"), std::string(kPlatformLab) +
-                                  "  telescope:\n    program: igms-telescoped\n    port: 7399\n");
-  const auto r = RunShell(BinDir() + "/igms config check --config " + dir.File("lab.yaml") + " 2>&1");
+  Write(dir.File("lab.yaml"),
+        std::string(kPlatformLab) + "  telescope:\n    program: igms-telescoped\n    port: 7399\n");
+  const auto r =
+      RunShell(BinDir() + "/igms config check --config " + dir.File("lab.yaml") + " 2>&1");
   EXPECT_NE(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("\nplatform: OK\n"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\ntelescope: FAILED: igms-telescoped is not installed"), std::string::npos)
@@ -180,8 +183,8 @@ TEST(LogLevel, TheLabsLevelAppliesUnderTheProcesssOwn) {
   expect_debug = true;
   EXPECT_TRUE(run(Replaced(kPlatformLab, "log_level: info", "log_level: debug")));
   expect_debug = false;
-  EXPECT_FALSE(run(Replaced(kPlatformLab, "log_level: info", "log_level: debug") +
-                   "    log_level: info\n"));
+  EXPECT_FALSE(
+      run(Replaced(kPlatformLab, "log_level: info", "log_level: debug") + "    log_level: info\n"));
 }
 
 }  // namespace

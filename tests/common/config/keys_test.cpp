@@ -61,9 +61,11 @@ TEST(Keys, UnknownKeysAreNamedWithFileLineAndTheLikelyKey) {
 }
 
 TEST(Keys, AKeyFarFromEveryDeclaredOneHasNoSuggestion) {
-  const auto config = LabConfig::FromString("processes:\n  video:\n    colour_space: yuv\n", "f.yaml");
+  const auto config =
+      LabConfig::FromString("processes:\n  video:\n    colour_space: yuv\n", "f.yaml");
   const auto problems = Texts(UnknownKeys(config, "video", VideoLikeKeys()));
-  EXPECT_EQ(problems, (std::vector<std::string>{"f.yaml:3: unknown key processes.video.colour_space"}));
+  EXPECT_EQ(problems,
+            (std::vector<std::string>{"f.yaml:3: unknown key processes.video.colour_space"}));
 }
 
 TEST(Keys, WrongTypesAndChoicesAreProblems) {
@@ -87,13 +89,16 @@ TEST(Keys, PathKeysMustNameFilesThatExist) {
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "here.yaml") << "a: 1\n";
   std::ofstream(dir / "lab.yaml") << "lab:\n  calibration: here.yaml\n";
-  EXPECT_TRUE(BadValues(LabConfig::Load((dir / "lab.yaml").string()), "x", CommonKeys(), true).empty());
+  EXPECT_TRUE(
+      BadValues(LabConfig::Load((dir / "lab.yaml").string()), "x", CommonKeys(), true).empty());
   std::ofstream(dir / "lab.yaml") << "lab:\n  calibration: missing.yaml\n";
   const auto problems =
       Texts(BadValues(LabConfig::Load((dir / "lab.yaml").string()), "x", CommonKeys(), true));
   ASSERT_EQ(problems.size(), 1u);
-  EXPECT_NE(problems[0].find("lab.yaml:2: lab.calibration names "), std::string::npos) << problems[0];
-  EXPECT_NE(problems[0].find("missing.yaml, which does not exist"), std::string::npos) << problems[0];
+  EXPECT_NE(problems[0].find("lab.yaml:2: lab.calibration names "), std::string::npos)
+      << problems[0];
+  EXPECT_NE(problems[0].find("missing.yaml, which does not exist"), std::string::npos)
+      << problems[0];
   std::filesystem::remove_all(dir);
 }
 
@@ -149,7 +154,8 @@ TEST(ProcessKeys, BoundFieldsTakeTheFlagOverTheFileOverTheDefault) {
   keys.Bind("stream", &stream, "stream", "stream");
   keys.Bind("path", &path, "path");
   po::options_description extra("extra");
-  extra.add_options()("poll-hz", po::value<double>(), "rate")("stream", po::bool_switch(), "stream");
+  extra.add_options()("poll-hz", po::value<double>(), "rate")("stream", po::bool_switch(),
+                                                              "stream");
   const std::string lab = "processes:\n  video: {poll_hz: 20, stream: true}\n";
   ASSERT_TRUE(Parse(lab, {"--name", "video"}, keys, extra).process);
   EXPECT_EQ(poll_hz, 20);

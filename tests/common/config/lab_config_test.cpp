@@ -39,8 +39,9 @@ TEST(LabConfig, ErrorsNameFileLineAndKey) {
     c.Get<int>("processes.sound.port");
     FAIL() << "no error";
   } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(),
-                 "lab.yaml:10: processes.sound.port cannot be read as an integer (found 'not-a-port')");
+    EXPECT_STREQ(
+        e.what(),
+        "lab.yaml:10: processes.sound.port cannot be read as an integer (found 'not-a-port')");
   }
   try {
     c.Get<std::string>("processes.object.host");
@@ -78,7 +79,8 @@ TEST(LabConfig, RelativePathsResolveAgainstTheFilesFolder) {
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "lab.yaml") << kLab;
   const auto c = LabConfig::Load((dir / "lab.yaml").string());
-  EXPECT_EQ(c.ResolvePath(c.Get<std::string>("lab.calibration")), (dir / "cal/thesis.yaml").string());
+  EXPECT_EQ(c.ResolvePath(c.Get<std::string>("lab.calibration")),
+            (dir / "cal/thesis.yaml").string());
   EXPECT_EQ(c.ResolvePath("/abs/x.yaml"), "/abs/x.yaml");
   std::filesystem::remove_all(dir);
 }
@@ -88,8 +90,9 @@ TEST(ProcessOptions, FlagsOverrideTheFile) {
   std::filesystem::create_directories(dir);
   const std::string file = (dir / "lab.yaml").string();
   std::ofstream(file) << kLab;
-  std::vector<std::string> args = {"prog", "--config", file, "--name", "video", "--port", "0",
-                                   "--set", "processes.video.edges.sigma=1.5"};
+  std::vector<std::string> args = {"prog",   "--config", file,
+                                   "--name", "video",    "--port",
+                                   "0",      "--set",    "processes.video.edges.sigma=1.5"};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   int rc = -1;
@@ -109,8 +112,8 @@ TEST(ProcessOptions, FlagsOverrideTheFile) {
   std::vector<std::string> bad = {"prog", "--config", file, "--set", "novalue"};
   argv.clear();
   for (auto& a : bad) argv.push_back(a.data());
-  EXPECT_FALSE(
-      ParseProcessOptions(static_cast<int>(argv.size()), argv.data(), "video", "t", extra, keys, &rc));
+  EXPECT_FALSE(ParseProcessOptions(static_cast<int>(argv.size()), argv.data(), "video", "t", extra,
+                                   keys, &rc));
   EXPECT_EQ(rc, 2);
   std::filesystem::remove_all(dir);
 }

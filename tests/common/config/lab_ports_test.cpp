@@ -67,15 +67,16 @@ TEST(LabPorts, TheLabFileGivesEveryProcessItsPort) {
     EXPECT_EQ(lab.Get<std::string>(key + ".program"), p.program) << key;
   }
   for (const auto& name : lab.ProcessNames()) {
-    EXPECT_TRUE(named.count(name)) << "deploy/lab.yaml's " << name
-                                   << " is not in common/config/lab_ports.h";
+    EXPECT_TRUE(named.count(name))
+        << "deploy/lab.yaml's " << name << " is not in common/config/lab_ports.h";
   }
 }
 
 TEST(LabPorts, TheConfigurationPageTablesEveryPort) {
   std::set<std::string> tabled;
   for (const auto& line : DocLines()) {
-    if (line.where.rfind("docs/configuration.md:", 0) != 0 || line.text.rfind("|", 0) != 0) continue;
+    if (line.where.rfind("docs/configuration.md:", 0) != 0 || line.text.rfind("|", 0) != 0)
+      continue;
     for (const auto& p : ports::kLabPorts) {
       if (line.text.find(std::string("`") + p.program + "`") != std::string::npos &&
           line.text.find("| " + std::to_string(p.port) + " |") != std::string::npos) {

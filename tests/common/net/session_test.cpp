@@ -226,7 +226,8 @@ TEST(Sessions, ClientThatStopsReadingDoesNotStallOthers) {
     EXPECT_LT(std::chrono::steady_clock::now() - t0, 1s);
   }
   // The stuck peer is eventually disconnected: its queue passed the limit.
-  for (int i = 0; i < 100 && server.server.session_count() > 1; ++i) std::this_thread::sleep_for(50ms);
+  for (int i = 0; i < 100 && server.server.session_count() > 1; ++i)
+    std::this_thread::sleep_for(50ms);
   EXPECT_EQ(server.server.session_count(), 1u);
 }
 
@@ -259,10 +260,12 @@ TEST(Sessions, ReconnectsAndResubscribesAfterServerRestart) {
   Mailbox<int> received(100000);
   igms::Envelope req;
   req.mutable_header()->set_correlation_id(100000);
-  client.Subscribe<Msg>(kCount, req, [&](const Msg& m) { received.Push(static_cast<int>(m.uptime_ms())); });
+  client.Subscribe<Msg>(kCount, req,
+                        [&](const Msg& m) { received.Push(static_cast<int>(m.uptime_ms())); });
   client.Start();
   auto wait_for = [&](int n) {
-    for (int i = 0; i < 300 && static_cast<int>(received.size()) < n; ++i) std::this_thread::sleep_for(10ms);
+    for (int i = 0; i < 300 && static_cast<int>(received.size()) < n; ++i)
+      std::this_thread::sleep_for(10ms);
     return static_cast<int>(received.size()) >= n;
   };
   ASSERT_TRUE(wait_for(5));
@@ -331,9 +334,8 @@ TEST(Sessions, OversizeAndGarbageFramesCloseOnlyThatConnection) {
   Client client(io.io(), To(server));
   client.Start();
   ASSERT_TRUE(client.CallSync<igms::Envelope>(kEcho, EchoRequest("a"), 2s).ok());
-  for (const std::string& bad :
-       {EncodeFrame(EchoRequest(std::string(5000, 'x'))), std::string("\x05hello", 6),
-        std::string(8, '\xff')}) {
+  for (const std::string& bad : {EncodeFrame(EchoRequest(std::string(5000, 'x'))),
+                                 std::string("\x05hello", 6), std::string(8, '\xff')}) {
     boost::asio::io_context raw_io;
     boost::asio::ip::tcp::socket raw(raw_io);
     raw.connect({boost::asio::ip::make_address("127.0.0.1"), server.server.port()});

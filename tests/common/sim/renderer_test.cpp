@@ -1,10 +1,11 @@
 // The renderer against the camera model: a cylinder's anti-aliased silhouette lies where the
 // projection of its limb lines says, to 0.05 px, on the noiseless image.
+#include "common/sim/renderer.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "common/sim/renderer.h"
 #include "common/sim/testbed.h"
 
 namespace igms::site {
@@ -29,8 +30,10 @@ double LimbU(const geometry::ProjectiveCamera& cam, const Eigen::Vector2d& t, do
   double lo = -50, hi = 50;  // z range; v decreases as z grows
   for (int i = 0; i < 100; ++i) {
     const double mid = 0.5 * (lo + hi);
-    if (cam.Project({t.x(), t.y(), mid})->y() > v) lo = mid;
-    else hi = mid;
+    if (cam.Project({t.x(), t.y(), mid})->y() > v)
+      lo = mid;
+    else
+      hi = mid;
   }
   return cam.Project({t.x(), t.y(), 0.5 * (lo + hi)})->x();
 }
@@ -51,9 +54,12 @@ TEST(Renderer, CylinderSilhouetteMatchesCameraModel) {
     // Tangent points of the limb lines, seen from the camera centre (top view).
     const Eigen::Vector3d C = cam.Center();
     const Eigen::Vector2d to_cam(C.x() - c.center.x(), C.y() - c.center.y());
-    const double th0 = std::atan2(to_cam.y(), to_cam.x()), phi = std::acos(c.radius / to_cam.norm());
-    const Eigen::Vector2d t1 = c.center.head<2>() + c.radius * Eigen::Vector2d(std::cos(th0 + phi), std::sin(th0 + phi));
-    const Eigen::Vector2d t2 = c.center.head<2>() + c.radius * Eigen::Vector2d(std::cos(th0 - phi), std::sin(th0 - phi));
+    const double th0 = std::atan2(to_cam.y(), to_cam.x()),
+                 phi = std::acos(c.radius / to_cam.norm());
+    const Eigen::Vector2d t1 =
+        c.center.head<2>() + c.radius * Eigen::Vector2d(std::cos(th0 + phi), std::sin(th0 + phi));
+    const Eigen::Vector2d t2 =
+        c.center.head<2>() + c.radius * Eigen::Vector2d(std::cos(th0 - phi), std::sin(th0 - phi));
     const double top_v = cam.Project(c.Top())->y(), bottom_v = cam.Project(c.Base())->y();
     double worst = 0;
     int rows = 0;
@@ -72,7 +78,8 @@ TEST(Renderer, CylinderSilhouetteMatchesCameraModel) {
       covered = 0;
       for (int k = y + 1; row[k] > bg + 0.5; ++k) covered += (row[k] - bg) / (fg - bg);
       const double measured_right = y + 0.5 + covered;
-      worst = std::max({worst, std::abs(measured_left - left_u), std::abs(measured_right - right_u)});
+      worst =
+          std::max({worst, std::abs(measured_left - left_u), std::abs(measured_right - right_u)});
       ++rows;
     }
     EXPECT_GT(rows, 20);
@@ -100,8 +107,8 @@ TEST(Renderer, TexturedMaterialVariesInsideTheSilhouette) {
   cv::Scalar plain_mean, plain_sd, tex_mean, tex_sd;
   cv::meanStdDev(plain(inner), plain_mean, plain_sd);
   cv::meanStdDev(textured(inner), tex_mean, tex_sd);
-  EXPECT_LT(plain_sd[0], 0.6);             // one grey level, flat lit
-  EXPECT_GT(tex_sd[0], 10.0);              // 0.5 contrast of 153 grey levels
+  EXPECT_LT(plain_sd[0], 0.6);  // one grey level, flat lit
+  EXPECT_GT(tex_sd[0], 10.0);   // 0.5 contrast of 153 grey levels
   EXPECT_NEAR(tex_mean[0], plain_mean[0], 20.0);
   // Outside the box nothing changed.
   cv::Mat differ = plain != textured, outside = cv::Mat::ones(plain.size(), CV_8U);
@@ -109,7 +116,8 @@ TEST(Renderer, TexturedMaterialVariesInsideTheSilhouette) {
   double u0 = 1e9, u1 = -1e9, v0 = 1e9, v1 = -1e9;
   for (const auto& p : corners) {
     const Eigen::Vector2d q = *scene.cameras.left.Project(p);
-    u0 = std::min(u0, q.x()), u1 = std::max(u1, q.x()), v0 = std::min(v0, q.y()), v1 = std::max(v1, q.y());
+    u0 = std::min(u0, q.x()), u1 = std::max(u1, q.x()), v0 = std::min(v0, q.y()),
+    v1 = std::max(v1, q.y());
   }
   outside(cv::Rect(cv::Point(static_cast<int>(u0) - 1, static_cast<int>(v0) - 1),
                    cv::Point(static_cast<int>(u1) + 3, static_cast<int>(v1) + 3))) = 0;

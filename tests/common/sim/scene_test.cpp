@@ -72,7 +72,8 @@ TEST(Range, MatchesAnalyticDistances) {
   c.radius = 0.5;
   c.height = 6;
   s.objects.push_back({"c", c, 0.85});
-  const Eigen::Vector3d origin(20, 0, 5.5);  // high enough that a 5 degree cone misses the table before 49.5 in
+  const Eigen::Vector3d origin(
+      20, 0, 5.5);  // high enough that a 5 degree cone misses the table before 49.5 in
   // Straight at the cylinder: the front surface at 50 - 0.5.
   EXPECT_NEAR(*CastRay(s, origin, {0, -1, 0}), 49.5, 1e-9);
   // A cone: its nearest surface is still the front of the cylinder.

@@ -21,7 +21,9 @@ using Outcome = igms::testing::ShellRun;
 // Runs a command line, capturing stdout (stderr goes to stdout with 2>&1 in the command).
 Outcome Shell(const std::string& cmd) { return igms::testing::RunShell(cmd); }
 
-std::string Bin(const std::string& name) { return std::string(std::getenv("IGMS_BIN_DIR")) + "/" + name; }
+std::string Bin(const std::string& name) {
+  return std::string(std::getenv("IGMS_BIN_DIR")) + "/" + name;
+}
 
 class IgmsctlTest : public ::testing::Test {
  protected:
@@ -49,7 +51,8 @@ TEST_F(IgmsctlTest, PingPrintsTheServersJson) {
 }
 
 TEST_F(IgmsctlTest, CallByUniqueSuffix) {
-  const Outcome r = Shell(Bin("igmsctl") + " --port " + Port() + " --token tok call Server.Ping '{}' 2>&1");
+  const Outcome r =
+      Shell(Bin("igmsctl") + " --port " + Port() + " --token tok call Server.Ping '{}' 2>&1");
   EXPECT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("\"protocol_version\":1"), std::string::npos) << r.out;
 }
@@ -64,7 +67,8 @@ TEST_F(IgmsctlTest, BadInputExitsTwoWithAMessage) {
   Outcome r = Shell(Bin("igmsctl") + " --port " + Port() + " call No.Such.Method 2>&1");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("no method"), std::string::npos) << r.out;
-  r = Shell(Bin("igmsctl") + " --port " + Port() + " call igms.Server.Ping '{\"nofield\": 1}' 2>&1");
+  r = Shell(Bin("igmsctl") + " --port " + Port() +
+            " call igms.Server.Ping '{\"nofield\": 1}' 2>&1");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("not a igms.PingRequest"), std::string::npos) << r.out;
   r = Shell(Bin("igmsctl") + " ping 2>&1");

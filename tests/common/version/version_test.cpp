@@ -34,9 +34,8 @@ std::string Trimmed(std::string s) {
 std::string CheckoutCommit() {
   const std::string git = "git -C '" + SourceDir() + "' ";
   const auto top = RunShell(git + "rev-parse --show-toplevel 2>/dev/null");
-  if (top.status != 0 ||
-      std::filesystem::weakly_canonical(Trimmed(top.out)) !=
-          std::filesystem::weakly_canonical(SourceDir())) {
+  if (top.status != 0 || std::filesystem::weakly_canonical(Trimmed(top.out)) !=
+                             std::filesystem::weakly_canonical(SourceDir())) {
     return "";
   }
   return Trimmed(RunShell(git + "rev-parse HEAD").out);

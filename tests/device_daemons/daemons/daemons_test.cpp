@@ -136,23 +136,27 @@ TEST(JoystickDaemon, ReadingsFaultsRecordAndReplay) {
   ASSERT_GT(rec->readings.size(), 100u);
 
   // Replayed four times faster: the same readings, in order.
-  DaemonProcess replay("igms-joystickd", {"--replay", recording, "--replay-speed", "4", "--port", "0"});
+  DaemonProcess replay("igms-joystickd",
+                       {"--replay", recording, "--replay-speed", "4", "--port", "0"});
   const uint16_t port = replay.WaitForPort();
   ASSERT_NE(port, 0) << replay.Log();
   Connected client(port);
   Stream<JoystickState> got;
-  client->Subscribe<JoystickState>("igms.devices.JoystickService.Live", SubscribeRequest(), got.Sink());
+  client->Subscribe<JoystickState>("igms.devices.JoystickService.Live", SubscribeRequest(),
+                                   got.Sink());
   ASSERT_TRUE(WaitFor("40 replayed readings", [&] { return got.size() >= 40; }));
   {
     // Each replayed reading is the recorded one with its sequence number, in order. The
     // stream keeps only the newest unsent reading, so a few may be skipped, not altered.
     std::lock_guard lock(got.mutex);
     std::map<uint64_t, const JoystickState*> by_sequence;
-    for (const Reading& r : rec->readings) by_sequence[r.joystick().stamp().sequence()] = &r.joystick();
+    for (const Reading& r : rec->readings)
+      by_sequence[r.joystick().stamp().sequence()] = &r.joystick();
     uint64_t previous = 0;
     for (const JoystickState& g : got.readings) {
       const auto it = by_sequence.find(g.stamp().sequence());
-      ASSERT_NE(it, by_sequence.end()) << "sequence " << g.stamp().sequence() << " was never recorded";
+      ASSERT_NE(it, by_sequence.end())
+          << "sequence " << g.stamp().sequence() << " was never recorded";
       EXPECT_GT(g.stamp().sequence(), previous);
       previous = g.stamp().sequence();
       EXPECT_DOUBLE_EQ(g.x(), it->second->x());
@@ -216,11 +220,13 @@ TEST(ViewerDaemon, InjectedButtonsLeaveThePoseAlone) {
     Stream<ViewerState> all;
     client->Subscribe<ViewerState>("igms.devices.ViewerService.Live", SubscribeRequest(),
                                    all.Sink());
-    ASSERT_TRUE(WaitFor("a reading with the left button", [&] { return all.size() > 0 && all.last().button_left(); }));
+    ASSERT_TRUE(WaitFor("a reading with the left button",
+                        [&] { return all.size() > 0 && all.last().button_left(); }));
     SimInjectRequest buttons;
     buttons.mutable_viewer_buttons()->set_button_right(true);  // table 2.1: 01, freeze
     ASSERT_TRUE(Inject(*client, buttons).ok());
-    ASSERT_TRUE(WaitFor("a reading without the left button", [&] { return !all.last().button_left(); }));
+    ASSERT_TRUE(
+        WaitFor("a reading without the left button", [&] { return !all.last().button_left(); }));
     const ViewerState s = all.last();
     EXPECT_TRUE(s.button_right());
     EXPECT_NEAR(s.x_m(), 0.3, 0.0005);
@@ -235,12 +241,12 @@ TEST(ViewerDaemon, InjectedButtonsLeaveThePoseAlone) {
   ASSERT_NE(port, 0) << daemon.Log();
   Connected client(port);
   Stream<ViewerState> all;
-  client->Subscribe<ViewerState>("igms.devices.ViewerService.Live", SubscribeRequest(),
-                                 all.Sink());
+  client->Subscribe<ViewerState>("igms.devices.ViewerService.Live", SubscribeRequest(), all.Sink());
   SimInjectRequest buttons;
   buttons.mutable_viewer_buttons()->set_button_left(true);
   ASSERT_TRUE(WaitFor("the buttons injected", [&] { return Inject(*client, buttons).ok(); }));
-  ASSERT_TRUE(WaitFor("a reading with the left button", [&] { return all.size() > 0 && all.last().button_left(); }));
+  ASSERT_TRUE(WaitFor("a reading with the left button",
+                      [&] { return all.size() > 0 && all.last().button_left(); }));
   const double yaw = all.last().yaw_deg();
   ASSERT_TRUE(WaitFor("the yaw moved", [&] { return std::abs(all.last().yaw_deg() - yaw) > 1.0; }))
       << "the path stopped";
@@ -260,7 +266,7 @@ TEST(ViewerDaemon, ReportsHeadPosesInTheSiteRelativeToPowerUp) {
   SimInjectRequest req;
   ViewerState* v = req.mutable_viewer();
   v->set_x_m(1.0);
-  v->set_y_m(0.25);  // 0.25 m forward of the power-up pose
+  v->set_y_m(0.25);    // 0.25 m forward of the power-up pose
   v->set_yaw_deg(60);  // 30 degrees right of it
   v->set_button_left(true);
   ASSERT_TRUE(
@@ -285,13 +291,15 @@ TEST(PlatformDaemon, SetOrientationResetZeroAndBadRequests) {
   ASSERT_NE(port, 0) << daemon.Log();
   Connected client(port);
   Stream<PlatformState> all;
-  client->Subscribe<PlatformState>("igms.devices.PlatformService.Live", SubscribeRequest(), all.Sink());
+  client->Subscribe<PlatformState>("igms.devices.PlatformService.Live", SubscribeRequest(),
+                                   all.Sink());
   ASSERT_TRUE(WaitFor("the first readings", [&] { return all.size() > 3; }));
   SetOrientationRequest set;
-  set.set_yaw_ticks(8142);  // 30 degrees
+  set.set_yaw_ticks(8142);    // 30 degrees
   set.set_pitch_ticks(-286);  // -5 degrees
   set.set_steps_per_move(40);
-  auto r = client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", set, 3s);
+  auto r = client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation",
+                                                    set, 3s);
   ASSERT_TRUE(r.ok()) << r.status.ToString();
   ASSERT_TRUE(WaitFor("the platform at rest at yaw 8142", [&] {
     const auto s = all.last();
@@ -300,14 +308,16 @@ TEST(PlatformDaemon, SetOrientationResetZeroAndBadRequests) {
   EXPECT_EQ(all.last().pitch_ticks(), -286);
   EXPECT_NEAR(all.last().yaw_deg(), 30.0, 0.01);
 
-  auto z = client->CallSync<ResetZeroResponse>("igms.devices.PlatformService.ResetZero", ResetZeroRequest(), 3s);
+  auto z = client->CallSync<ResetZeroResponse>("igms.devices.PlatformService.ResetZero",
+                                               ResetZeroRequest(), 3s);
   ASSERT_TRUE(z.ok()) << z.status.ToString();
   ASSERT_TRUE(WaitFor("the pose reset to zero", [&] {
     return all.last().yaw_ticks() == 0 && all.last().pitch_ticks() == 0;
   }));
 
   set.set_yaw_ticks(5'000'000);
-  r = client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", set, 3s);
+  r = client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", set,
+                                               3s);
   EXPECT_EQ(r.status.code, igms::BAD_REQUEST);
   SimInjectRequest joy;
   joy.mutable_joystick();
@@ -347,7 +357,8 @@ TEST(RangerDaemon, RangesTheSiteAndTurnsWithThePlatform) {
   ASSERT_NE(port, 0) << ranger.Log();
   Connected client(port);
   Stream<RangerState> live;
-  client->Subscribe<RangerState>("igms.devices.RangerService.Live", SubscribeRequest(), live.Sink());
+  client->Subscribe<RangerState>("igms.devices.RangerService.Live", SubscribeRequest(),
+                                 live.Sink());
   // The mean of six streamed readings, after the ones before `since`.
   const auto mean_range = [&](size_t since) {
     EXPECT_TRUE(WaitFor("six more ranges", [&] { return live.size() >= since + 6; }));
@@ -367,9 +378,12 @@ TEST(RangerDaemon, RangesTheSiteAndTurnsWithThePlatform) {
   ASSERT_EQ(platform.WaitForPort(), platform_port) << platform.Log();
   Connected platform_client(platform_port);
   SetOrientationRequest pan;
-  pan.set_yaw_ticks(static_cast<int32_t>(std::lround(testing::kPanDeg / geometry::ThesisPanDegreesPerTick())));
+  pan.set_yaw_ticks(
+      static_cast<int32_t>(std::lround(testing::kPanDeg / geometry::ThesisPanDegreesPerTick())));
   ASSERT_TRUE(WaitFor("the platform daemon to take the pan", [&] {
-    return platform_client->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", pan, 3s).ok();
+    return platform_client
+        ->CallSync<SetOrientationResponse>("igms.devices.PlatformService.SetOrientation", pan, 3s)
+        .ok();
   }));
   ASSERT_TRUE(WaitFor(
       "the beam on the sphere",
@@ -402,7 +416,8 @@ TEST(RangerDaemon, RangesTheSiteAndTurnsWithThePlatform) {
 }
 
 TEST(RangerDaemon, BadSiteFilesFailWithAMessage) {
-  DaemonProcess ranger("igms-rangerd", {"--simulate", "--port", "0", "--scene", "/nonexistent/site.yaml"});
+  DaemonProcess ranger("igms-rangerd",
+                       {"--simulate", "--port", "0", "--scene", "/nonexistent/site.yaml"});
   EXPECT_NE(ranger.WaitExit(), 0);
   EXPECT_NE(ranger.Log().find("/nonexistent/site.yaml"), std::string::npos) << ranger.Log();
 }
@@ -452,7 +467,8 @@ TEST(JoystickDaemon, GamepadFromTheLabConfigurationPublishesFlyBoxReadings) {
   ASSERT_NE(port, 0) << daemon.Log();
   Connected client(port);
   Stream<JoystickState> live;
-  client->Subscribe<JoystickState>("igms.devices.JoystickService.Live", SubscribeRequest(), live.Sink());
+  client->Subscribe<JoystickState>("igms.devices.JoystickService.Live", SubscribeRequest(),
+                                   live.Sink());
   {
     JsWriter js(fifo);
     ASSERT_TRUE(js.ok()) << daemon.Log();
@@ -533,13 +549,15 @@ TEST(JoystickDaemon, BadGamepadMappingFailsWithAMessage) {
 TEST(Daemons, BadCommandLinesFailWithAMessage) {
   DaemonProcess none("igms-joystickd", {"--port", "0"});
   EXPECT_EQ(none.WaitExit(), 2);
-  EXPECT_NE(none.Log().find("--serial PORT, --simulate or --replay FILE"), std::string::npos) << none.Log();
+  EXPECT_NE(none.Log().find("--serial PORT, --simulate or --replay FILE"), std::string::npos)
+      << none.Log();
   DaemonProcess two("igms-viewerd", {"--simulate", "--replay", "x.rec"});
   EXPECT_EQ(two.WaitExit(), 2);
   DaemonProcess missing("igms-platformd", {"--replay", "/nonexistent/file.rec", "--port", "0"});
   EXPECT_EQ(missing.WaitExit(), 1);
   EXPECT_NE(missing.Log().find("cannot open recording"), std::string::npos) << missing.Log();
-  DaemonProcess path("igms-viewerd", {"--simulate", "--path", "/nonexistent/path.txt", "--port", "0"});
+  DaemonProcess path("igms-viewerd",
+                     {"--simulate", "--path", "/nonexistent/path.txt", "--port", "0"});
   EXPECT_EQ(path.WaitExit(), 1);
 }
 

@@ -17,7 +17,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   layout.encoder_mask = static_cast<uint8_t>(data[0] >> 3);
   cerealbox::ReportParser parser(layout);
   for (size_t i = 1; i < size; ++i) {
-    if (parser.Feed(data[i]) == ParseResult::kGood && parser.report().analog_count > cerealbox::kMaxAnalog) {
+    if (parser.Feed(data[i]) == ParseResult::kGood &&
+        parser.report().analog_count > cerealbox::kMaxAnalog) {
       __builtin_trap();
     }
   }
@@ -26,7 +27,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size >= 8) cerealbox::ParseConfig(text.substr(0, 8), &parsed);
   char type;
   std::string version;
-  if (size >= cerealbox::kIdentLength) cerealbox::ParseIdent(text.substr(0, cerealbox::kIdentLength), &type, &version);
+  if (size >= cerealbox::kIdentLength)
+    cerealbox::ParseIdent(text.substr(0, cerealbox::kIdentLength), &type, &version);
   FlyBoxSim sim;
   sim.OnInput(text, 0);
   int64_t wake = INT64_MAX;

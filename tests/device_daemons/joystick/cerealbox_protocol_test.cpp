@@ -39,7 +39,7 @@ TEST(CerealBox, ConfigCommandMatchesTheBoxLayout) {
   const std::string cmd = ConfigCommand(kFlyBoxLayout);
   ASSERT_EQ(cmd.size(), 10u);
   EXPECT_EQ(cmd[0], 'c');
-  EXPECT_EQ(cmd[1], 0x0F + kOffset);               // analog 1-4
+  EXPECT_EQ(cmd[1], 0x0F + kOffset);                  // analog 1-4
   EXPECT_EQ(cmd[2], (0x01 | (0x03 << 4)) + kOffset);  // analog 5, digital banks 1-2
   EXPECT_EQ(cmd[9], '\n');
   Layout back;

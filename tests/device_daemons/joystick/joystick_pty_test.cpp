@@ -78,9 +78,9 @@ TEST_F(JoystickPty, PolledReadingsArriveAtTheRateWithTheRightValues) {
   s.set_x(-0.5);
   s.set_trigger(false);
   Set(s);
-  ASSERT_TRUE(
-      WaitFor("a reading with the stick moved", [&] { return std::abs(got.last().x() + 0.5) < 1e-3; },
-              std::chrono::seconds(2)));
+  ASSERT_TRUE(WaitFor(
+      "a reading with the stick moved", [&] { return std::abs(got.last().x() + 0.5) < 1e-3; },
+      std::chrono::seconds(2)));
   EXPECT_FALSE(got.last().trigger());
   driver->Stop();
   io.Stop();
@@ -122,8 +122,9 @@ TEST_F(JoystickPty, GarbageTruncationAndAVanishingPortAreSurvived) {
   ASSERT_TRUE(WaitFor("the port reopened", [&] { return driver->status().reopens() >= 1; }));
   before = got.size();
   // The driver reopens, identifies and configures the box again, and polling resumes.
-  ASSERT_TRUE(WaitFor("ten readings after reopening", [&] { return got.size() >= before + 10; },
-                      std::chrono::seconds(15)));
+  ASSERT_TRUE(WaitFor(
+      "ten readings after reopening", [&] { return got.size() >= before + 10; },
+      std::chrono::seconds(15)));
   EXPECT_EQ(driver->status().state(), CONNECTED);
   EXPECT_NEAR(got.last().y(), 0.5, 1e-3);
   driver->Stop();

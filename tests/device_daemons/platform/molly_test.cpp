@@ -13,7 +13,8 @@ using molly::Ticks;
 std::optional<molly::Message> ParseOne(Frame7Parser& parser, const std::string& bytes) {
   std::optional<molly::Message> out;
   for (char c : bytes) {
-    if (parser.Feed(static_cast<uint8_t>(c)) == ParseResult::kGood) out = molly::Decode(parser.frame());
+    if (parser.Feed(static_cast<uint8_t>(c)) == ParseResult::kGood)
+      out = molly::Decode(parser.frame());
   }
   return out;
 }
@@ -51,7 +52,8 @@ TEST(MollyProtocol, EveryMessageRoundTrips) {
 TEST(MollyProtocol, RejectsGarbageAndOutOfRangeFields) {
   Frame7Parser p(molly::BodyLength);
   // An ACK naming something that is no command, a zero speed, garbage, then a good query.
-  const std::string stream = molly::EncodeAck(0xA1) + EncodeFrame7(molly::kSpeed, std::string(2, '\0')) +
+  const std::string stream = molly::EncodeAck(0xA1) +
+                             EncodeFrame7(molly::kSpeed, std::string(2, '\0')) +
                              std::string("\xFF\x7F\x10", 3) + molly::EncodeQuery();
   int good = 0, decoded = 0;
   for (char c : stream) {
@@ -102,7 +104,8 @@ TEST(MollySim, StepsPerMoveSlowTheMove) {
 
 TEST(MollySim, LimitsStopShortOfTheCommand) {
   MollySim sim;
-  sim.OnInput(molly::EncodeSet({0, static_cast<int32_t>(80.0 / molly::kPitchRollDegPerTick), 0}), 0);
+  sim.OnInput(molly::EncodeSet({0, static_cast<int32_t>(80.0 / molly::kPitchRollDegPerTick), 0}),
+              0);
   sim.AdvanceTo(5'000'000'000);
   EXPECT_NEAR(molly::PitchRollDeg(sim.Encoders().pitch), 60.0, molly::kPitchRollDegPerTick);
   Frame7Parser p(molly::BodyLength);
@@ -116,7 +119,9 @@ TEST(MollySim, BacklashLeavesTheCameraOffWhileEncodersReadZero) {
   options.backlash_deg = 1.59;  // thesis 4.4
   MollySim sim(options);
   const auto start = sim.TrueDegrees()[1];
-  sim.OnInput(molly::EncodeSet({0, static_cast<int32_t>(std::lround(20.0 / molly::kPitchRollDegPerTick)), 0}), 0);
+  sim.OnInput(molly::EncodeSet(
+                  {0, static_cast<int32_t>(std::lround(20.0 / molly::kPitchRollDegPerTick)), 0}),
+              0);
   sim.AdvanceTo(2'000'000'000);
   sim.OnInput(molly::EncodeSet({0, 0, 0}), 2'000'000'000);
   sim.AdvanceTo(4'000'000'000);

@@ -47,7 +47,8 @@ TEST(UdmProtocol, RangeAndNoEchoRoundTrip) {
 
 // The known site of test_site.h, loaded from files as the daemon loads it.
 RangerWorld TestWorld() {
-  const std::string scene = igms::testing::TempPath("scene.yaml"), calib = igms::testing::TempPath("calib.yaml");
+  const std::string scene = igms::testing::TempPath("scene.yaml"),
+                    calib = igms::testing::TempPath("calib.yaml");
   igms::testing::WriteFile(scene, testing::TestSceneYaml());
   std::string error;
   EXPECT_TRUE(calibration::SaveCalibration(testing::TestCalibration(), calib, &error)) << error;
@@ -66,11 +67,13 @@ TEST(RangerSite, MountFollowsThePlatformModel) {
   const auto q = testing::PanAngles(testing::kPanDeg);
   beam = world.mount.BeamAt(q);
   EXPECT_LT((beam.origin - testing::SensorAtZero()).norm(), 1e-9);
-  EXPECT_NEAR(std::acos(beam.axis.dot(Eigen::Vector3d(0, -1, 0))), testing::kPanDeg * M_PI / 180, 1e-9);
+  EXPECT_NEAR(std::acos(beam.axis.dot(Eigen::Vector3d(0, -1, 0))), testing::kPanDeg * M_PI / 180,
+              1e-9);
   EXPECT_NEAR(beam.axis.z(), 0.0, 1e-9);
   // A platform reading in encoder ticks goes through the model's tick scales.
   PlatformState reading;
-  reading.set_yaw_ticks(static_cast<int32_t>(std::lround(testing::kPanDeg / geometry::ThesisPanDegreesPerTick())));
+  reading.set_yaw_ticks(
+      static_cast<int32_t>(std::lround(testing::kPanDeg / geometry::ThesisPanDegreesPerTick())));
   const auto angles = world.mount.AnglesOf(reading);
   ASSERT_EQ(angles.size(), 3u);
   EXPECT_NEAR(angles[0], q[0], geometry::ThesisPanDegreesPerTick() * M_PI / 180);
@@ -149,7 +152,8 @@ TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
   PtyHost host(std::move(sim), {igms::testing::TempPath("udm"), 9600});
   std::string error;
   ASSERT_TRUE(host.Start(&error)) << error;
-  host.WithDevice([&](SimulatedDevice&) { raw->SetJointAngles(testing::PanAngles(testing::kPanDeg)); });
+  host.WithDevice(
+      [&](SimulatedDevice&) { raw->SetJointAngles(testing::PanAngles(testing::kPanDeg)); });
   igms::testing::IoThread io;
   std::mutex mutex;
   std::vector<RangerState> got;
@@ -195,9 +199,9 @@ TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
   // measurement times on their own stamps (nine asserted: a stamp may be taken late).
   std::vector<RangerState> eleven;
   for (int i = 0; i < 11; ++i) eleven.push_back(range());
-  EXPECT_GE(eleven.back().stamp().receive_monotonic_ns() -
-                eleven.front().stamp().receive_monotonic_ns(),
-            9 * udm::kMeasureNs);
+  EXPECT_GE(
+      eleven.back().stamp().receive_monotonic_ns() - eleven.front().stamp().receive_monotonic_ns(),
+      9 * udm::kMeasureNs);
   driver.Stop();
   io.Stop();
 }

@@ -62,15 +62,16 @@ TEST(SerialLink, EchoIsPacedLikeA9600BaudLine) {
   ASSERT_TRUE(host.Start(&error)) << error;
   IoThread io;
   Received rx;
-  SerialLink link(io.io(), {host.port()},
-                  [&](const uint8_t* d, size_t n, int64_t) {
-                    std::lock_guard lock(rx.mutex);
-                    rx.bytes.append(reinterpret_cast<const char*>(d), n);
-                  },
-                  [&](LinkState s, const std::string&) {
-                    std::lock_guard lock(rx.mutex);
-                    rx.states.push_back(s);
-                  });
+  SerialLink link(
+      io.io(), {host.port()},
+      [&](const uint8_t* d, size_t n, int64_t) {
+        std::lock_guard lock(rx.mutex);
+        rx.bytes.append(reinterpret_cast<const char*>(d), n);
+      },
+      [&](LinkState s, const std::string&) {
+        std::lock_guard lock(rx.mutex);
+        rx.states.push_back(s);
+      });
   link.Start();
   ASSERT_TRUE(WaitFor("the link opening", [&] { return rx.saw(CONNECTING); }));
   const std::string message(96, 'x');
@@ -98,26 +99,32 @@ TEST(SerialLink, SilenceGoesStaleAndVanishingPortIsReopened) {
   Received rx;
   SerialLinkOptions options{host.port()};
   options.silence_timeout = std::chrono::milliseconds(150);
-  SerialLink link(io.io(), options,
-                  [&](const uint8_t* d, size_t n, int64_t) {
-                    std::lock_guard lock(rx.mutex);
-                    rx.bytes.append(reinterpret_cast<const char*>(d), n);
-                  },
-                  [&](LinkState s, const std::string&) {
-                    std::lock_guard lock(rx.mutex);
-                    rx.states.push_back(s);
-                  });
+  SerialLink link(
+      io.io(), options,
+      [&](const uint8_t* d, size_t n, int64_t) {
+        std::lock_guard lock(rx.mutex);
+        rx.bytes.append(reinterpret_cast<const char*>(d), n);
+      },
+      [&](LinkState s, const std::string&) {
+        std::lock_guard lock(rx.mutex);
+        rx.states.push_back(s);
+      });
   link.Start();
-  ASSERT_TRUE(WaitFor("the link up and 50 bytes in", [&] { return rx.saw(CONNECTED) && rx.size() > 50; }));
+  ASSERT_TRUE(
+      WaitFor("the link up and 50 bytes in", [&] { return rx.saw(CONNECTED) && rx.size() > 50; }));
 
   host.Stall(std::chrono::milliseconds(250));
-  ASSERT_TRUE(WaitFor("the link gone stale", [&] { return rx.saw(STALE); }, std::chrono::seconds(5)));
+  ASSERT_TRUE(WaitFor(
+      "the link gone stale", [&] { return rx.saw(STALE); }, std::chrono::seconds(5)));
 
   const size_t before = rx.size();
   host.Vanish(std::chrono::milliseconds(300));
-  ASSERT_TRUE(WaitFor("the link reopening", [&] { return rx.saw(REOPENING); }, std::chrono::seconds(5)));
+  ASSERT_TRUE(WaitFor(
+      "the link reopening", [&] { return rx.saw(REOPENING); }, std::chrono::seconds(5)));
   // Back: bytes flow again through a new pseudo-terminal behind the same link path.
-  ASSERT_TRUE(WaitFor("100 bytes after reopening", [&] { return rx.size() > before + 100; }, std::chrono::seconds(10)));
+  ASSERT_TRUE(WaitFor(
+      "100 bytes after reopening", [&] { return rx.size() > before + 100; },
+      std::chrono::seconds(10)));
   EXPECT_GE(link.reopens(), 1u);
   EXPECT_GE(host.stats().vanishes, 1u);
   link.Stop();
@@ -130,12 +137,14 @@ TEST(SerialLink, MissingPortKeepsRetryingWithoutCrashing) {
   SerialLinkOptions options{TempPath("absent")};
   options.backoff_min = std::chrono::milliseconds(5);
   options.backoff_max = std::chrono::milliseconds(40);
-  SerialLink link(io.io(), options, [](const uint8_t*, size_t, int64_t) {},
-                  [&](LinkState s, const std::string&) {
-                    if (s == REOPENING) ++reopenings;
-                  });
+  SerialLink link(
+      io.io(), options, [](const uint8_t*, size_t, int64_t) {},
+      [&](LinkState s, const std::string&) {
+        if (s == REOPENING) ++reopenings;
+      });
   link.Start();
-  EXPECT_TRUE(WaitFor("four reopen attempts", [&] { return link.reopens() >= 4; }, std::chrono::seconds(5)));
+  EXPECT_TRUE(WaitFor(
+      "four reopen attempts", [&] { return link.reopens() >= 4; }, std::chrono::seconds(5)));
   EXPECT_EQ(reopenings.load(), 1);  // reported once, not on every retry
   link.Stop();
   io.Stop();

@@ -12,7 +12,8 @@ namespace {
 std::optional<Pose> ParseOne(const std::string& bytes, Frame7Parser& parser) {
   std::optional<Pose> out;
   for (char c : bytes) {
-    if (parser.Feed(static_cast<uint8_t>(c)) == ParseResult::kGood) out = DecodeReport(parser.frame());
+    if (parser.Feed(static_cast<uint8_t>(c)) == ParseResult::kGood)
+      out = DecodeReport(parser.frame());
   }
   return out;
 }
@@ -50,9 +51,9 @@ TEST(BoomProtocol, RoundTripsWithinOneStep) {
 
 TEST(BoomProtocol, AnglesWrapAndPositionsClamp) {
   Pose in;
-  in.yaw_deg = 190;     // = -170
-  in.pitch_deg = 180;   // = -180
-  in.x_m = 5.0;         // beyond the arm's reach: clamped
+  in.yaw_deg = 190;    // = -170
+  in.pitch_deg = 180;  // = -180
+  in.x_m = 5.0;        // beyond the arm's reach: clamped
   in.y_m = std::nan("");
   Frame7Parser parser(BodyLength);
   const auto out = ParseOne(EncodeReport(in), parser);
@@ -72,7 +73,8 @@ TEST(BoomProtocol, ResynchronisesAfterGarbageAndTruncation) {
   Frame7Parser parser(BodyLength);
   int decoded = 0;
   for (char c : std::string("\x01\x02zz\x85", 5) + good.substr(0, 6) + corrupt + good + good) {
-    if (parser.Feed(static_cast<uint8_t>(c)) == ParseResult::kGood && DecodeReport(parser.frame())) ++decoded;
+    if (parser.Feed(static_cast<uint8_t>(c)) == ParseResult::kGood && DecodeReport(parser.frame()))
+      ++decoded;
   }
   EXPECT_EQ(decoded, 2);
   EXPECT_EQ(parser.bad_frames(), 2u);  // cut short, bad checksum
@@ -82,7 +84,8 @@ TEST(BoomProtocol, ResynchronisesAfterGarbageAndTruncation) {
 TEST(ViewerPath, ParsesInterpolatesAndLoops) {
   std::string error;
   const auto path = ParseViewerPath(
-      "# t x y z yaw pitch roll buttons\n0 0 0 0 0 0 0\n1 0.2 0 0 90 0 0 1\n\n2 0 0 0 0 0 0\n", &error);
+      "# t x y z yaw pitch roll buttons\n0 0 0 0 0 0 0\n1 0.2 0 0 90 0 0 1\n\n2 0 0 0 0 0 0\n",
+      &error);
   ASSERT_TRUE(path) << error;
   ASSERT_EQ(path->size(), 3u);
   EXPECT_NEAR(PoseAt(*path, 0.5).yaw_deg, 45, 1e-9);
@@ -107,7 +110,8 @@ TEST(ViewerSim, ReportsTheHeadRelativeToItsPowerUpPose) {
   sim.SetSteady(options.power_up);
   auto p = ParseOne(sim.OnInput("P", 0).at(0), parser);
   ASSERT_TRUE(p);
-  EXPECT_NEAR(std::abs(p->x_m) + std::abs(p->y_m) + std::abs(p->z_m) + std::abs(p->yaw_deg), 0, 1e-9);
+  EXPECT_NEAR(std::abs(p->x_m) + std::abs(p->y_m) + std::abs(p->z_m) + std::abs(p->yaw_deg), 0,
+              1e-9);
   // 0.1 m further along the site's y is 0.1 m forward for the head; turning to the site's
   // -x is a further 90 degrees left; a 20-degree nod stays a pitch.
   sim.SetSteady({0.5, -0.1, 0.3, 180, 20, 0});

@@ -104,18 +104,21 @@ TEST_F(ViewerPty, GarbageTruncationStallAndVanishingAreSurvived) {
   ASSERT_TRUE(WaitFor("the first five readings", [&] { return got.size() >= 5; }));
   host_->InjectGarbage(50);
   host_->TruncateNext();
-  ASSERT_TRUE(WaitFor("a bad frame and garbage counted",
-      [&] { return driver->status().bad_frames() >= 1 && driver->status().garbage_bytes() >= 1; }));
+  ASSERT_TRUE(WaitFor("a bad frame and garbage counted", [&] {
+    return driver->status().bad_frames() >= 1 && driver->status().garbage_bytes() >= 1;
+  }));
   host_->Stall(std::chrono::milliseconds(300));
-  ASSERT_TRUE(WaitFor("the link gone stale", [&] { return driver->status().state() == STALE; },
-                      std::chrono::seconds(3)));
+  ASSERT_TRUE(WaitFor(
+      "the link gone stale", [&] { return driver->status().state() == STALE; },
+      std::chrono::seconds(3)));
   size_t before = got.size();
   ASSERT_TRUE(WaitFor("20 readings after the stall", [&] { return got.size() >= before + 20; }));
   host_->Vanish(std::chrono::milliseconds(300));
   ASSERT_TRUE(WaitFor("the port reopened", [&] { return driver->status().reopens() >= 1; }));
   before = got.size();
-  ASSERT_TRUE(WaitFor("20 readings after reopening", [&] { return got.size() >= before + 20; },
-                      std::chrono::seconds(15)));
+  ASSERT_TRUE(WaitFor(
+      "20 readings after reopening", [&] { return got.size() >= before + 20; },
+      std::chrono::seconds(15)));
   EXPECT_EQ(driver->status().state(), CONNECTED);
   driver->Stop();
   io.Stop();

@@ -133,9 +133,8 @@ TEST_F(AdaptationTest, TheToolAdaptsFromRecordingsAndTheDecoderUsesTheResult) {
   EXPECT_EQ(RecognizerOptionsFor(source).fillers.count, 0);
   const fs::path freeze = dir_ / "freeze.wav";
   ASSERT_EQ(Exec("espeak-ng -v en-gb+m3 -s 150 -w " + freeze.string() + " freeze").status, 0);
-  const Result decode =
-      Exec(Bin("igms-voice-decode") + " --model-dir " + out.string() + " " + freeze.string(),
-           false);
+  const Result decode = Exec(
+      Bin("igms-voice-decode") + " --model-dir " + out.string() + " " + freeze.string(), false);
   EXPECT_EQ(decode.status, 0);
   EXPECT_EQ(decode.out, "01\n");
   const Result logged =
@@ -180,8 +179,8 @@ TEST_F(AdaptationTest, RecordsEachPromptFromTheMicrophone) {
   testing::ChildProcess adapt("igms-voice-adapt", {"--out", out.string(), "--record", "--prompts",
                                                    (dir_ / "prompts.txt").string()});
   for (size_t i = 0; i < phrases.size(); ++i) {
-    const std::string prompt = "[" + std::to_string(i + 1) + "/" + std::to_string(phrases.size()) +
-                               "] say: " + phrases[i];
+    const std::string prompt =
+        "[" + std::to_string(i + 1) + "/" + std::to_string(phrases.size()) + "] say: " + phrases[i];
     testing::WaitUntil(
         [&] { return adapt.Output().find(prompt) != std::string::npos || adapt.Exited(); },
         std::chrono::seconds(30), std::chrono::milliseconds(20));

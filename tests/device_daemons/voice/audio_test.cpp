@@ -1,3 +1,5 @@
+#include "device_daemons/voice/audio.h"
+
 #include <gtest/gtest.h>
 #include <sndfile.h>
 
@@ -5,7 +7,6 @@
 #include <filesystem>
 #include <numbers>
 
-#include "device_daemons/voice/audio.h"
 #include "device_daemons/voice/endpointer.h"
 #include "device_daemons/voice/speech_synth.h"
 

@@ -37,8 +37,7 @@ TEST(Grammar, PronunciationsCoverTheMissingWords) {
   for (const Pronunciation& p : words) {
     EXPECT_FALSE(p.phones.empty()) << p.word;
     for (const std::string& phone : p.phones) {
-      EXPECT_NE(std::find(ModelPhones().begin(), ModelPhones().end(), phone),
-                ModelPhones().end())
+      EXPECT_NE(std::find(ModelPhones().begin(), ModelPhones().end(), phone), ModelPhones().end())
           << phone << " in " << p.word;
     }
   }
@@ -54,8 +53,7 @@ TEST(Grammar, AlternativePronunciationsNameACommand) {
     EXPECT_GE(p.word[p.word.size() - 2], '2') << p.word;
     EXPECT_TRUE(CommandFromToken(p.word.substr(0, p.word.size() - 3))) << p.word;
     for (const std::string& phone : p.phones) {
-      EXPECT_NE(std::find(ModelPhones().begin(), ModelPhones().end(), phone),
-                ModelPhones().end())
+      EXPECT_NE(std::find(ModelPhones().begin(), ModelPhones().end(), phone), ModelPhones().end())
           << phone << " in " << p.word;
     }
   }
@@ -63,7 +61,7 @@ TEST(Grammar, AlternativePronunciationsNameACommand) {
 
 TEST(Grammar, PhoneDistance) {
   EXPECT_EQ(PhoneDistance(P("F R IY Z"), P("F R IY Z")), 0);
-  EXPECT_EQ(PhoneDistance(P("F R IY Z"), P("B R IY Z")), 1);     // breeze
+  EXPECT_EQ(PhoneDistance(P("F R IY Z"), P("B R IY Z")), 1);       // breeze
   EXPECT_EQ(PhoneDistance(P("F R IY Z"), P("AH N F R IY Z")), 2);  // unfreeze
   EXPECT_EQ(PhoneDistance({}, P("B AA K S")), 4);
 }
@@ -120,7 +118,7 @@ TEST(Grammar, WeightsAreWrittenOnWordsNotRuleReferences) {
 
 TEST(Grammar, DecoysAreNearButNeverHomophones) {
   const std::vector<Pronunciation> dictionary = {
-      {"breeze", P("B R IY Z")},  {"frieze", P("F R IY Z")},      {"freeze", P("F R IY Z")},
+      {"breeze", P("B R IY Z")},   {"frieze", P("F R IY Z")},           {"freeze", P("F R IY Z")},
       {"marked", P("M AA R K T")}, {"elephant", P("EH L AH F AH N T")}, {"o", P("OW")},
   };
   DecoyOptions options;
@@ -130,9 +128,8 @@ TEST(Grammar, DecoysAreNearButNeverHomophones) {
   for (const auto& d : decoys) words.push_back(d.word);
   EXPECT_EQ(words, (std::vector<std::string>{"breeze", "marked"}));
   // A word-frequency filter drops rare words.
-  const auto common = SelectDecoys(dictionary, options, [](const std::string& w) {
-    return w == "marked" ? -3.0 : -7.0;
-  });
+  const auto common = SelectDecoys(
+      dictionary, options, [](const std::string& w) { return w == "marked" ? -3.0 : -7.0; });
   ASSERT_EQ(common.size(), 1u);
   EXPECT_EQ(common[0].word, "marked");
   EXPECT_TRUE(SelectDecoys(dictionary, DecoyOptions{}).empty());  // off by default

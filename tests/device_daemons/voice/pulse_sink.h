@@ -30,15 +30,14 @@ class PulseSink {
     server_ = std::make_unique<ChildProcess>(
         "/usr/bin/pulseaudio",
         std::vector<std::string>{
-            "-n", "--daemonize=no", "--exit-idle-time=-1", "--disallow-exit",
-            "--log-target=stderr", "-L",
-            "module-native-protocol-unix socket=" + socket_ + " auth-anonymous=1", "-L",
+            "-n", "--daemonize=no", "--exit-idle-time=-1", "--disallow-exit", "--log-target=stderr",
+            "-L", "module-native-protocol-unix socket=" + socket_ + " auth-anonymous=1", "-L",
             "module-null-sink sink_name=igms_lab rate=16000 channels=1"});
   }
   ~PulseSink() {
     server_.reset();
-    for (const char* name : {"PULSE_SERVER", "PULSE_RUNTIME_PATH", "XDG_RUNTIME_DIR",
-                             "ALSOFT_DRIVERS"})
+    for (const char* name :
+         {"PULSE_SERVER", "PULSE_RUNTIME_PATH", "XDG_RUNTIME_DIR", "ALSOFT_DRIVERS"})
       unsetenv(name);
   }
   // Whether the pulseaudio and paplay programs are here (deploy/install-deps.sh installs them).

@@ -4,7 +4,6 @@
 // flite (never tuned on). Prints the figures; asserts floors that guard against regressions
 // (the targets, >= 95% and <= 5%, are printed beside them).
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <filesystem>

@@ -179,7 +179,9 @@ TEST(VoiceDaemon, SimulatedDragonSaysWhatItHeard) {
   testing::Collected<VoiceState> got;
   client->Subscribe<VoiceState>("igms.devices.VoiceService.Live", SubscribeRequest(),
                                 [&](const VoiceState& s) { got.Add(s); });
-  ASSERT_TRUE(WaitFor("the Dragon connected", [&] { return StatusOf(client).state() == CONNECTED; })) << daemon.Log();
+  ASSERT_TRUE(WaitFor("the Dragon connected", [&] {
+    return StatusOf(client).state() == CONNECTED;
+  })) << daemon.Log();
 
   auto freeze = Heard(client, "freeze");
   ASSERT_TRUE(freeze.ok()) << freeze.status.message;
