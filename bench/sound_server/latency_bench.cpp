@@ -188,12 +188,12 @@ int main(int argc, char** argv) {
   setenv("IGMS_BIN_DIR", (build / "bin").c_str(), 0);
   spdlog::set_level(spdlog::level::warn);
 
-  Result<Manifest> manifest = LoadManifest(testing::BankDir() / "manifest.yaml");
+  igms::Result<Manifest> manifest = LoadManifest(testing::BankDir() / "manifest.yaml");
   if (!manifest.ok() || manifest->FindKey(key) == nullptr) {
     std::fprintf(stderr, "no bank or no sound '%s': %s\n", key.c_str(), manifest.error().c_str());
     return 1;
   }
-  Result<AudioClip> source = ReadAudioFile(manifest->FileOf(*manifest->FindKey(key)));
+  igms::Result<AudioClip> source = ReadAudioFile(manifest->FileOf(*manifest->FindKey(key)));
   if (!source.ok()) return 1;
   const AudioClip clip = *source;
   std::printf("request to first audio sample, '%s', %d plays a run, %d Hz wave output\n",

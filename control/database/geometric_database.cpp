@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <map>
 
+#include "common/base/clock.h"
 #include "control/database/schema.h"
 #include "control/database/sqlite.h"
 
@@ -25,12 +26,6 @@ using sqlite::Statement;
 using sqlite::Transaction;
 
 namespace {
-
-std::int64_t NowUnixNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 std::string HostName() {
   char name[256] = {};
@@ -451,7 +446,7 @@ GeometricDatabase::~GeometricDatabase() {
   try {
     Transaction t(impl_->connection);
     Statement& s = impl_->Prepared("UPDATE sessions SET closed_unix_ns = :now WHERE id = :id");
-    s.Bind(":now", NowUnixNs());
+    s.Bind(":now", igms::UnixNs());
     s.Bind(":id", session_id_);
     s.Step();
     s.Reset();
@@ -518,7 +513,7 @@ DatabaseResult<std::unique_ptr<GeometricDatabase>> GeometricDatabase::Open(
     Statement& s = impl->Prepared(
         "INSERT INTO sessions (opened_unix_ns, program, version, host, pid) "
         "VALUES (:now, :program, :version, :host, :pid)");
-    s.Bind(":now", NowUnixNs());
+    s.Bind(":now", igms::UnixNs());
     s.Bind(":program", std::string_view(who.program));
     s.Bind(":version", std::string_view(who.version));
     s.Bind(":host", std::string_view(HostName()));
@@ -539,7 +534,7 @@ DatabaseResult<std::int64_t> GeometricDatabase::AddModel(const ModelRecord& reco
     return Fail(DatabaseErrorCode::kBadInput, "model refused, nothing written: " + *problem);
   }
   try {
-    const std::int64_t now = NowUnixNs();
+    const std::int64_t now = igms::UnixNs();
     const Provenance& p = record.provenance;
     Transaction t(impl_->connection);
     Statement& m = impl_->Prepared(InsertModelSql());
@@ -673,7 +668,7 @@ DatabaseResult<Change> GeometricDatabase::RemoveModel(std::int64_t id) {
       return Fail(DatabaseErrorCode::kAlreadyRemoved,
                   "model " + std::to_string(id) + " is already removed");
     }
-    const std::int64_t now = NowUnixNs();
+    const std::int64_t now = igms::UnixNs();
     Statement& u =
         impl_->Prepared("UPDATE models SET present = 0, removed_unix_ns = :now WHERE id = :id");
     u.Bind(":now", now);
@@ -705,7 +700,7 @@ DatabaseResult<Change> GeometricDatabase::Undo() {
     const ChangeKind undone_kind = KindFromName(q.Text("kind"));
     const std::int64_t model = q.Int("model_id");
     q.Reset();
-    const std::int64_t now = NowUnixNs();
+    const std::int64_t now = igms::UnixNs();
     Change change{0,
                   now,
                   undone_kind == ChangeKind::kAdd ? ChangeKind::kUndoAdd : ChangeKind::kUndoRemove,

@@ -115,14 +115,14 @@ TEST(LabBank, HoldsEverySoundOfTheThesisAndTheFailureReasons) {
 // enum value name: every FailureReason of igms/object.proto but FAILURE_NONE has exactly one
 // spoken message, and no message names a reason the enum does not have.
 TEST(LabBank, HasOneMessageForEveryFailureReasonByItsEnumName) {
-  ManifestResult r = LoadManifest(testing::BankDir() / "manifest.yaml");
-  ASSERT_TRUE(r.manifest) << r.error;
+  const igms::Result<Manifest> r = LoadManifest(testing::BankDir() / "manifest.yaml");
+  ASSERT_TRUE(r.ok()) << r.error();
   const google::protobuf::EnumDescriptor* reasons = igms::object::FailureReason_descriptor();
   ASSERT_GT(reasons->value_count(), 1);
   for (int i = 0; i < reasons->value_count(); ++i) {
     const google::protobuf::EnumValueDescriptor* reason = reasons->value(i);
     int messages = 0;
-    for (const SoundEntry& e : r.manifest->sounds) {
+    for (const SoundEntry& e : r->sounds) {
       if (e.reason != reason->name()) continue;
       ++messages;
       EXPECT_EQ(e.kind, SoundKind::kSpeech) << e.key;
@@ -133,7 +133,7 @@ TEST(LabBank, HasOneMessageForEveryFailureReasonByItsEnumName) {
       EXPECT_EQ(messages, 1) << reason->name() << " needs exactly one message in the bank";
     }
   }
-  for (const SoundEntry& e : r.manifest->sounds) {
+  for (const SoundEntry& e : r->sounds) {
     if (e.reason.empty()) continue;
     EXPECT_NE(reasons->FindValueByName(e.reason), nullptr)
         << e.key << ": reason '" << e.reason << "' is no FailureReason of igms/object.proto";

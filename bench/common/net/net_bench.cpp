@@ -9,7 +9,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <boost/asio.hpp>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -21,6 +20,9 @@
 #include <thread>
 #include <utility>
 #include <vector>
+
+// After <utility>: Boost 1.74's awaitable.hpp uses std::exchange without including it.
+#include <boost/asio.hpp>
 
 #include "common/config/process_options.h"
 #include "common/net/client.h"

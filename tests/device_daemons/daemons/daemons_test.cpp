@@ -11,9 +11,9 @@
 #include <map>
 #include <mutex>
 
+#include "common/base/clock.h"
 #include "common/net/client.h"
 #include "device_daemons/joystick/gamepad.h"
-#include "device_daemons/serial/clock.h"
 #include "device_daemons/serial/recording.h"
 #include "igms/devices.pb.h"
 #include "tests/device_daemons/ranger/test_site.h"

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <mutex>
 
-#include "device_daemons/serial/clock.h"
+#include "common/base/clock.h"
 #include "tests/support/files.h"
 #include "tests/support/wait_for.h"
 

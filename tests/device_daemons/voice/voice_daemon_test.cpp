@@ -176,7 +176,7 @@ TEST(VoiceDaemon, SimulatedDragonSaysWhatItHeard) {
   const uint16_t port = daemon.WaitForPort();
   ASSERT_NE(port, 0) << daemon.Log();
   Connected client(port);
-  testing::Collected<VoiceState> got;
+  igms::testing::Collected<VoiceState> got;
   client->Subscribe<VoiceState>("igms.devices.VoiceService.Live", SubscribeRequest(),
                                 [&](const VoiceState& s) { got.Add(s); });
   ASSERT_TRUE(WaitFor("the Dragon connected", [&] {
