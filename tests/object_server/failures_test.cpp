@@ -10,6 +10,7 @@
 #include "common/sim/testbed.h"
 #include "object_server/locate.h"
 #include "object_server/result_json.h"
+#include "tests/object_server/rig_camera.h"
 
 namespace igms::object {
 namespace {
@@ -130,18 +131,6 @@ TEST_F(Failures, WrongDepthMarksAreInconsistentOrUnmatched) {
       << FailureName(r.reason) << ": " << r.detail;
 }
 
-// A small stereo rig (256 x 192 pixels, focal length 400 px, 6 in apart, looking along +y
-// with z up) for scenes drawn by hand.
-geometry::ProjectiveCamera RigCamera(double x) {
-  Eigen::Matrix3d K, R;
-  K << 400, 0, 127.5, 0, 400, 95.5, 0, 0, 1;
-  R << 1, 0, 0, 0, 0, -1, 0, 1, 0;
-  geometry::Matrix34 P;
-  P.leftCols<3>() = K * R;
-  P.col(3) = -K * R * Eigen::Vector3d(x, 0, 0);
-  return geometry::ProjectiveCamera(P, {256, 192});
-}
-
 TEST(FitFailure, AFaintFarDiscMarkedAsNearGivesTheFitNothingToHold) {
   // A faint disc (grey 41 on black) 400 in away (6 px of disparity), marked as a block 21 in
   // away around a sliver of its rim. Its dim patch matches the right image within the
@@ -149,8 +138,8 @@ TEST(FitFailure, AFaintFarDiscMarkedAsNearGivesTheFitNothingToHold) {
   // has no edge, and the sliver of rim alone is too few edge points for seven parameters.
   LocateInput input;
   input.type = SolidType::kBox;
-  input.left_camera = RigCamera(-3);
-  input.right_camera = RigCamera(3);
+  input.left_camera = testing::RigCamera(-3);
+  input.right_camera = testing::RigCamera(3);
   input.left = cv::Mat(192, 256, CV_8U, cv::Scalar(0));
   input.right = input.left.clone();
   cv::circle(input.left, {239, 125}, 61, cv::Scalar(41), cv::FILLED);

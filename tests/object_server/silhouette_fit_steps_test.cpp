@@ -8,20 +8,12 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "tests/object_server/rig_camera.h"
+
 namespace igms::object {
 namespace {
 
-// 256 x 192 pixels, focal length 400 px, at (x, 0, 0) looking along the world's +y with the
-// world's z up.
-geometry::ProjectiveCamera Camera(double x) {
-  Eigen::Matrix3d K, R;
-  K << 400, 0, 127.5, 0, 400, 95.5, 0, 0, 1;
-  R << 1, 0, 0, 0, 0, -1, 0, 1, 0;
-  geometry::Matrix34 P;
-  P.leftCols<3>() = K * R;
-  P.col(3) = -K * R * Eigen::Vector3d(x, 0, 0);
-  return geometry::ProjectiveCamera(P, {256, 192});
-}
+using testing::RigCamera;
 
 // A square plate facing the cameras at y = 40: parameters (centre x, centre z, half side).
 std::vector<Eigen::Vector3d> PlateOutline(const Eigen::VectorXd& p) {
@@ -99,7 +91,7 @@ class PlateScene : public ::testing::Test {
     return ms;
   }
 
-  const std::array<geometry::ProjectiveCamera, 2> cameras_ = {Camera(-3), Camera(3)};
+  const std::array<geometry::ProjectiveCamera, 2> cameras_ = {RigCamera(-3), RigCamera(3)};
   std::array<cv::Mat, 2> images_;
   std::array<Gradients, 2> gradients_;
   std::array<FitView, 2> views_;
@@ -221,7 +213,7 @@ TEST(SilhouetteSteps, MeasureInnerEdgesFindsTheEdgeBetweenTwoFaces) {
   cv::Mat image;
   cv::resize(fine, image, {256, 192}, 0, 0, cv::INTER_AREA);
   const Gradients grad(image, cv::Rect(0, 0, 256, 192), 1.0);
-  const geometry::ProjectiveCamera camera = Camera(0);
+  const geometry::ProjectiveCamera camera = RigCamera(0);
   const FitView view{&camera, &grad};
   // The edge predicted at u = 100 from v = 40 to 80; a point of each face either side.
   ViewOutline o;
