@@ -334,7 +334,7 @@ struct GeometricDatabase::Impl {
     ModelRecord& r = stored.record;
     const std::string type = m.Text("type");
     r.type = type == "cylinder" ? object::OBJECT_TYPE_CYLINDER : object::OBJECT_TYPE_BOX;
-    Provenance& p = r.provenance;
+    ModelProvenance& p = r.provenance;
     p.frame_id = static_cast<std::uint64_t>(m.Int("frame_id"));
     p.left_capture_unix_ns = m.Int("left_capture_unix_ns");
     p.right_capture_unix_ns = m.Int("right_capture_unix_ns");
@@ -535,7 +535,7 @@ DatabaseResult<std::int64_t> GeometricDatabase::AddModel(const ModelRecord& reco
   }
   try {
     const std::int64_t now = igms::UnixNs();
-    const Provenance& p = record.provenance;
+    const ModelProvenance& p = record.provenance;
     Transaction t(impl_->connection);
     Statement& m = impl_->Prepared(InsertModelSql());
     m.Bind(":type", std::string_view(TypeName(record.type)));

@@ -89,7 +89,7 @@ struct ServerVersion {
 };
 
 // Where a model came from.
-struct Provenance {
+struct ModelProvenance {
   // The grab (video.GrabResponse): its frame, when each side was captured, and the camera
   // platform's pose then. joints_rad is empty or (pan, tilt, roll).
   std::uint64_t frame_id = 0;
@@ -122,7 +122,7 @@ struct ModelRecord {
   object::ObjectType type = object::OBJECT_TYPE_UNSPECIFIED;
   object::CylinderModel cylinder;  // when type is OBJECT_TYPE_CYLINDER
   object::BoxModel box;            // when type is OBJECT_TYPE_BOX; texture_png is the texture
-  Provenance provenance;
+  ModelProvenance provenance;
 };
 
 // A found Locate, its request and grab, as one record: what the session stores.

@@ -112,7 +112,7 @@ Problem CheckBox(const object::BoxModel& b) {
   return std::nullopt;
 }
 
-Problem CheckProvenance(const Provenance& p) {
+Problem CheckProvenance(const ModelProvenance& p) {
   if (p.frame_id == 0) return std::string("provenance.frame_id is missing (0)");
   if (p.left_capture_unix_ns <= 0) return std::string("provenance.left_capture_unix_ns is missing");
   if (p.right_capture_unix_ns <= 0) {
@@ -187,7 +187,7 @@ ModelRecord MakeModelRecord(const video::GrabResponse& grab, const object::Locat
   record.type = found.type();
   if (found.type() == object::OBJECT_TYPE_CYLINDER) record.cylinder = found.cylinder();
   if (found.type() == object::OBJECT_TYPE_BOX) record.box = found.box();
-  Provenance& p = record.provenance;
+  ModelProvenance& p = record.provenance;
   p.frame_id = grab.frame_id();
   p.left_capture_unix_ns = grab.left_capture_unix_ns();
   p.right_capture_unix_ns = grab.right_capture_unix_ns();

@@ -716,7 +716,7 @@ void Session::Undo() {
       if (model == models_.end()) return;
       model->removed = true;
       Play(cues::kRemovingModel);
-      out_.push_back(RemoveModelEffect{u.id});
+      out_.push_back(RemoveModelEffect{u.id, true});
       Notice(NoticeLevel::kInfo, "undone: model " + std::to_string(u.id) + " added");
       return;
     case UndoEntry::kModelRemoved:

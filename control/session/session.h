@@ -70,6 +70,8 @@ class Session {
   bool peer_up(Peer peer) const { return peer_up_[static_cast<int>(peer)]; }
   const std::optional<FrozenView>& frozen() const { return frozen_; }
   const std::optional<Eigen::Vector3d>& pointer() const { return pointer_; }
+  // The viewer's orientation as the session uses it (re-zeroed after a restarted daemon).
+  const std::optional<ViewerOrientation>& viewer() const { return viewer_; }
   const std::vector<Eigen::Vector3d>& marks() const { return marks_; }
   const std::vector<SessionModel>& models() const { return models_; }
   bool wireframe() const { return wireframe_; }

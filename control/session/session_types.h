@@ -191,6 +191,7 @@ struct StoreModelEffect {
 };
 struct RemoveModelEffect {  // a mark of removal: undo may restore it
   uint64_t id = 0;
+  bool undo = false;  // taking back the model's addition (the database records an undo)
 };
 struct RestoreModelEffect {
   uint64_t id = 0;

@@ -21,6 +21,7 @@
 #include "common/net/client.h"
 #include "common/sim/capture/sim_capture.h"
 #include "common/sim/marks.h"
+#include "common/sim/vision/truth_table.h"
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"
 #include "object_server/object_service.h"
@@ -32,114 +33,9 @@ using namespace std::chrono_literals;
 
 namespace {
 
-struct Row {
-  std::string name, kind;
-  bool found = false;
-  std::string reason;
-  Eigen::Vector3d true_center, found_center = Eigen::Vector3d::Zero();
-  Eigen::Vector3d true_size, found_size = Eigen::Vector3d::Zero();  // cyl: r, h, 0; box: sx, sy, sz
-  double position_error = 0, size_error = 0, axis_error_deg = 0;
-  double locate_ms = 0, fetch_ms = 0, round_trip_ms = 0;
-};
-
-Eigen::Vector3d V(const igms::object::Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
-std::string Vec(const Eigen::Vector3d& v) {
-  return fmt::format("[{:.4f}, {:.4f}, {:.4f}]", v.x(), v.y(), v.z());
-}
-
-std::string Table(const std::vector<Row>& rows) {
-  std::string t =
-      fmt::format("{:<10} {:<8} {:>24} {:>24} {:>6} {:>19} {:>19} {:>6} {:>6} {:>7} {:>7}\n",
-                  "object", "type", "true centre (in)", "modelled centre (in)", "d pos",
-                  "true size", "modelled size", "d size", "d axis", "loc ms", "rtt ms");
-  for (const Row& r : rows) {
-    auto size = [&](const Eigen::Vector3d& s) {
-      return r.kind == "box" ? fmt::format("{:.2f} {:.2f} {:.2f}", s.x(), s.y(), s.z())
-                             : fmt::format("r {:.3f} h {:.2f}", s.x(), s.y());
-    };
-    auto centre = [](const Eigen::Vector3d& c) {
-      return fmt::format("{:.2f} {:.2f} {:.2f}", c.x(), c.y(), c.z());
-    };
-    if (!r.found) {
-      t += fmt::format("{:<10} {:<8} {:>24} {:>24}   not found: {}\n", r.name, r.kind,
-                       centre(r.true_center), "-", r.reason);
-      continue;
-    }
-    t += fmt::format(
-        "{:<10} {:<8} {:>24} {:>24} {:>6.3f} {:>19} {:>19} {:>6.3f} {:>6.2f} {:>7.0f} {:>7.0f}\n",
-        r.name, r.kind, centre(r.true_center), centre(r.found_center), r.position_error,
-        size(r.true_size), size(r.found_size), r.size_error, r.axis_error_deg, r.locate_ms,
-        r.round_trip_ms);
-  }
-  return t;
-}
-
-std::string Json(const std::vector<Row>& rows, uint64_t frame_id, const std::string& scene) {
-  std::string j = fmt::format("{{\"frame_id\": {}, \"scene\": \"{}\", \"objects\": [\n", frame_id,
-                              igms::JsonEscape(scene));
-  for (size_t i = 0; i < rows.size(); ++i) {
-    const Row& r = rows[i];
-    j += fmt::format(
-        "  {{\"name\": \"{}\", \"type\": \"{}\", \"found\": {}, \"reason\": \"{}\", "
-        "\"true_center\": {}, \"modelled_center\": {}, \"true_size\": {}, \"modelled_size\": {}, "
-        "\"position_error\": {:.5f}, \"size_error\": {:.5f}, \"axis_error_deg\": {:.4f}, "
-        "\"locate_ms\": {:.2f}, \"fetch_ms\": {:.2f}, \"round_trip_ms\": {:.2f}}}{}\n",
-        igms::JsonEscape(r.name), r.kind, r.found ? "true" : "false", igms::JsonEscape(r.reason),
-        Vec(r.true_center), Vec(r.found_center), Vec(r.true_size), Vec(r.found_size),
-        r.position_error, r.size_error, r.axis_error_deg, r.locate_ms, r.fetch_ms, r.round_trip_ms,
-        i + 1 < rows.size() ? "," : "");
-  }
-  return j + "]}\n";
-}
-
 int Fail(const std::string& step, const std::string& message) {
   std::cerr << "igms-vision-demo: step '" << step << "' failed: " << message << "\n";
   return 1;
-}
-
-// Fills the truth of one object and the request's type; false for solids not modelled.
-bool Truth(const igms::site::Shape& shape, Row* row, igms::object::LocateRequest* request) {
-  if (const auto* c = std::get_if<igms::site::Cylinder>(&shape)) {
-    row->kind = "cylinder";
-    row->true_center = c->center;
-    row->true_size = {c->radius, c->height, 0};
-    request->set_type(igms::object::OBJECT_TYPE_CYLINDER);
-    return true;
-  }
-  if (const auto* b = std::get_if<igms::site::Box>(&shape)) {
-    row->kind = "box";
-    row->true_center = b->center;
-    row->true_size = b->size;  // along its own axes, as the oriented result is
-    request->set_type(igms::object::OBJECT_TYPE_BOX);
-    return true;
-  }
-  return false;
-}
-
-void Compare(const igms::site::Shape& shape, const igms::object::LocateResponse& got, Row* row) {
-  row->found = got.found();
-  row->locate_ms = got.locate_ms();
-  row->fetch_ms = got.fetch_ms();
-  if (!got.found()) {
-    row->reason = igms::object::FailureReason_Name(got.reason()) + ": " + got.detail();
-    return;
-  }
-  if (const auto* c = std::get_if<igms::site::Cylinder>(&shape)) {
-    const auto& m = got.cylinder();
-    row->found_center = V(m.center());
-    row->found_size = {m.radius(), m.height(), 0};
-    row->axis_error_deg =
-        std::acos(std::min(1.0, std::abs(V(m.axis()).normalized().dot(c->axis)))) * 180 / M_PI;
-  } else {
-    const auto& m = got.box();
-    row->found_center = V(m.center());
-    row->found_size = V(m.size());
-    row->axis_error_deg =
-        igms::object::BoxYawErrorDeg(m.yaw_deg(), std::get<igms::site::Box>(shape).rotation);
-  }
-  row->position_error = (row->found_center - row->true_center).norm();
-  row->size_error = (row->found_size - row->true_size).cwiseAbs().maxCoeff();
 }
 
 int Run(int argc, char** argv) {
@@ -229,14 +125,14 @@ int Run(int argc, char** argv) {
                            grab.value.width(), grab.value.height(), video_name,
                            grab.value.capture_ms(), sim.origin);
 
-  std::vector<Row> rows;
+  std::vector<igms::site::TruthRow> rows;
   std::string failed;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const auto& object_i = scene.objects[i];
-    Row row;
-    row.name = object_i.name.empty() ? fmt::format("#{}", i) : object_i.name;
+    igms::site::TruthRow row;
+    row.name = igms::site::ObjectName(scene, i);
     igms::object::LocateRequest request;
-    if (!Truth(object_i.shape, &row, &request)) continue;
+    if (!igms::site::Truth(object_i.shape, &row, &request)) continue;
     const auto marks =
         igms::site::GenerateMarks(object_i.shape, scene.cameras.left, mark_seed * 1000 + i);
     if (!marks) {
@@ -256,19 +152,19 @@ int Run(int argc, char** argv) {
                   fmt::format("{}:{}: {}", process->HostOf(object_name),
                               process->PortOf(object_name), got.status.message));
     }
-    Compare(object_i.shape, got.value, &row);
+    igms::site::Compare(object_i.shape, got.value, &row);
     if (!row.found && failed.empty()) failed = "locate " + row.name;
     rows.push_back(row);
   }
   stop();
 
-  const std::string table = Table(rows);
+  const std::string table = igms::site::TruthTable(rows);
   std::cout << table;
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
   std::ofstream(out + "/table.txt") << table;
   std::ofstream json(out + "/results.json");
-  json << Json(rows, frame_id, sim.origin);
+  json << igms::site::TruthJson(rows, frame_id, sim.origin);
   if (!json) return Fail("write results", "cannot write " + out + "/results.json");
   std::cout << "wrote " << out << "/table.txt and " << out << "/results.json\n";
   if (rows.empty()) return Fail("scene", "the scene has no cylinder or box to locate");

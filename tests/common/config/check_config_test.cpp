@@ -115,7 +115,8 @@ TEST(IgmsConfigCheck, TheDeployedLabPassesForEveryProcess) {
       RunShell(BinDir() + "/igms config check --config " + SourceDir() + "/deploy/lab.yaml 2>&1");
   EXPECT_EQ(r.status, 0) << r.out;
   EXPECT_EQ(r.out,
-            "lab: OK\nvideo: OK\nobject: OK\nsound: OK\nviewer: OK\njoystick: OK\nranger: OK\n"
+            "lab: OK\ncontrol: OK\nvideo: OK\nobject: OK\nsound: OK\nviewer: OK\njoystick: "
+            "OK\nranger: OK\n"
             "voice: OK\nplatform: OK\n");
 }
 
@@ -127,7 +128,7 @@ TEST(IgmsConfigCheck, ATypoInOneProcessFailsThatProcess) {
       RunShell(BinDir() + "/igms config check --config " + dir.File("lab.yaml") + " 2>&1");
   EXPECT_NE(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("\nobject: FAILED: " + dir.File("lab.yaml") +
-                       ":23: unknown key processes.object.vidoe (did you mean "
+                       ":27: unknown key processes.object.vidoe (did you mean "
                        "processes.object.video?)"),
             std::string::npos)
       << r.out;

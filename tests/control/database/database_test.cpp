@@ -50,7 +50,7 @@ std::int64_t RowsOf(const std::string& path) {
   return total;
 }
 
-void ExpectSameProvenance(const Provenance& a, const Provenance& b) {
+void ExpectSameProvenance(const ModelProvenance& a, const ModelProvenance& b) {
   EXPECT_EQ(a.frame_id, b.frame_id);
   EXPECT_EQ(a.left_capture_unix_ns, b.left_capture_unix_ns);
   EXPECT_EQ(a.right_capture_unix_ns, b.right_capture_unix_ns);

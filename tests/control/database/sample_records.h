@@ -17,8 +17,8 @@ inline object::Vec3 V(double x, double y, double z) {
   return v;
 }
 
-inline Provenance SampleProvenance(std::uint64_t frame_id) {
-  Provenance p;
+inline ModelProvenance SampleProvenance(std::uint64_t frame_id) {
+  ModelProvenance p;
   p.frame_id = frame_id;
   p.left_capture_unix_ns = 1'790'000'000'000'000'000 + static_cast<std::int64_t>(frame_id);
   p.right_capture_unix_ns = p.left_capture_unix_ns + 120'000;

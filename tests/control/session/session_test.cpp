@@ -865,6 +865,7 @@ TEST_F(SessionTest, RemoveModelInsideAndLastAdded) {
   auto removed = All<RemoveModelEffect>(Command(CommandKind::kRemoveModel));
   ASSERT_EQ(removed.size(), 1u);
   EXPECT_EQ(removed[0].id, 3u);
+  EXPECT_FALSE(removed[0].undo);
   // In verification there is no pointer: the last added still there (4).
   Command(CommandKind::kUnfreeze);
   removed = All<RemoveModelEffect>(Command(CommandKind::kRemoveModel, CommandSource::kVoice));
@@ -926,6 +927,7 @@ TEST_F(SessionTest, UndoTheModelAddedAndTheModelRemoved) {
   removed = All<RemoveModelEffect>(Command(CommandKind::kUndo));
   ASSERT_EQ(removed.size(), 1u);
   EXPECT_EQ(removed[0].id, 1u);
+  EXPECT_TRUE(removed[0].undo);  // the database records it as the addition undone
 }
 
 TEST_F(SessionTest, UnmarkedMarksAreNotUndoneAgain) {

@@ -1,0 +1,142 @@
+// igms-control: the operator's modelling session (Cooke, *Interactive Graphical Model Building
+// using Virtual Reality* (1993), section 2.4): the devices, the servers and the geometric
+// database, tied together by the session's state machine. docs/control.md.
+//
+//   igms-control --config lab.yaml [--database FILE] [--wait] [--script FILE]
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <thread>
+#include <utility>
+
+#include "common/calibration/calibration_file.h"
+#include "common/calibration/calibration_hash.h"
+#include "common/config/exit_codes.h"
+#include "common/config/process_options.h"
+#include "common/version/version.h"
+#include "control/app/control_app.h"
+#include "control/app/control_config.h"
+#include "control/database/database_path.h"
+#include "control/script/script.h"
+#include "control/script/script_player.h"
+
+namespace po = boost::program_options;
+
+int main(int argc, char** argv) {
+  try {
+    po::options_description extra("Control client options");
+    extra.add_options()("database", po::value<std::string>(),
+                        "the geometric database to write or continue (default: lab.database, "
+                        "else the operator's data folder)")(
+        "wait", po::bool_switch(), "wait for required peers instead of exiting 1")(
+        "script", po::value<std::string>(),
+        "play this operator script with no display, then exit (docs/scripts.md)");
+    igms::control::ControlConfig control_config;
+    int exit_code = 0;
+    auto process = igms::config::ParseProcessOptions(
+        argc, argv, "control", "igms-control: the operator's modelling session", extra,
+        igms::control::ControlKeys(&control_config), &exit_code);
+    if (!process) return exit_code;
+
+    const std::string calibration_file = process->config.Get<std::string>("lab.calibration", "");
+    if (calibration_file.empty()) {
+      spdlog::critical("lab.calibration: the control client needs the cameras' calibration");
+      return igms::kExitUsage;
+    }
+    std::string error;
+    const auto calibration =
+        igms::calibration::LoadCalibration(process->config.ResolvePath(calibration_file), &error);
+    if (!calibration) {
+      spdlog::critical("lab.calibration: {}", error);
+      return igms::kExitUsage;
+    }
+    auto options = igms::control::MakeControlAppOptions(*process, control_config);
+    if (!options.ok()) {
+      spdlog::critical("{}", options.error());
+      return igms::kExitUsage;
+    }
+    options->calibration_hash = igms::calibration::CalibrationHash(*calibration);
+    options->session.wait_for_peers = process->flags["wait"].as<bool>();
+    if (std::string problem; !options->Check(&problem)) {
+      spdlog::critical("{}: {}", process->Key(""), problem);
+      return igms::kExitUsage;
+    }
+    const std::string database_flag =
+        process->flags.count("database") ? process->flags["database"].as<std::string>() : "";
+    auto path = igms::control::ResolveDatabasePath(process->config, database_flag,
+                                                   igms::control::UserFolders::FromEnvironment());
+    if (!path.ok()) {
+      spdlog::critical("the database: {}", path.error());
+      return igms::kExitUsage;
+    }
+    std::optional<igms::control::Script> script;
+    if (process->flags.count("script")) {
+      auto loaded = igms::control::LoadScript(process->flags["script"].as<std::string>());
+      if (!loaded.ok()) {
+        spdlog::critical("{}", loaded.error());
+        return igms::kExitUsage;
+      }
+      script = std::move(*loaded);
+    }
+    if (process->check_only) return igms::config::CheckPassed(*process);
+    igms::control::ScriptPlayerOptions player_options;
+    player_options.token = options->token;
+    for (const auto& [peer, address] : options->peers) {
+      if (igms::control::IsDaemon(peer)) player_options.devices[peer] = address;
+    }
+
+    auto database =
+        igms::control::GeometricDatabase::Open(*path, {"igms-control", igms::version::Full()});
+    if (!database.ok()) {
+      // Another session holds it, or it is not ours: refuse, and leave the file as it was.
+      spdlog::critical("the database {}: {}", *path, database.error());
+      return igms::kExitFailure;
+    }
+    spdlog::info("database {}", *path);
+    auto app =
+        igms::control::ControlApp::Make(std::move(*options), *calibration, std::move(*database));
+    if (!app.ok()) {
+      spdlog::critical("{}", app.error());
+      return igms::kExitUsage;
+    }
+
+    boost::asio::io_context signals_io;
+    boost::asio::signal_set signals(signals_io, SIGINT, SIGTERM);
+    signals.async_wait([&](const boost::system::error_code& ec, int signal) {
+      if (ec) return;
+      spdlog::info("signal {}: ending the session", signal);
+      (*app)->Stop(0);
+    });
+    std::thread signal_thread([&] { signals_io.run(); });
+    (*app)->Start();
+    if (script) {
+      // The script starts once the session has: every required peer answered.
+      const bool started = (*app)->board().WaitFor(
+          [](const igms::control::SessionView& v) {
+            return v.mode != igms::control::Mode::kStarting || v.exit_code;
+          },
+          std::chrono::hours(24));
+      if (started && !(*app)->board().Get().exit_code) {
+        igms::control::ScriptPlayer player(**app, player_options);
+        auto played = player.Play(*script);
+        if (played.ok()) {
+          spdlog::info("script {}: {} actions played", script->source, *played);
+          (*app)->Stop(0);
+        } else {
+          spdlog::error("script {}", played.error());
+          (*app)->Stop(1);
+        }
+      }
+    }
+    const int code = (*app)->Wait();
+    signals.cancel();
+    signals_io.stop();
+    signal_thread.join();
+    app->reset();  // closes the connections, then the database (recording the session's end)
+    return code;
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
+    return igms::kExitUsage;
+  }
+}
