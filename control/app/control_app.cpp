@@ -253,8 +253,13 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
     request.set_state(e.state);
     CallPeer<devices::SetOperatorStateResponse>(
         Peer::kVoice, "SetOperatorState", request, options.call_timeout,
-        [this](net::Result<devices::SetOperatorStateResponse> r) {
-          if (!r.ok()) Note(spdlog::level::warn, "voice grammar not set: " + r.status.ToString());
+        [this, state = e.state](net::Result<devices::SetOperatorStateResponse> r) {
+          if (!r.ok()) {
+            Note(spdlog::level::warn, "voice grammar not set: " + r.status.ToString());
+            return;
+          }
+          view.voice_grammar = state;
+          Publish();
         });
   }
 

@@ -40,6 +40,9 @@ struct SessionView {
   uint64_t locates_failed = 0;
   uint64_t models_stored = 0;  // committed to the database by this run
   std::optional<PlatformTicks> platform_target;
+  // The grammar the voice daemon last acknowledged (VoiceService.SetOperatorState): a word
+  // said before it follows the mode is judged by the old grammar.
+  std::optional<devices::OperatorState> voice_grammar;
   std::deque<NoticeLine> notices;  // the newest kKeptNotices
   std::optional<int> exit_code;    // set once the session has ended
 

@@ -191,7 +191,16 @@ struct ScriptPlayer::Impl {
   }
 
   Result<bool> Say(const ScriptAction& a) {
-    const SessionView before = app.board().Get();
+    // The daemon judges a word by the grammar it was last given: wait until it follows the
+    // session's mode (a fourth mark switches it to the object-type grammar).
+    auto ready = Await(
+        [](const SessionView& v) {
+          return !v.peer_up[static_cast<int>(Peer::kVoice)] ||
+                 v.voice_grammar == OperatorStateOf(v.mode);
+        },
+        "the voice daemon's grammar to follow the mode");
+    if (!ready.ok()) return ErrorMessage{ready.error()};
+    const SessionView before = *ready;
     devices::SimInjectRequest request;
     request.set_spoken(a.phrase);
     auto r = Inject(Peer::kVoice, request);
