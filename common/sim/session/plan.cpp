@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/sim/capture/sim_capture.h"
@@ -56,6 +57,10 @@ Result<std::vector<PlannedObject>> PlanSession(
     PlannedObject p;
     p.index = i;
     p.name = scene.objects[i].name.empty() ? fmt::format("#{}", i) : scene.objects[i].name;
+    if (!options.only.empty() &&
+        std::find(options.only.begin(), options.only.end(), p.name) == options.only.end()) {
+      continue;
+    }
     p.box = std::holds_alternative<Box>(shape);
     p.yaw_deg = CentringPan(scene, platform, shape, options);
     const auto marks = GenerateMarks(shape, AtPan(scene, platform, p.yaw_deg).left,
@@ -68,6 +73,12 @@ Result<std::vector<PlannedObject>> PlanSession(
     }
     p.marks = *marks;
     plan.push_back(std::move(p));
+  }
+  for (const std::string& name : options.only) {
+    if (std::none_of(plan.begin(), plan.end(),
+                     [&](const PlannedObject& p) { return p.name == name; })) {
+      return ErrorMessage{"the scene has no cylinder or box named '" + name + "'"};
+    }
   }
   return plan;
 }

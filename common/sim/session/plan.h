@@ -25,6 +25,7 @@ struct PlanOptions {
   double max_pan_deg = 20;
   bool range = true;  // range once the marks are in
   double move_timeout_s = 60;
+  std::vector<std::string> only;  // plan just these objects (by name); empty: all
 };
 
 struct PlannedObject {
