@@ -23,6 +23,8 @@ PACKAGES=(
   flite
   # a sound server with a null sink: the microphone tests' capture device
   pulseaudio pulseaudio-utils
+  # real consumers of igms export's files: check_urdf (URDF), assimp info (OBJ, STL, glTF)
+  liburdfdom-tools assimp-utils
 )
 
 missing=()
