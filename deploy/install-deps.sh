@@ -27,6 +27,13 @@ PACKAGES=(
   liburdfdom-tools assimp-utils
 )
 
+# Node.js and npm run Khronos' glTF validator in the export tests (npm gltf-validator, into
+# the build tree). A machine with its own Node (from NodeSource, nvm) keeps it: Debian's
+# nodejs would conflict with it.
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  PACKAGES+=(nodejs npm)
+fi
+
 missing=()
 for p in "${PACKAGES[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -28,8 +28,7 @@ Result<std::string> WriteTemporary(const fs::path& path, const std::string& byte
                         error.message()};
   }
   const std::string temporary =
-      (path.parent_path() / ("." + path.filename().string() + ".tmp-" +
-                             std::to_string(getpid())))
+      (path.parent_path() / ("." + path.filename().string() + ".tmp-" + std::to_string(getpid())))
           .string();
   const int fd = open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) {

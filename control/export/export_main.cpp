@@ -6,8 +6,8 @@
 //   igms locate ... --json | igms export --locate-json - --format stl --out part.stl
 #include <signal.h>
 
-#include <boost/program_options.hpp>
 #include <atomic>
+#include <boost/program_options.hpp>
 #include <chrono>
 #include <fstream>
 #include <iostream>
@@ -85,8 +85,7 @@ int Run(int argc, char** argv) {
       "Usage: igms export [--database FILE | --config LAB | --locate-json FILE]\n"
       "                   (--format FORMAT --out PATH | --all FOLDER) [--watch] [options]\n"
       "Options");
-  std::string database, config, locate_json, format, out, all, base, units = "in",
-                                                                    out_units = "m";
+  std::string database, config, locate_json, format, out, all, base, units = "in", out_units = "m";
   ExportOptions options;
   int interval_ms = 250;
   desc.add_options()("help,h", "this help")("version", "print the version and exit")(
@@ -107,8 +106,9 @@ int Run(int argc, char** argv) {
       "units, angles in radians, URDF's rpy)")(
       "frame", po::value(&options.frame)->default_value("world"), "the output frame's name")(
       "units", po::value(&units)->default_value("in"),
-      "the calibration's world units: in, ft, m, cm, mm")(
-      "out-units", po::value(&out_units)->default_value("m"), "the files' units: m, cm, mm, in, ft")(
+      "the calibration's world units: in, ft, m, cm, mm")("out-units",
+                                                          po::value(&out_units)->default_value("m"),
+                                                          "the files' units: m, cm, mm, in, ft")(
       "padding-sigmas", po::value(&options.padding_sigmas)->default_value(0),
       "move every surface out by K standard deviations of its position")(
       "name", po::value(&options.name)->default_value("igms_models"),
@@ -140,8 +140,8 @@ int Run(int argc, char** argv) {
   if (!format.empty()) {
     target.format = ParseExportFormat(format);
     if (!target.format) {
-      return Say(igms::kExitUsage, "unknown format '" + format +
-                                       "': scene, urdf, gltf, glb, obj, stl or json");
+      return Say(igms::kExitUsage,
+                 "unknown format '" + format + "': scene, urdf, gltf, glb, obj, stl or json");
     }
     if (out.empty()) return Say(igms::kExitUsage, "--format needs --out PATH");
   }

@@ -30,9 +30,7 @@ std::string Vec(const Eigen::Vector3d& v, const char* sep = " ") {
 
 std::string JsonVec(const Eigen::Vector3d& v) { return "[" + Vec(v, ", ") + "]"; }
 
-std::string JsonVec(const object::Vec3& v) {
-  return JsonVec(Eigen::Vector3d(v.x(), v.y(), v.z()));
-}
+std::string JsonVec(const object::Vec3& v) { return JsonVec(Eigen::Vector3d(v.x(), v.y(), v.z())); }
 
 // Rotation as (x, y, z, w), w >= 0 so the text is one of the two equal quaternions.
 Eigen::Vector4d Quaternion(const Eigen::Matrix3d& r) {
@@ -80,9 +78,10 @@ std::string ModelJson(const Solid& s, const ExportOptions& o) {
   } else {
     const auto& b = r.box;
     j << ", \"center\": " << JsonVec(b.center()) << ", \"size\": " << JsonVec(b.size())
-      << ", \"yaw_deg\": " << Num(b.yaw_deg()) << ", \"sigma\": {\"center\": "
-      << JsonVec(b.center_sigma()) << ", \"size\": " << JsonVec(b.size_sigma())
-      << ", \"yaw_deg\": " << Num(b.yaw_sigma_deg()) << "}";
+      << ", \"yaw_deg\": " << Num(b.yaw_deg())
+      << ", \"sigma\": {\"center\": " << JsonVec(b.center_sigma())
+      << ", \"size\": " << JsonVec(b.size_sigma()) << ", \"yaw_deg\": " << Num(b.yaw_sigma_deg())
+      << "}";
     if (!b.texture_png().empty()) {
       j << ", \"texture_rect\": [" << b.texture_u0() << ", " << b.texture_v0() << ", "
         << b.texture_u1() << ", " << b.texture_v1() << "]";
@@ -238,10 +237,9 @@ GltfParts Gltf(const std::vector<Solid>& solids, const ExportOptions& o,
                                exact(lo.z()) + "], \"max\": [" + exact(hi.x()) + ", " +
                                exact(hi.y()) + ", " + exact(hi.z()) + "]";
     const std::size_t n = mesh.positions.size();
-    const int pos = add_accessor(add_view(mesh.positions.data(), n * 12, 34962), 5126, n,
-                                 "VEC3", bounds);
-    const int nor =
-        add_accessor(add_view(mesh.normals.data(), n * 12, 34962), 5126, n, "VEC3", "");
+    const int pos =
+        add_accessor(add_view(mesh.positions.data(), n * 12, 34962), 5126, n, "VEC3", bounds);
+    const int nor = add_accessor(add_view(mesh.normals.data(), n * 12, 34962), 5126, n, "VEC3", "");
     int uv = -1;
     int material = 0;
     if (s.textured) {
@@ -253,14 +251,13 @@ GltfParts Gltf(const std::vector<Solid>& solids, const ExportOptions& o,
       textures << (image_count ? ",\n" : "") << "{\"sampler\": 0, \"source\": " << image_count
                << "}";
       materials << ",\n{\"name\": " << JsonQuote(s.name + "_texture")
-                << ", \"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": "
-                << image_count << "}, \"metallicFactor\": 0, \"roughnessFactor\": 0.8}}";
+                << ", \"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": " << image_count
+                << "}, \"metallicFactor\": 0, \"roughnessFactor\": 0.8}}";
       ++image_count;
       material = material_count++;
     }
-    const int idx =
-        add_accessor(add_view(mesh.indices.data(), mesh.indices.size() * 4, 34963), 5125,
-                     mesh.indices.size(), "SCALAR", "");
+    const int idx = add_accessor(add_view(mesh.indices.data(), mesh.indices.size() * 4, 34963),
+                                 5125, mesh.indices.size(), "SCALAR", "");
     meshes << (i ? ",\n" : "") << "{\"name\": " << JsonQuote(s.name)
            << ", \"primitives\": [{\"attributes\": {\"POSITION\": " << pos
            << ", \"NORMAL\": " << nor;
@@ -290,8 +287,8 @@ GltfParts Gltf(const std::vector<Solid>& solids, const ExportOptions& o,
   if (!solids.empty()) {
     j << ",\n\"nodes\": [" << nodes.str() << "],\n\"meshes\": [" << meshes.str()
       << "],\n\"materials\": [" << materials.str() << "],\n\"accessors\": [" << accessors.str()
-      << "],\n\"bufferViews\": [" << views.str() << "],\n\"buffers\": [{\"byteLength\": "
-      << parts.bin.size();
+      << "],\n\"bufferViews\": [" << views.str()
+      << "],\n\"buffers\": [{\"byteLength\": " << parts.bin.size();
     if (!buffer_uri.empty()) j << ", \"uri\": " << JsonQuote(buffer_uri);
     j << "}]";
     if (image_count) {
@@ -403,8 +400,8 @@ std::string Stl(const std::vector<Solid>& solids, const ExportOptions& o) {
   }
   std::string out;
   out.reserve(84 + triangles * 50);
-  std::string header = "IGMS export, " + o.out_units.name + ", frame " + o.frame +
-                       ", cylinders within 0.001 in";
+  std::string header =
+      "IGMS export, " + o.out_units.name + ", frame " + o.frame + ", cylinders within 0.001 in";
   header.resize(80, ' ');
   out += header;
   PutU32(out, static_cast<std::uint32_t>(triangles));
@@ -434,8 +431,7 @@ std::string Json(const std::vector<Solid>& solids, const ExportOptions& o) {
   const Eigen::Vector3d rpy = RollPitchYaw(o.base_from_world.linear());
   j << "{\"format\": \"igms-models\", \"version\": 1, \"name\": " << JsonQuote(o.name)
     << ", \"frame\": " << JsonQuote(o.frame) << ", \"units\": " << JsonQuote(o.out_units.name)
-    << ", \"world_units\": " << JsonQuote(o.world_units.name)
-    << ", \"base_from_world\": {\"xyz\": "
+    << ", \"world_units\": " << JsonQuote(o.world_units.name) << ", \"base_from_world\": {\"xyz\": "
     << JsonVec(Eigen::Vector3d(o.base_from_world.translation())) << ", \"rpy\": " << JsonVec(rpy)
     << "}, \"padding_sigmas\": " << Num(o.padding_sigmas) << ",\n\"models\": [";
   for (std::size_t i = 0; i < solids.size(); ++i) {

@@ -223,7 +223,8 @@ Result<std::vector<Solid>> MakeSolids(const std::vector<StoredModel>& models,
     } else {
       const auto& b = m.record.box;
       const double yaw = b.yaw_deg() * kPi / 180;
-      world_from_solid.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      world_from_solid.linear() =
+          Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
       world_from_solid.translation() = E(b.center()) * scale;
       // A face moves with the centre and half its size; the side faces' ends also swing
       // with the yaw, by half the other side's length times its sigma.

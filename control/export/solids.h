@@ -20,10 +20,10 @@ struct Solid {
   // The solid's own frame in the output frame: a cylinder's axis is its z, its centre the
   // origin; a box's edges are along its axes, its centre the origin.
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  double radius = 0, height = 0;            // cylinder, output units, padded
+  double radius = 0, height = 0;                   // cylinder, output units, padded
   Eigen::Vector3d size = Eigen::Vector3d::Zero();  // box, output units, padded
-  int sides = 0;                            // cylinder: the tessellation's
-  bool textured = false;                    // a box with a PNG texture
+  int sides = 0;                                   // cylinder: the tessellation's
+  bool textured = false;                           // a box with a PNG texture
 };
 
 // Checks every model, then converts. `padding` and units from the options.

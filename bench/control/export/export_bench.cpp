@@ -6,6 +6,8 @@
 // every change.
 //
 // Usage: bench_export [models=10000] [folder=a new one in the system's temp folder]
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -14,8 +16,6 @@
 #include <fstream>
 #include <string>
 #include <vector>
-
-#include <unistd.h>
 
 #include "control/export/export.h"
 #include "tests/control/export/export_samples.h"
@@ -62,9 +62,9 @@ double PlainWrite(const fs::path& folder, const std::string& bytes) {
 
 int main(int argc, char** argv) {
   const int count = argc > 1 ? std::atoi(argv[1]) : 10000;
-  const fs::path folder = argc > 2 ? fs::path(argv[2])
-                                   : fs::temp_directory_path() /
-                                         ("igms-bench-export-" + std::to_string(getpid()));
+  const fs::path folder =
+      argc > 2 ? fs::path(argv[2])
+               : fs::temp_directory_path() / ("igms-bench-export-" + std::to_string(getpid()));
   fs::create_directories(folder);
   const auto models = MakeModels(count);
 
@@ -121,8 +121,9 @@ int main(int argc, char** argv) {
     std::printf("%-6s %10.1f %10.1f %12zu %12.1f %7.2fx\n", ExportFormatName(format), render_ms,
                 total_ms, bytes, baseline_ms, total_ms / std::max(baseline_ms, 1e-3));
   }
-  std::printf("(write ms: WriteExport, rendering included; baseline: the same bytes as one "
-              "plain file, synced)\n");
+  std::printf(
+      "(write ms: WriteExport, rendering included; baseline: the same bytes as one "
+      "plain file, synced)\n");
   fs::remove_all(folder);
   return 0;
 }

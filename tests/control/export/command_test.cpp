@@ -50,9 +50,9 @@ TEST(ExportCommand, WritesEveryFormatAndRealConsumersLoadThem) {
   const ShellRun run = RunExport("--database " + db + " --all " + out);
   ASSERT_EQ(run.status, kExitOk) << run.out;
   EXPECT_NE(run.out.find("2 models in 7 formats"), std::string::npos) << run.out;
-  for (const char* name : {"models.scene", "models.urdf", "models.gltf", "models.bin",
-                           "models.glb", "models.obj", "models.mtl", "models.stl",
-                           "models.json", "models_textures/model_2.png"}) {
+  for (const char* name :
+       {"models.scene", "models.urdf", "models.gltf", "models.bin", "models.glb", "models.obj",
+        "models.mtl", "models.stl", "models.json", "models_textures/model_2.png"}) {
     EXPECT_TRUE(fs::exists(out + "/" + name)) << name;
   }
   if (Installed("check_urdf")) {
@@ -73,9 +73,8 @@ TEST(ExportCommand, WritesEveryFormatAndRealConsumersLoadThem) {
     std::cout << "assimp is not installed (assimp-utils): OBJ, STL, glTF not checked by it\n";
   }
   // Through the lab's dispatcher too.
-  const ShellRun dispatched = RunShell(igms::testing::BinDir() + "/igms export --database " +
-                                       db + " --format scene --out " + dir.File("d.scene") +
-                                       " 2>&1");
+  const ShellRun dispatched = RunShell(igms::testing::BinDir() + "/igms export --database " + db +
+                                       " --format scene --out " + dir.File("d.scene") + " 2>&1");
   EXPECT_EQ(dispatched.status, kExitOk) << dispatched.out;
   EXPECT_NE(ReadFile(dir.File("d.scene")).find("* model_1\n"), std::string::npos);
 }
@@ -93,8 +92,9 @@ TEST(ExportCommand, ReadsBesideARunningSessionAndWatchesItsChanges) {
   ASSERT_TRUE(watcher.WaitForLog("watching")) << watcher.Log();
   EXPECT_NE(ReadFile(json).find("\"id\": 1,"), std::string::npos);
   ASSERT_TRUE((*session)->AddModel(testing::ExportBox().record).ok());
-  EXPECT_TRUE(igms::testing::WaitFor(
-      "the new box in the export", [&] { return ReadFile(json).find("\"id\": 2,") != std::string::npos; }));
+  EXPECT_TRUE(igms::testing::WaitFor("the new box in the export", [&] {
+    return ReadFile(json).find("\"id\": 2,") != std::string::npos;
+  }));
   ASSERT_TRUE((*session)->RemoveModel(1).ok());
   EXPECT_TRUE(igms::testing::WaitFor("the removed cylinder gone from the export", [&] {
     return ReadFile(json).find("\"id\": 1,") == std::string::npos;
@@ -113,7 +113,7 @@ TEST(ExportCommand, ReadsIgmsLocateJson) {
       "0.003, \"height\": 0.02}, \"rms_px\": [0.4, 0.5], \"outline_samples\": 80, "
       "\"boundary_pixels\": 500, \"ssd_rms\": 2.1, \"elapsed_ms\": 35}\n");
   const ShellRun run = RunExport("--locate-json - --format stl --out " + dir.File("p.stl") + " < " +
-                           dir.File("found.jsonl"));
+                                 dir.File("found.jsonl"));
   ASSERT_EQ(run.status, kExitOk) << run.out;
   EXPECT_FALSE(testing::ReadStl(ReadFile(dir.File("p.stl"))).empty());
 }
@@ -121,8 +121,8 @@ TEST(ExportCommand, ReadsIgmsLocateJson) {
 TEST(ExportCommand, BadInputIsNamedWithItsExitStatus) {
   ScratchDir dir;
   // No database.
-  ShellRun r = RunExport("--database " + dir.File("none.db") + " --format json --out " +
-                   dir.File("x.json"));
+  ShellRun r =
+      RunExport("--database " + dir.File("none.db") + " --format json --out " + dir.File("x.json"));
   EXPECT_EQ(r.status, kExitUnavailable) << r.out;
   EXPECT_NE(r.out.find("no database at"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(dir.File("none.db")));

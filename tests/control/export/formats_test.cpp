@@ -499,8 +499,7 @@ TEST(ExportFormats, PaddingMovesEverySurfaceOutByKSigmas) {
   const Struct& box = At(json, "models").list_value().values(1).struct_value();
   const Eigen::VectorXd size = Numbers(box, "size");
   const double yaw_sigma = 0.5 * M_PI / 180;
-  const double face_x =
-      std::sqrt(0.02 * 0.02 + 0.05 * 0.05 / 4 + std::pow(4.0 / 2 * yaw_sigma, 2));
+  const double face_x = std::sqrt(0.02 * 0.02 + 0.05 * 0.05 / 4 + std::pow(4.0 / 2 * yaw_sigma, 2));
   EXPECT_NEAR(size[0], (6 + 2 * 3 * face_x) * kInch, 1e-12);
   const double face_z = std::sqrt(0.03 * 0.03 + 0.06 * 0.06 / 4);
   EXPECT_NEAR(size[2], (3 + 2 * 3 * face_z) * kInch, 1e-12);
@@ -561,8 +560,8 @@ TEST(ExportFormats, AnEmptyDatabaseGivesEmptyFilesExceptSTL) {
     EXPECT_EQ(files->size(), 1u) << ExportFormatName(f);
   }
   std::string name;
-  EXPECT_TRUE(ReadScene(RenderExport({}, ExportFormat::kScene, {}, "e.scene")->at(0).bytes, &name)
-                  .empty());
+  EXPECT_TRUE(
+      ReadScene(RenderExport({}, ExportFormat::kScene, {}, "e.scene")->at(0).bytes, &name).empty());
   const Gltf g = ReadGlb(RenderExport({}, ExportFormat::kGlb, {}, "e.glb")->at(0).bytes);
   EXPECT_EQ(g.json.fields().count("nodes"), 0u);
   EXPECT_TRUE(g.bin.empty());
