@@ -111,9 +111,11 @@ void ExpectPose(const Expected& e, const Eigen::Vector3d& t, const Eigen::Matrix
 // edge midpoints of the triangles no further than 0.001 in from it.
 void ExpectOnSurface(const Expected& e, const std::vector<Eigen::Vector3d>& vertices,
                      const std::vector<std::array<int, 3>>& triangles, const std::string& what) {
-  ASSERT_FALSE(vertices.empty()) << what;
+  ASSERT_FALSE(triangles.empty()) << what;
   double worst_vertex = 0, worst_between = 0;
-  for (const auto& v : vertices) worst_vertex = std::max(worst_vertex, std::abs(e.Distance(v)));
+  for (const auto& t : triangles) {
+    for (int k : t) worst_vertex = std::max(worst_vertex, std::abs(e.Distance(vertices[k])));
+  }
   for (const auto& t : triangles) {
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d mid = (vertices[t[k]] + vertices[t[(k + 1) % 3]]) / 2;
@@ -557,7 +559,8 @@ TEST(ExportFormats, AnEmptyDatabaseGivesEmptyFilesExceptSTL) {
       continue;
     }
     ASSERT_TRUE(files.ok()) << ExportFormatName(f) << ": " << files.error();
-    EXPECT_EQ(files->size(), 1u) << ExportFormatName(f);
+    // OBJ names its (empty) MTL; the others are one file.
+    EXPECT_EQ(files->size(), f == ExportFormat::kObj ? 2u : 1u) << ExportFormatName(f);
   }
   std::string name;
   EXPECT_TRUE(
@@ -581,7 +584,9 @@ TEST(ExportFormats, WritesAreWholeFilesRenamedIntoPlace) {
   auto bad = WriteExport(Models(), ExportFormat::kJson, {},
                          (dir / "models.json" / "below-a-file.json").string());
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.error().find("below-a-file"), std::string::npos) << bad.error();
+  EXPECT_NE(bad.error().find("cannot create the folder " + (dir / "models.json").string()),
+            std::string::npos)
+      << bad.error();
   // Emptied, the folder loses its STL, which would no longer match.
   report = WriteAllExports({}, {}, dir.string());
   ASSERT_TRUE(report.ok());
