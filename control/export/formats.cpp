@@ -115,7 +115,8 @@ std::string ModelJson(const Solid& s, const ExportOptions& o) {
 // (a reader takes the whole line as the name; there is no comment syntax).
 std::string Scene(const std::vector<Solid>& solids, const ExportOptions& o) {
   std::ostringstream s;
-  s << o.name << " (MoveIt scene format with object poses; " << FrameNote(o) << ")\n";
+  s << o.name << " (MoveIt .scene, the newer format with object poses and subframes: MoveIt 1 "
+    << "Noetic, MoveIt 2; " << FrameNote(o) << ")\n";
   for (const Solid& solid : solids) {
     s << "* " << solid.name << "\n";
     const Eigen::Vector4d q = Quaternion(solid.pose.linear());

@@ -188,7 +188,9 @@ TEST(ExportFormats, SceneIsMoveItsTextFormatWithPosesAndPrimitives) {
   ASSERT_EQ(files.size(), 1u);
   std::string name;
   const auto objects = ReadScene(files[0].bytes, &name);
-  EXPECT_NE(name.find("MoveIt scene format with object poses"), std::string::npos) << name;
+  EXPECT_NE(name.find("MoveIt .scene, the newer format with object poses and subframes"),
+            std::string::npos)
+      << name;
   EXPECT_NE(name.find("frame world, lengths in m"), std::string::npos) << name;
   ASSERT_EQ(objects.size(), 2u);
   const Expected cylinder = ExpectedOf(Models()[0]);
