@@ -101,6 +101,26 @@ Result<std::vector<std::string>> WriteFiles(const fs::path& folder,
   return written;
 }
 
+// Removes the textures of models no longer exported from FOLDER/STEM_textures/ (a removed
+// box's PNG), so the folder holds what the files name. Only files the exports name
+// (model_*.png) are touched.
+void PruneTextures(const fs::path& folder, const std::string& stem,
+                   const std::vector<ExportFile>& files) {
+  const fs::path textures = folder / (stem + "_textures");
+  std::error_code error;
+  if (!fs::is_directory(textures, error)) return;
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(textures, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("model_", 0) != 0 || entry.path().extension() != ".png") continue;
+    const std::string relative = stem + "_textures/" + name;
+    bool named = false;
+    for (const auto& f : files) named = named || f.name == relative;
+    if (!named) stale.push_back(entry.path());
+  }
+  for (const auto& path : stale) fs::remove(path, error);
+}
+
 }  // namespace
 
 Result<std::vector<ExportFile>> RenderExport(const std::vector<StoredModel>& models,
@@ -122,7 +142,12 @@ Result<std::vector<std::string>> WriteExport(const std::vector<StoredModel>& mod
   }
   auto files = RenderExport(models, format, options, path.filename().string());
   if (!files.ok()) return ErrorMessage{files.error()};
-  return WriteFiles(path.parent_path().empty() ? fs::path(".") : path.parent_path(), *files);
+  const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  auto written = WriteFiles(folder, *files);
+  if (written.ok() && (format == ExportFormat::kUrdf || format == ExportFormat::kObj)) {
+    PruneTextures(folder, path.stem().string(), *files);
+  }
+  return written;
 }
 
 Result<AllExportsReport> WriteAllExports(const std::vector<StoredModel>& models,
@@ -146,6 +171,7 @@ Result<AllExportsReport> WriteAllExports(const std::vector<StoredModel>& models,
     auto written = WriteFiles(folder, *files);
     if (!written.ok()) return ErrorMessage{written.error()};
     report.written.push_back(written->front());
+    if (format == ExportFormat::kUrdf) PruneTextures(folder, "models", *files);
   }
   return report;
 }

@@ -95,10 +95,16 @@ TEST(ExportCommand, ReadsBesideARunningSessionAndWatchesItsChanges) {
   EXPECT_TRUE(igms::testing::WaitFor("the new box in the export", [&] {
     return ReadFile(json).find("\"id\": 2,") != std::string::npos;
   }));
+  const std::string texture = dir.File("out/models_textures/model_2.png");
+  EXPECT_TRUE(fs::exists(texture));
   ASSERT_TRUE((*session)->RemoveModel(1).ok());
   EXPECT_TRUE(igms::testing::WaitFor("the removed cylinder gone from the export", [&] {
     return ReadFile(json).find("\"id\": 1,") == std::string::npos;
   }));
+  // A removed box takes its texture with it.
+  ASSERT_TRUE((*session)->RemoveModel(2).ok());
+  EXPECT_TRUE(igms::testing::WaitFor("the removed box's texture gone",
+                                     [&] { return !fs::exists(texture); }));
   EXPECT_EQ(watcher.Terminate(), 0) << watcher.Log();
   // The session went on writing throughout.
   EXPECT_TRUE((*session)->Undo().ok());
