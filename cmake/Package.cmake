@@ -9,14 +9,16 @@ set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_CONTACT "IGMS maintainers <igms-maintainers@lists.example.org>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Interactive Graphical Modelling System")
 set(CPACK_PACKAGE_DESCRIPTION
-    "An operator models a remote site from stereo video: marks four points around a pipe or\n\
-a block with a 3D pointer, ranger, viewer buttons and voice, and the vision system finds\n\
-its pose and size. Networked processes: video, object and sound servers, one daemon per\n\
-serial device (each also simulated) and the control client, started by systemd units\n\
-(igms@NAME.service) from one lab file, /etc/igms/lab.yaml.")
+    "An operator models a remote site from stereo video: marks four points around\n\
+a pipe or a block with a 3D pointer, ranger, viewer buttons and voice, and the\n\
+vision system finds its pose and size. Networked processes: video, object and\n\
+sound servers, one daemon per serial device (each also simulated) and the\n\
+control client, started by systemd units (igms@NAME.service) from one lab\n\
+file, /etc/igms/lab.yaml.")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 # Installed with DESTDIR and the real prefix, so the units and the lab file name /usr and /etc.
 set(CPACK_SET_DESTDIR ON)
+set(CPACK_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
