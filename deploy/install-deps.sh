@@ -41,13 +41,14 @@ PACKAGES=(
   systemd docker-compose dpkg-dev lintian
 )
 
-# What the installed programs load, and the data they read (the speech model).
+# What the installed programs load (each program's NEEDED entries, libc aside), and the
+# data they read (the speech model).
 RUNTIME_PACKAGES=(
   libstdc++6 libprotobuf32 libyaml-cpp0.7 libspdlog1.10 libfmt9
   libboost-program-options1.74.0
   libopencv-core406 libopencv-imgproc406 libopencv-imgcodecs406 libopencv-calib3d406
-  libopencv-videoio406 libopencv-highgui406
-  libglfw3 libgl1 libopenal1 libsndfile1 libsqlite3-0 libssl3
+  libopencv-videoio406
+  libopenal1 libsndfile1 libsqlite3-0 libssl3
   libpocketsphinx3 libsphinxbase3 pocketsphinx-en-us
   # the sound server's fallback device, and iproute2 for deploy/lab up --here
   procps iproute2

@@ -97,4 +97,15 @@ runtime=$("$SRC/deploy/install-deps.sh" --runtime --list)
 check "install-deps.sh --runtime lists packages" test -n "$runtime"
 dev=$(grep -E -- '-dev$|^(g\+\+|gcc|cpp|clang.*|cmake|ninja-build|make)$' <<<"$runtime" || true)
 check "the run-time packages hold no compiler or headers${dev:+: $dev}" test -z "$dev"
+# Every library the built programs load directly comes from a --runtime package (libc's
+# own and the compiler's support library are in every Debian system).
+needed=$(for f in "$BIN"/*; do readelf -d "$f" 2>/dev/null | sed -nE 's/.*\(NEEDED\).*\[(.*)\]/\1/p'; done |
+  sort -u | grep -vE '^(libc|libm|libgcc_s|ld-linux.*)\.so' || true)
+paths=$(ldconfig -p | awk -v want="$(tr '\n' ' ' <<<"$needed")" '
+  BEGIN { n = split(want, w, " "); for (i = 1; i <= n; i++) keep[w[i]] = 1 }
+  $1 in keep && /x86-64|x86_64/ && !seen[$1]++ { print $NF }')
+owners=$(for p in $paths; do readlink -f "$p"; done | xargs dpkg -S 2>/dev/null | cut -d: -f1 | sort -u)
+missing=$(comm -23 <(echo "$owners") <(sort <<<"$runtime") | tr '\n' ' ' | sed 's/ $//')
+check "the programs' libraries are all in install-deps.sh --runtime${missing:+ (missing: $missing)}" \
+  test -n "$owners" -a -z "$missing"
 finish
