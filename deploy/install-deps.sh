@@ -1,7 +1,21 @@
 #!/usr/bin/env bash
 # Installs exactly the Debian 12 packages that IGMS needs to build, test and run its demo.
 # Idempotent and quick when everything is present; uses sudo when not run as root.
+#
+#   deploy/install-deps.sh [--runtime] [--list]
+#   --runtime  only what the installed programs need to run: shared libraries and data, no
+#              compiler, no headers (the Dockerfile's run stage)
+#   --list     print the packages, one a line, and install nothing
 set -euo pipefail
+RUNTIME=0
+LIST=0
+for arg in "$@"; do
+  case "$arg" in
+    --runtime) RUNTIME=1 ;;
+    --list) LIST=1 ;;
+    *) echo "install-deps: unknown option '$arg' (--runtime, --list)" >&2; exit 2 ;;
+  esac
+done
 
 PACKAGES=(
   # toolchain
@@ -25,6 +39,21 @@ PACKAGES=(
   pulseaudio pulseaudio-utils
   # real consumers of igms export's files: check_urdf (URDF), assimp info (OBJ, STL, glTF)
   liburdfdom-tools assimp-utils
+  # deployment checks: units (systemd-analyze), compose files, the package (deploy/check-package.sh)
+  systemd docker-compose dpkg-dev lintian
+)
+
+# What the installed programs load (each program's NEEDED entries, libc aside), and the
+# data they read (the speech model).
+RUNTIME_PACKAGES=(
+  libstdc++6 libprotobuf32 libyaml-cpp0.7 libspdlog1.10 libfmt9
+  libboost-program-options1.74.0
+  libopencv-core406 libopencv-imgproc406 libopencv-imgcodecs406 libopencv-calib3d406
+  libopencv-videoio406
+  libopenal1 libsndfile1 libsqlite3-0 libssl3
+  libpocketsphinx3 libsphinxbase3 pocketsphinx-en-us
+  # the sound server's fallback device, and iproute2 for deploy/lab up --here
+  procps iproute2
 )
 
 # Node.js and npm run Khronos' glTF validator in the export tests (npm gltf-validator, into
@@ -32,6 +61,11 @@ PACKAGES=(
 # nodejs would conflict with it.
 if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
   PACKAGES+=(nodejs npm)
+fi
+if [ "$RUNTIME" = 1 ]; then PACKAGES=("${RUNTIME_PACKAGES[@]}"); fi
+if [ "$LIST" = 1 ]; then
+  printf '%s\n' "${PACKAGES[@]}"
+  exit 0
 fi
 
 missing=()

@@ -3,10 +3,13 @@
 //   igms config processes [--config FILE]    prints each process's name
 //   igms config dump [--config FILE]         prints the whole file as IGMS reads it
 //   igms config check [--config FILE]        checks the file for every process in it
+//   igms config table [--config FILE]        who runs where: name, program, host, port
+//                                            (port '-' for a client, such as the control)
 // FILE defaults to $IGMS_CONFIG. Exit status: 0 found (check: every process passed), 1 key
 // missing, 2 bad input (check: a process failed).
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -61,6 +64,33 @@ std::string CheckProcess(const igms::config::LabConfig& config, const std::strin
 
 // Every process's program checks its own keys; `lab`'s keys are checked here as well, so a
 // missing calibration file is named once even when no program can run.
+// One line per process, columns aligned, for people and for `read` in scripts.
+int Table(const igms::config::LabConfig& config) {
+  struct Row {
+    std::string name, program, host, port;
+  };
+  std::vector<Row> rows = {{"NAME", "PROGRAM", "HOST", "PORT"}};
+  for (const auto& name : config.ProcessNames()) {
+    const std::string key = "processes." + name + ".";
+    const bool serves = config.Find(key + "port").IsDefined();
+    rows.push_back({name, config.Get<std::string>(key + "program", "-"),
+                    serves ? config.Get<std::string>(key + "host", "127.0.0.1") : "-",
+                    serves ? std::to_string(config.Get<int>(key + "port")) : "-"});
+  }
+  std::size_t w[3] = {0, 0, 0};
+  for (const auto& r : rows) {
+    w[0] = std::max(w[0], r.name.size());
+    w[1] = std::max(w[1], r.program.size());
+    w[2] = std::max(w[2], r.host.size());
+  }
+  for (const auto& r : rows) {
+    std::cout << r.name << std::string(w[0] - r.name.size() + 2, ' ') << r.program
+              << std::string(w[1] - r.program.size() + 2, ' ') << r.host
+              << std::string(w[2] - r.host.size() + 2, ' ') << r.port << "\n";
+  }
+  return igms::kExitOk;
+}
+
 int Check(const igms::config::LabConfig& config, const std::string& file) {
   ::setenv("IGMS_LOG_TIMESTAMPS", "0", 1);
   bool ok = true;
@@ -100,8 +130,9 @@ int main(int argc, char** argv) {
     if (args[i] == "--config" && i + 1 < args.size()) {
       file = args[++i];
     } else if (args[i] == "-h" || args[i] == "--help") {
-      std::cout << "usage: igms config get KEY | processes | dump | check  [--config FILE]\n"
-                   "       igms config --version\n";
+      std::cout
+          << "usage: igms config get KEY | processes | table | dump | check  [--config FILE]\n"
+             "       igms config --version\n";
       return igms::kExitOk;
     } else if (args[i] == "--version") {
       std::cout << igms::version::Line("igms-config") << "\n";
@@ -111,7 +142,7 @@ int main(int argc, char** argv) {
     }
   }
   if (positional.empty()) {
-    std::cerr << "igms config: say what to do: get KEY, processes, dump or check\n";
+    std::cerr << "igms config: say what to do: get KEY, processes, table, dump or check\n";
     return igms::kExitUsage;
   }
   if (file.empty()) {
@@ -140,12 +171,13 @@ int main(int argc, char** argv) {
       for (const auto& name : config.ProcessNames()) std::cout << name << "\n";
       return igms::kExitOk;
     }
+    if (verb == "table") return Table(config);
     if (verb == "dump") {
       std::cout << config.Dump() << "\n";
       return igms::kExitOk;
     }
     if (verb == "check") return Check(config, std::filesystem::absolute(file).string());
-    std::cerr << "igms config: unknown command (get KEY, processes, dump, check)\n";
+    std::cerr << "igms config: unknown command (get KEY, processes, table, dump, check)\n";
     return igms::kExitUsage;
   } catch (const igms::config::ConfigError& e) {
     std::cerr << "igms config: " << e.what() << "\n";

@@ -133,7 +133,8 @@ const Keys& CommonKeys() {
     k.Add("program", KeyType::kString, "", "the program that runs this process");
     k.Add("host", KeyType::kString, "127.0.0.1", "where the others find this process");
     k.Add("port", KeyType::kInt, "", "the port it listens on (0: any free port)");
-    k.Add("bind", KeyType::kString, "127.0.0.1", "the address it listens on");
+    k.Add("bind", KeyType::kString, "",
+          "the address it listens on; default: its host's (where the others reach it)");
     k.Choice("log_level", levels, "", "this process's log level, over lab.log_level");
     return k;
   }();

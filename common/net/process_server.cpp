@@ -1,9 +1,13 @@
 #include "common/net/process_server.h"
 
+#include <netdb.h>
 #include <spdlog/spdlog.h>
+#include <sys/socket.h>
 
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
+#include <string>
 
 namespace igms::net {
 
@@ -17,10 +21,42 @@ const config::Keys& ServerKeys() {
   return keys;
 }
 
+namespace {
+
+// Where a server listens: its `bind`, else its `host`, the address the others reach it at
+// (a server whose host is another workstation's address and that listened on loopback could
+// not be reached). A host name (compose's service names, localhost) is resolved here.
+std::string ListenAddress(const config::ProcessOptions& process) {
+  const std::string bind = process.Get<std::string>("bind", "");
+  if (!bind.empty()) return bind;
+  const std::string host = process.Get<std::string>("host", "127.0.0.1");
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_NUMERICHOST;
+  addrinfo* found = nullptr;
+  if (::getaddrinfo(host.c_str(), nullptr, &hints, &found) == 0) {
+    ::freeaddrinfo(found);
+    return host;
+  }
+  hints.ai_flags = 0;
+  hints.ai_family = AF_INET;
+  if (::getaddrinfo(host.c_str(), nullptr, &hints, &found) != 0 || found == nullptr) {
+    throw std::runtime_error(process.name + ": cannot resolve its host '" + host +
+                             "' to listen on (set processes." + process.name + ".bind)");
+  }
+  char text[NI_MAXHOST] = {};
+  ::getnameinfo(found->ai_addr, found->ai_addrlen, text, sizeof text, nullptr, 0, NI_NUMERICHOST);
+  ::freeaddrinfo(found);
+  return text;
+}
+
+}  // namespace
+
 ServerOptions ServerOptionsFor(const config::ProcessOptions& process, std::uint16_t default_port) {
   ServerOptions options;
   options.name = process.name;
-  options.bind_address = process.BindAddress();
+  options.bind_address = ListenAddress(process);
   options.port = process.Port(default_port);
   options.token = process.Token();
   options.max_frame_bytes = process.Get<std::size_t>("max_frame_bytes", options.max_frame_bytes);

@@ -62,7 +62,8 @@ class DaemonBase {
                                          PtyHostOptions{options_.link.port, options_.link.baud});
         if (!sim_->Start(error)) return false;
       }
-      if (!StartDevice(options_.link, error)) return false;
+      // --sim-only: other software reads the simulator's link; the driver stays closed.
+      if (!options_.sim_only && !StartDevice(options_.link, error)) return false;
     }
     RegisterCommon();
     RegisterMethods(server_);
@@ -82,7 +83,7 @@ class DaemonBase {
 
   void Stop() {
     if (replayer_) replayer_->Stop();
-    StopDevice();
+    if (!options_.sim_only) StopDevice();
     server_.Stop();
     if (sim_) sim_->Stop();
   }
@@ -128,6 +129,10 @@ class DaemonBase {
             out.set_port(options_.replay_file);
             out.set_readings(hub_.published());
             out.set_message(replayer_->finished() ? "replay finished" : "replaying");
+          } else if (options_.sim_only) {
+            out.set_port(options_.link.port);
+            out.set_message("the simulator alone on " + options_.link.port +
+                            ": no driver reads it here");
           } else {
             out = DeviceStatus();
           }

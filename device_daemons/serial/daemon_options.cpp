@@ -47,6 +47,8 @@ void AddDaemonFlags(po::options_description* flags) {
                                                                      "baud rate (default 9600)")(
       "simulate", po::bool_switch(), "run the device's simulator on a pseudo-terminal")(
       "sim-port", po::value<std::string>(), "link path of the simulator's pseudo-terminal")(
+      "sim-only", po::bool_switch(),
+      "with --simulate: the simulator alone on its pseudo-terminal, for other software")(
       "replay", po::value<std::string>(), "publish readings from a recording")(
       "replay-speed", po::value<double>(),
       "replay at this many times the original rate; 0 = at once")(
@@ -88,6 +90,11 @@ bool ReadDaemonOptions(const config::ProcessOptions& p, const std::string& devic
                      ("igms-" + device + "-sim-" + std::to_string(::getpid())))
                         .string();
     }
+  }
+  o.sim_only = f.count("sim-only") && f["sim-only"].as<bool>();
+  if (o.sim_only && o.source != SourceKind::kSimulate) {
+    *error = "--sim-only runs the simulator alone: it needs --simulate";
+    return false;
   }
   o.replay_file = replay;
   o.replay_speed =

@@ -5,6 +5,8 @@
 //   --simulate                  the daemon starts its own simulator on a pseudo-terminal
 //                               (processes.NAME.serial: simulate); --sim-port PATH names
 //                               the pseudo-terminal's link (default: a fresh temporary one)
+//   --sim-only                  with --simulate: the simulator alone, for other software on
+//                               the link (`igms sim`); no driver reads it, SimService serves
 //   --replay FILE               readings from a recording (processes.NAME.replay), at
 //                               --replay-speed times the original rate (0 = at once),
 //                               --loop to repeat
@@ -32,6 +34,7 @@ struct DaemonOptions {
   double replay_speed = 1.0;
   bool loop = false;
   std::string record_file;
+  bool sim_only = false;  // the simulator alone on its pseudo-terminal (igms sim)
   bool Check(std::string* error) const;
 };
 

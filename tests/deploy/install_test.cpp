@@ -7,8 +7,11 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -75,6 +78,7 @@ class Installed : public ::testing::Test {
 
   static fs::path Prefix() { return prefix_->path(); }
   static fs::path Bin() { return Prefix() / IGMS_INSTALL_BINDIR; }
+  static fs::path Units() { return Prefix() / IGMS_SYSTEMD_UNIT_DIR; }
   static std::string Lab() {
     return (Prefix() / IGMS_INSTALL_SYSCONFDIR / "igms/lab.yaml").string();
   }
@@ -158,6 +162,56 @@ TEST_F(Installed, EveryInstalledProgramPrintsItsVersion) {
     ++programs;
   }
   EXPECT_GE(programs, 15);
+}
+
+std::string ReadAll(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+bool HaveSystemdAnalyze() { return RunShell("command -v systemd-analyze >/dev/null").status == 0; }
+
+// The units are written when installing: they name this prefix's igms and lab file, wherever
+// the build was configured to install.
+TEST_F(Installed, TheUnitsNameTheInstalledProgramsAndLabFile) {
+  const std::string unit = ReadAll(Units() / "igms@.service");
+  ASSERT_FALSE(unit.empty()) << "no unit " << Units() / "igms@.service";
+  EXPECT_NE(unit.find("\nExecStart=" + (Bin() / "igms").string() + " run %i\n"), std::string::npos)
+      << unit;
+  EXPECT_NE(unit.find("\nEnvironment=IGMS_CONFIG=" + Lab() + "\n"), std::string::npos) << unit;
+  EXPECT_TRUE(fs::is_regular_file(Units() / "igms.target"));
+  // Enabling one instance enables the target that starts them at boot.
+  EXPECT_NE(unit.find("\nAlso=igms.target\n"), std::string::npos);
+  EXPECT_NE(ReadAll(Units() / "igms.target").find("WantedBy=multi-user.target"), std::string::npos);
+  EXPECT_TRUE(fs::is_regular_file(Units() / "igms@video.service.d/devices.conf"));
+}
+
+// systemd-analyze verify on every process's instance, drop-ins included. systemd 252 exits 0
+// on an unknown key, so any output at all is a failure.
+TEST_F(Installed, EveryInstanceVerifies) {
+  if (!HaveSystemdAnalyze()) GTEST_SKIP() << "no systemd-analyze";
+  for (const auto& p : config::ports::kLabPorts) {
+    const fs::path unit = Units() / ("igms@" + std::string(p.process) + ".service");
+    const auto run = RunShell("systemd-analyze verify '" + unit.string() + "' 2>&1");
+    EXPECT_EQ(run.status, 0) << unit << ":\n" << run.out;
+    EXPECT_EQ(run.out, "") << unit << ":\n" << run.out;
+  }
+}
+
+// Exposure under 3.0 on every instance (systemd-analyze security: 0 best, 10 worst).
+TEST_F(Installed, EveryInstanceIsHardened) {
+  if (!HaveSystemdAnalyze()) GTEST_SKIP() << "no systemd-analyze";
+  const std::regex overall("Overall exposure level for [^:]+: ([0-9.]+)");
+  for (const auto& p : config::ports::kLabPorts) {
+    const fs::path unit = Units() / ("igms@" + std::string(p.process) + ".service");
+    const auto run =
+        RunShell("systemd-analyze security --offline=true --no-pager '" + unit.string() + "' 2>&1");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(run.out, m, overall)) << unit << ":\n" << run.out;
+    const double exposure = std::stod(m[1]);
+    std::cout << "igms@" << p.process << ".service exposure " << exposure << "\n";
+    EXPECT_LT(exposure, 3.0) << unit << ":\n" << run.out;
+  }
 }
 
 }  // namespace
