@@ -28,6 +28,18 @@ for ns in $(ip netns list | awk '{ print $1 }' | grep "^$PREFIX-" || true); do
   kill -0 "$pid" 2>/dev/null || { ip netns pids "$ns" | xargs -r kill -KILL; ip netns del "$ns"; }
 done
 
+# Root is not always enough: a container may forbid namespaces. Then say so and skip, as
+# without root; IGMS_REQUIRE_NETNS=1 makes it a failure (a machine that must run it).
+if ! probe=$(ip netns add "$RUNID-probe" 2>&1); then
+  if [ "${IGMS_REQUIRE_NETNS:-}" = 1 ]; then
+    fail "cannot make a network namespace: $probe"
+    finish
+  fi
+  note "SKIPPED: this machine does not allow network namespaces: $probe"
+  exit 0
+fi
+ip netns del "$RUNID-probe"
+
 NAMESPACES=()
 remove_namespaces() {
   local ns
