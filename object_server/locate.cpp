@@ -46,6 +46,8 @@ const char* FailureName(Failure f) {
       return "left_right_inconsistent";
     case Failure::kFitFailed:
       return "fit_failed";
+    case Failure::kOccluded:
+      return "occluded";
   }
   return "unknown";
 }

@@ -51,6 +51,8 @@ enum class Failure {
   kMatchOverThreshold = 7,     // the right image has no match for the object within the depth range
   kLeftRightInconsistent = 8,  // the fitted model does not explain one of the two images
   kFitFailed = 9,              // the model fit diverged or gave an impossible solid
+  // 10 is the server's FAILURE_FRAME_UNAVAILABLE.
+  kOccluded = 11,  // the object's outline is mostly hidden: by another object or the frame
 };
 const char* FailureName(Failure f);
 
