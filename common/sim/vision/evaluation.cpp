@@ -16,6 +16,8 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
                                             uint64_t mark_seed, const LocateOptions& options,
                                             const std::string& debug_dir) {
   const site::StereoImages images = site::RenderStereo(scene);
+  const std::vector<double> seen_left = site::VisibleFractions(scene, scene.cameras.left);
+  const std::vector<double> seen_right = site::VisibleFractions(scene, scene.cameras.right);
   std::vector<ObjectEvaluation> out;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const auto& object = scene.objects[i];
@@ -27,6 +29,7 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
     ObjectEvaluation e;
     e.scene_name = scene_name;
     e.object_name = object.name;
+    e.visible = std::min(seen_left[i], seen_right[i]);
     LocateInput in;
     in.type = cyl ? SolidType::kCylinder : SolidType::kBox;
     in.marks = *marks;
@@ -77,9 +80,20 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
         }
       }
     }
+    e.wrong = e.result.found && WrongModel(e);
     out.push_back(e);
   }
   return out;
+}
+
+bool WrongModel(const ObjectEvaluation& e) {
+  if (!e.result.found) return false;
+  if (e.position_error > 1.0) return true;
+  if (e.kind == "box") return e.size_error.maxCoeff() > 0.5;
+  if (e.radius_error > 0.15) return true;
+  if (e.kind == "lying")
+    return e.height_error > 0.5 && e.height_error > 3 * e.result.cylinder.height_sigma;
+  return e.height_error > 0.5;
 }
 
 Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& which) {
@@ -90,6 +104,15 @@ Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& w
     if (!which.empty() && e.kind != which) continue;
     ++s.count;
     time.push_back(e.result.elapsed_ms);
+    if (e.visible >= kFullView) {
+      ++s.full;
+      s.full_found += e.result.found;
+      s.full_wrong += e.wrong;
+    } else {
+      ++s.hidden;
+      s.hidden_refused += !e.result.found;
+      s.hidden_wrong += e.wrong;
+    }
     if (!e.result.found) continue;
     ++s.found;
     position.push_back(e.position_error);
@@ -108,6 +131,7 @@ Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& w
     }
   }
   s.found_rate = s.count ? double(s.found) / s.count : 0;
+  s.full_found_rate = s.full ? double(s.full_found) / s.full : 0;
   s.radius_median = stats::Percentile(radius, 0.5);
   s.radius_p90 = stats::Percentile(radius, 0.9);
   s.height_median = stats::Percentile(height, 0.5);
