@@ -65,14 +65,19 @@ struct LocateOptions {
   double edge_fraction = 0.35;       // boundary edges: gradient above this share of the max
   double min_edge_gradient = 6.0;    // ... and above this, grey levels per pixel
   double min_boundary_share = 0.25;  // boundary pixels / marked region perimeter, at least
-  double max_ssd_rms = 45.0;         // grey levels: worse SSD matches are rejected (a slanted
-                                     // object's whole patch differs between views)
+  // The right-image match is accepted when its zero-mean normalised cross-correlation
+  // reaches this: a measure of the images' own contrast and noise, where a fixed grey-level
+  // SSD limit refuses dark, noisy or differently lit objects and accepts bare bright ones.
+  double min_match_zncc = 0.5;
   double boundary_grow_px = 4.0;     // the marked region is grown by this for the boundary
   double search_px = 6.0;            // edge search either side of the predicted outline
   int outer_iterations = 5;          // re-measure edges this many times
   int inner_iterations = 6;          // Levenberg-Marquardt steps per measurement
   double max_rms_px = 0.8;           // consistency: per-image RMS residual, pixels
   double min_inlier_share = 0.6;     // consistency: share of outline samples with an edge
+                                     // (of those that should show one)
+  double min_contrast_share = 0.5;   // occluded: less of the outline shows a step
+  double max_outside_share = 0.2;    // occluded: more of the outline is beyond the image
   bool box_inner_edges = true;       // fit a box's edges between seen faces too, not only
                                      // its silhouette
   bool cylinder_inner_edges = true;  // fit the rim of a seen end cap against the side too
@@ -155,6 +160,7 @@ struct LocateResult {
   // What was used.
   int boundary_pixels = 0;  // strong edge pixels inside the marked region
   double ssd_rms = 0;       // grey levels, the right-image match
+  double match_zncc = 0;    // its normalised cross-correlation
   int outline_samples = 0;  // edge measurements in the final fit (both images)
   double rms_left_px = 0, rms_right_px = 0;
   double elapsed_ms = 0;

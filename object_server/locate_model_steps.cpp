@@ -55,7 +55,7 @@ std::optional<Eigen::VectorXd> TiltedCylinderStart(
     if (!ea || !eb) return std::nullopt;
     const SsdMatch m =
         MatchAlongSegment(pair.left, pair.right, end_patch & image_rect, *ea - pc, *eb - pc);
-    const auto xe = m.ok && m.rms <= options.max_ssd_rms
+    const auto xe = m.ok && m.zncc >= options.min_match_zncc
                         ? TriangulateMidpoint(left_camera, pc, *pair.right_camera, pc + m.offset)
                         : std::nullopt;
     if (!xe) return std::nullopt;
@@ -237,10 +237,129 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
   return f;
 }
 
-std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options) {
+OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline,
+                                     const cv::Mat& image, const Gradients& gradients,
+                                     const FitOptions& fit) {
+  OutlineSupport out;
+  const int n = static_cast<int>(outline.size());
+  if (n < 3 || image.empty()) return out;
+  double area = 0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d& a = outline[i];
+    const Eigen::Vector2d& b = outline[(i + 1) % n];
+    area += a.x() * b.y() - a.y() * b.x();
+  }
+  const double orient = area >= 0 ? 1.0 : -1.0;
+  // The image's noise near the outline: the median absolute difference of horizontal
+  // neighbours (edges are too few to move the median), over sqrt(2) for the difference.
+  cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>(
+      1, cv::Point2f(static_cast<float>(outline[0].x()), static_cast<float>(outline[0].y()))));
+  for (const auto& p : outline)
+    box |= cv::Rect(static_cast<int>(std::floor(p.x())), static_cast<int>(std::floor(p.y())), 2, 2);
+  box = GrowRect(box, 6, cv::Rect(0, 0, image.cols, image.rows));
+  std::vector<int> diffs;
+  for (int y = box.y; y < box.y + box.height; ++y) {
+    const uint8_t* row = image.ptr<uint8_t>(y);
+    for (int x = box.x; x + 1 < box.x + box.width; ++x)
+      diffs.push_back(std::abs(row[x + 1] - row[x]));
+  }
+  if (!diffs.empty()) {
+    std::nth_element(diffs.begin(), diffs.begin() + diffs.size() / 2, diffs.end());
+    out.noise_sigma = 1.4826 * diffs[diffs.size() / 2] / std::sqrt(2.0);
+  }
+  auto grey = [&](const Eigen::Vector2d& p) {
+    const double x = std::clamp(p.x(), 0.0, image.cols - 1.001);
+    const double y = std::clamp(p.y(), 0.0, image.rows - 1.001);
+    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+    const double fx = x - x0, fy = y - y0;
+    const auto at = [&](int yy, int xx) { return static_cast<double>(image.at<uint8_t>(yy, xx)); };
+    return (1 - fy) * ((1 - fx) * at(y0, x0) + fx * at(y0, x0 + 1)) +
+           fy * ((1 - fx) * at(y0 + 1, x0) + fx * at(y0 + 1, x0 + 1));
+  };
+  // A step of c grey levels blurred by edge_blur_px peaks at c / (sqrt(2 pi) blur) per pixel:
+  // the detector (min_gradient) sees steps of at least this. The means either side are of 6
+  // samples each, so their difference has noise sigma * sqrt(2 / 6).
+  const double blur = std::max(0.8, fit.edge_blur_px);
+  const double min_step = std::max({1.2 * std::sqrt(2 * M_PI) * blur * fit.min_gradient,
+                                    4.0 * out.noise_sigma * std::sqrt(2.0 / 6.0), 4.0});
+  // Sharp corners (a box's, a pipe's ends seen side on): the edge there is blurred round, so
+  // samples within 2 px of a vertex turning by over 30 degrees are left out.
+  std::vector<bool> sharp(n, false);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d in = outline[i] - outline[(i + n - 1) % n];
+    const Eigen::Vector2d on = outline[(i + 1) % n] - outline[i];
+    if (in.norm() > 1e-9 && on.norm() > 1e-9)
+      sharp[i] = in.normalized().dot(on.normalized()) < std::cos(30 * M_PI / 180);
+  }
+  auto inside = [&](const Eigen::Vector2d& q) {
+    return q.x() >= 0 && q.y() >= 0 && q.x() <= image.cols - 1 && q.y() <= image.rows - 1;
+  };
+  double carry = 0;  // arc length from the last sample
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d a = outline[i], b = outline[(i + 1) % n];
+    const double len = (b - a).norm();
+    if (len < 1e-9) continue;
+    const Eigen::Vector2d dir = (b - a) / len;
+    const Eigen::Vector2d normal = orient * Eigen::Vector2d(dir.y(), -dir.x());
+    double t = 1.0 - carry;
+    for (; t <= len; t += 1.0) {
+      if ((sharp[i] && t < 2.0) || (sharp[(i + 1) % n] && t > len - 2.0)) continue;
+      const Eigen::Vector2d p = a + t * dir;
+      ++out.samples;
+      if (!inside(p + 4 * normal) || !inside(p - 4 * normal)) {
+        ++out.outside;
+        continue;
+      }
+      double in_sum = 0, out_sum = 0;
+      for (const double d : {2.5, 3.5})
+        for (const double w : {-1.0, 0.0, 1.0}) {
+          in_sum += grey(p - d * normal + w * dir);
+          out_sum += grey(p + d * normal + w * dir);
+        }
+      if (std::abs(in_sum - out_sum) / 6 < min_step) continue;
+      ++out.contrasted;
+      double s;
+      if (EdgeAlongNormal(gradients, p, normal, 2.5, fit.min_gradient, &s) && std::abs(s) <= 1.5)
+        ++out.edged;
+    }
+    carry = len - (t - 1.0);
+  }
+  return out;
+}
+
+std::optional<StepFailure> CheckOutlineVisible(const std::array<OutlineSupport, 2>& support,
+                                               const LocateOptions& options) {
+  for (int v = 0; v < 2; ++v) {
+    const OutlineSupport& s = support[v];
+    const std::string name = v == 0 ? "left" : "right";
+    if (s.samples == 0) continue;
+    const double outside = double(s.outside) / s.samples;
+    if (outside > options.max_outside_share)
+      return StepFailure{Failure::kOccluded, FormatFixed(100 * outside, 0) +
+                                                 "% of the fitted outline lies beyond the " + name +
+                                                 " image's edge: only part of the "
+                                                 "object is in view"};
+    const int inside = s.samples - s.outside;
+    const double contrasted = inside ? double(s.contrasted) / inside : 0.0;
+    if (contrasted < options.min_contrast_share)
+      return StepFailure{Failure::kOccluded,
+                         "only " + FormatFixed(100 * contrasted, 0) +
+                             "% of the fitted outline stands out from what lies behind it in "
+                             "the " +
+                             name +
+                             " image: an object in front hides the rest, or it has the shade "
+                             "of its background"};
+  }
+  return std::nullopt;
+}
+
+std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options,
+                                          const std::array<OutlineSupport, 2>* support) {
   for (int v = 0; v < 2; ++v) {
     const char* name = v == 0 ? "left" : "right";
-    const double share = fit.sampled[v] ? double(fit.used[v]) / fit.sampled[v] : 0.0;
+    double share = fit.sampled[v] ? double(fit.used[v]) / fit.sampled[v] : 0.0;
+    if (support && (*support)[v].contrasted > 0)
+      share = double((*support)[v].edged) / (*support)[v].contrasted;
     if (share < options.min_inlier_share)
       return StepFailure{Failure::kLeftRightInconsistent,
                          std::string("only ") + FormatFixed(100 * share, 0) +

@@ -137,8 +137,8 @@ StepResult<SsdMatch> MatchObject(const StereoPair& pair, const DepthSearch& sear
 SsdMatch NarrowByRange(const LocateInput& in, const StereoPair& pair, const DepthSearch& search,
                        const Boundary& boundary, double mark_depth, const SsdMatch& match,
                        const LocateOptions& options, RangeCheck* check);
-// Fails (match over threshold) when the match differs by more than max_ssd_rms grey levels
-// RMS.
+// Fails (match over threshold) when the match's normalised cross-correlation is under
+// min_match_zncc.
 std::optional<StepFailure> CheckMatch(const SsdMatch& match, const LocateOptions& options);
 // Midpoint triangulation of a left and a right pixel, or nullopt when their rays are
 // parallel.
@@ -193,9 +193,33 @@ FitOutcome FitCylinder(const std::vector<Eigen::VectorXd>& starts,
 FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<FitView, 2>& views,
                   const FitOptions& fit, const LocateOptions& options);
 
-// 5. Fails (left-right inconsistent) when either image has too few outline samples on an
-// edge or a too large RMS residual: background edges picked up in one view only.
-std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options);
+// 5. Which parts of the fitted outline should show an edge, per view: sampled every pixel
+// along it (away from its corners), a sample counts when it lies inside the image and the
+// grey levels either side of it differ enough for the fit's edge detector to see a step
+// there (against the image's own noise, estimated from it). Of those, how many have an edge
+// within a pixel and a half. Parts hidden by an object in front (its surface runs across
+// the outline) and parts against a background of the object's own shade show no step and do
+// not count against the fit.
+struct OutlineSupport {
+  int samples = 0;         // along the outline
+  int outside = 0;         // beyond the image's edge
+  int contrasted = 0;      // inside, with a step the detector can see
+  int edged = 0;           // of those, with an edge on the outline
+  double noise_sigma = 0;  // the image's noise near the object, grey levels
+};
+OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline,
+                                     const cv::Mat& image, const Gradients& gradients,
+                                     const FitOptions& fit);
+// Fails (occluded) when more than max_outside_share of either view's outline lies beyond the
+// image or less than min_contrast_share of it shows a step (something in front hides it, or
+// it blends into what lies behind): the model would rest on a part of the object.
+std::optional<StepFailure> CheckOutlineVisible(const std::array<OutlineSupport, 2>& support,
+                                               const LocateOptions& options);
+// Fails (left-right inconsistent) when either image has too few outline samples on an
+// edge or a too large RMS residual: background edges picked up in one view only. With the
+// outline's support, the share is of the samples that should show an edge.
+std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options,
+                                          const std::array<OutlineSupport, 2>* support = nullptr);
 
 // The result from the fit's parameters, with one standard deviation from its covariance. A
 // cylinder's axis points up (along +x when level); it is left as the default when the

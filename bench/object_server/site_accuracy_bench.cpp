@@ -57,6 +57,20 @@ void PrintTable(const std::vector<ObjectEvaluation>& all) {
       t.hidden_wrong);
 }
 
+void PrintNothing(const std::vector<igms::object::NothingThereEvaluation>& all) {
+  std::printf("  nothing there, reported found:");
+  for (const char* what : {"bare", "gap", "wrong_type"}) {
+    int n = 0, found = 0;
+    for (const auto& e : all)
+      if (e.what == what) {
+        ++n;
+        found += e.result.found;
+      }
+    std::printf(" %s %d of %d;", what, found, n);
+  }
+  std::printf("\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,6 +86,7 @@ int main(int argc, char** argv) {
   std::printf("(full: at least %.0f%% visible in both images; hid: partly hidden or out of view)\n",
               100 * igms::object::kFullView);
   std::vector<ObjectEvaluation> everything;
+  std::vector<igms::object::NothingThereEvaluation> everything_nothing;
   for (const auto& camera : cameras) {
     for (const auto& level_name : levels) {
       igms::site::SiteLevel level = igms::site::SiteLevel::kPipes;
@@ -80,6 +95,7 @@ int main(int argc, char** argv) {
         if (level_name == igms::site::SiteLevelName(l)) level = l;
       const bool hd = camera == "hd";
       std::vector<ObjectEvaluation> all;
+      std::vector<igms::object::NothingThereEvaluation> nothing;
       timespec c0, c1;
       clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
       for (int s = 0; s < scenes; ++s) {
@@ -103,16 +119,24 @@ int main(int argc, char** argv) {
                                      .c_str());
           all.push_back(e);
         }
+        for (const auto& n : igms::object::EvaluateNothingThere(scene, name, first + s, 2)) {
+          if (verbose && n.result.found)
+            std::printf("%-18s nothing there (%s) reported found\n", name.c_str(), n.what.c_str());
+          nothing.push_back(n);
+        }
       }
       clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c1);
       const double cpu_s = (c1.tv_sec - c0.tv_sec) + (c1.tv_nsec - c0.tv_nsec) * 1e-9;
       std::printf("\nlevel %s, %s cameras (%zu objects, %.0f s CPU):\n", level_name.c_str(),
                   camera.c_str(), all.size(), cpu_s);
       PrintTable(all);
+      PrintNothing(nothing);
+      everything_nothing.insert(everything_nothing.end(), nothing.begin(), nothing.end());
       everything.insert(everything.end(), all.begin(), all.end());
     }
   }
   std::printf("\nevery level:\n");
   PrintTable(everything);
+  PrintNothing(everything_nothing);
   return 0;
 }

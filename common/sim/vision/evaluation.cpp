@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
+#include <random>
 
 #include "common/sim/marks.h"
 #include "common/sim/renderer.h"
+#include "common/sim/testbed.h"
 #include "common/stats/percentile.h"
 #include "object_server/debug_image.h"
 #include "object_server/solid_models.h"
@@ -82,6 +84,71 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
     }
     e.wrong = e.result.found && WrongModel(e);
     out.push_back(e);
+  }
+  return out;
+}
+
+std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scene,
+                                                         const std::string& scene_name,
+                                                         uint64_t seed, int count,
+                                                         const LocateOptions& options) {
+  const site::StereoImages images = site::RenderStereo(scene);
+  const std::vector<double> seen_left = site::VisibleFractions(scene, scene.cameras.left);
+  const std::vector<double> seen_right = site::VisibleFractions(scene, scene.cameras.right);
+  std::vector<NothingThereEvaluation> out;
+  auto locate = [&](SolidType type, const site::Marks& marks) {
+    LocateInput in;
+    in.type = type;
+    in.marks = marks;
+    in.left = images.left;
+    in.right = images.right;
+    in.left_camera = scene.cameras.left;
+    in.right_camera = scene.cameras.right;
+    return Locate(in, options);
+  };
+  struct Rect {
+    double u0, v0, u1, v1;
+  };
+  std::vector<Rect> rects;
+  for (const auto& o : scene.objects) {
+    Rect r;
+    if (site::ImageBounds(o.shape, scene.cameras.left, r.u0, r.v0, r.u1, r.v1)) rects.push_back(r);
+  }
+  std::mt19937_64 rng(seed * 31 + 7);
+  auto uni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  const Eigen::Vector3d eye = scene.cameras.left.Center();
+  const auto size = scene.cameras.left.image_size();
+  for (int made = 0, attempt = 0; made < count && attempt < 500; ++attempt) {
+    const double dist = uni(36, 96);
+    site::Box phantom;
+    phantom.size = {uni(1, 4), uni(1, 4), uni(1, 4)};
+    phantom.center = {eye.x() + uni(-0.22, 0.22) * dist, eye.y() - dist, phantom.size.z() / 2};
+    Rect r;
+    if (!site::ImageBounds(phantom, scene.cameras.left, r.u0, r.v0, r.u1, r.v1)) continue;
+    if (r.u0 < 20 || r.v0 < 20 || r.u1 > size.width - 20 || r.v1 > size.height - 20) continue;
+    double nearest = 1e18;
+    for (const auto& o : rects) {
+      const double dx = std::max({0.0, o.u0 - r.u1, r.u0 - o.u1});
+      const double dy = std::max({0.0, o.v0 - r.v1, r.v0 - o.v1});
+      nearest = std::min(nearest, std::hypot(dx, dy));
+    }
+    // The marks lie up to 1 in outside the silhouette: keep them clear of every object.
+    if (nearest < 16) continue;
+    const auto marks = site::GenerateMarks(phantom, scene.cameras.left, seed * 1000 + 500 + made);
+    if (!marks) continue;
+    ++made;
+    const SolidType type = made % 2 ? SolidType::kCylinder : SolidType::kBox;
+    out.push_back({scene_name, nearest < 30 ? "gap" : "bare", locate(type, *marks)});
+  }
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const auto& object = scene.objects[i];
+    const bool cylinder = std::holds_alternative<site::Cylinder>(object.shape);
+    if (!cylinder && !std::holds_alternative<site::Box>(object.shape)) continue;
+    if (std::min(seen_left[i], seen_right[i]) < kFullView) continue;
+    const auto marks = site::GenerateMarks(object.shape, scene.cameras.left, seed * 1000 + i);
+    if (!marks) continue;
+    out.push_back({scene_name, "wrong_type",
+                   locate(cylinder ? SolidType::kBox : SolidType::kCylinder, *marks)});
   }
   return out;
 }

@@ -53,6 +53,22 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
                                             uint64_t mark_seed, const LocateOptions& options = {},
                                             const std::string& debug_dir = "");
 
+// Requests with nothing to find (the "nothing there"): marks around bare table, marks
+// around a gap between objects, and each object in full view asked for as the other type (a
+// cylinder called a box, a box called a cylinder). Every one should be refused.
+struct NothingThereEvaluation {
+  std::string scene_name;
+  std::string what;  // "bare", "gap" or "wrong_type"
+  LocateResult result;
+};
+// `count` bare-or-gap requests (marks around a phantom block 1-4 in wide whose silhouette
+// clears every object's by 16 px or more, "gap" when an object lies within 30 px), and the
+// wrong-type requests.
+std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scene,
+                                                         const std::string& scene_name,
+                                                         uint64_t seed, int count,
+                                                         const LocateOptions& options = {});
+
 struct Summary {
   int count = 0, found = 0;
   // In full view (visible >= kFullView): how many, found, found wrong. Partly hidden: how
