@@ -134,7 +134,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                                         FitView{&in.right_camera, &grad_right}};
   const bool cylinder = in.type == SolidType::kCylinder;
   const std::vector<Eigen::VectorXd> starts =
-      cylinder ? CylinderStarts(*pair, boundary.pixels, depth0, search, opt)
+      cylinder ? CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left)
                : BoxStarts(in.left_camera, boundary.pixels, depth0);
   const Eigen::VectorXd& x0 = starts[0];
   spdlog::debug(
@@ -169,6 +169,24 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                 support[1].outside, support[1].contrasted, support[1].edged);
   if (const auto failure = CheckOutlineVisible(support, opt)) return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);
+
+  // The other type, when this one explains the images only fairly.
+  if (FitScore(f) > opt.other_type_score) {
+    const std::vector<Eigen::VectorXd> other_starts =
+        cylinder ? BoxStarts(in.left_camera, boundary.pixels, depth0)
+                 : CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left);
+    const FitOutcome other = cylinder ? FitBox(other_starts, views, fit, opt)
+                                      : FitCylinder(other_starts, views, fit, opt);
+    spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
+                  FitScore(f));
+    if (other.ok && !CheckBothViews(other, opt) &&
+        opt.other_type_ratio * FitScore(other) < FitScore(f))
+      return fail({Failure::kFitFailed, std::string("a ") + (cylinder ? "box" : "cylinder") +
+                                            " explains the outline much better (score " +
+                                            FormatFixed(FitScore(other)) + " against " +
+                                            FormatFixed(FitScore(f)) + "): is the object a " +
+                                            (cylinder ? "box" : "cylinder") + "?"});
+  }
 
   // The result.
   if (cylinder) {

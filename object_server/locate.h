@@ -83,6 +83,11 @@ struct LocateOptions {
   bool cylinder_inner_edges = true;  // fit the rim of a seen end cap against the side too
   double box_turn_rms_px = 0.1;      // a world-aligned box fitting worse than this (mean
                                      // RMS of the views) is tried turned about the vertical
+  // A fit scoring worse than this (FitScore: the views' RMS residuals plus twice the share of
+  // outline without an edge) is held against the other type's: refused when that explains
+  // the images at least `other_type_ratio` times better (a box called a cylinder).
+  double other_type_score = 0.5;
+  double other_type_ratio = 2.0;
   double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)
   double ranger_accuracy = 0.5;      // world units: the range's own error
   // False, with what is wrong in *error, when invalid.

@@ -83,37 +83,98 @@ bool IsSolid(const FitOutcome& o) {
 
 }  // namespace
 
+namespace {
+
+// The boundary pixels whose gradient lies within 20 degrees of the boundary's dominant
+// orientation (a histogram of gradient angles modulo 180, weighted by magnitude): a pipe's
+// two limbs, without the vertical edges of the blocks it rests on. Empty when under half
+// the boundary or no orientation dominates.
+std::vector<cv::Point> LimbPixels(const std::vector<cv::Point>& boundary,
+                                  const Gradients& gradients) {
+  constexpr int kBins = 36;
+  std::array<double, kBins> hist{};
+  std::vector<double> angle(boundary.size());
+  double total = 0;
+  for (size_t i = 0; i < boundary.size(); ++i) {
+    const Eigen::Vector2d g = gradients.At(Eigen::Vector2d(boundary[i].x, boundary[i].y));
+    double a = std::atan2(g.y(), g.x());
+    if (a < 0) a += M_PI;
+    if (a >= M_PI) a -= M_PI;
+    angle[i] = a;
+    const double m = g.norm();
+    hist[static_cast<int>(a / M_PI * kBins) % kBins] += m;
+    total += m;
+  }
+  int best = 0;
+  double best_sum = -1;
+  for (int b = 0; b < kBins; ++b) {
+    const double sum = hist[(b + kBins - 1) % kBins] + hist[b] + hist[(b + 1) % kBins];
+    if (sum > best_sum) {
+      best_sum = sum;
+      best = b;
+    }
+  }
+  if (best_sum < 0.3 * total) return {};
+  const double dominant = (best + 0.5) * M_PI / kBins;
+  std::vector<cv::Point> out;
+  for (size_t i = 0; i < boundary.size(); ++i) {
+    double d = std::abs(angle[i] - dominant);
+    d = std::min(d, M_PI - d);
+    if (d < 20 * M_PI / 180) out.push_back(boundary[i]);
+  }
+  if (out.size() < boundary.size() / 2) return {};
+  return out;
+}
+
+}  // namespace
+
 std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
                                             const std::vector<cv::Point>& boundary, double depth,
-                                            const DepthSearch& search,
-                                            const LocateOptions& options) {
+                                            const DepthSearch& search, const LocateOptions& options,
+                                            const Gradients* gradients) {
   const geometry::ProjectiveCamera& left_camera = *pair.left_camera;
-  const std::vector<cv::Point2f> points(boundary.begin(), boundary.end());
-  const cv::RotatedRect rr = cv::minAreaRect(points);
-  cv::Point2f c[4];
-  rr.points(c);
-  Eigen::Vector2d e01(c[1].x - c[0].x, c[1].y - c[0].y), e12(c[2].x - c[1].x, c[2].y - c[1].y);
-  if (e01.norm() < e12.norm()) std::swap(e01, e12);
-  const Eigen::Vector2d along = e01.normalized(), across = e12.normalized();
-  const double half_len = std::max(1.0, 0.5 * e01.norm() - 1.0);
-  const double half_width = std::max(0.5, 0.5 * e12.norm() - 1.0);
-  const Eigen::Vector2d mid(rr.center.x, rr.center.y);
-  const double radius = 0.5 * (PointOnPixelRay(left_camera, mid + half_width * across, depth) -
-                               PointOnPixelRay(left_camera, mid - half_width * across, depth))
-                                  .norm();
-  const double axis_depth = depth + radius;
-  Eigen::VectorXd x0(7);
-  x0.segment<3>(0) =
-      PointOnPixelRay(left_camera, mid - (half_len - 0.5 * half_width) * along, axis_depth);
-  x0.segment<3>(3) =
-      PointOnPixelRay(left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
-  x0[6] = radius;
-  std::vector<Eigen::VectorXd> starts = {x0};
-  const auto tilted = TiltedCylinderStart(pair, search, x0, mid, along, half_len, half_width, depth,
-                                          radius, options);
-  if (tilted && std::abs(left_camera.Depth(tilted->segment<3>(0)) -
-                         left_camera.Depth(tilted->segment<3>(3))) > radius)
-    starts.push_back(*tilted);
+  std::vector<Eigen::VectorXd> starts;
+  auto from_points = [&](const std::vector<cv::Point>& pixels, bool tilted_too) {
+    const std::vector<cv::Point2f> points(pixels.begin(), pixels.end());
+    const cv::RotatedRect rr = cv::minAreaRect(points);
+    cv::Point2f c[4];
+    rr.points(c);
+    Eigen::Vector2d e01(c[1].x - c[0].x, c[1].y - c[0].y), e12(c[2].x - c[1].x, c[2].y - c[1].y);
+    if (e01.norm() < e12.norm()) std::swap(e01, e12);
+    const Eigen::Vector2d along = e01.normalized(), across = e12.normalized();
+    const double half_len = std::max(1.0, 0.5 * e01.norm() - 1.0);
+    const double half_width = std::max(0.5, 0.5 * e12.norm() - 1.0);
+    const Eigen::Vector2d mid(rr.center.x, rr.center.y);
+    const double radius = 0.5 * (PointOnPixelRay(left_camera, mid + half_width * across, depth) -
+                                 PointOnPixelRay(left_camera, mid - half_width * across, depth))
+                                    .norm();
+    const double axis_depth = depth + radius;
+    Eigen::VectorXd x0(7);
+    x0.segment<3>(0) =
+        PointOnPixelRay(left_camera, mid - (half_len - 0.5 * half_width) * along, axis_depth);
+    x0.segment<3>(3) =
+        PointOnPixelRay(left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
+    x0[6] = radius;
+    starts.push_back(x0);
+    if (!tilted_too) return;
+    const auto tilted = TiltedCylinderStart(pair, search, x0, mid, along, half_len, half_width,
+                                            depth, radius, options);
+    if (tilted && std::abs(left_camera.Depth(tilted->segment<3>(0)) -
+                           left_camera.Depth(tilted->segment<3>(3))) > radius)
+      starts.push_back(*tilted);
+  };
+  from_points(boundary, true);
+  // A pipe on supports: its limbs alone, when the blocks' edges widen the boundary.
+  if (gradients) {
+    const std::vector<cv::Point> limbs = LimbPixels(boundary, *gradients);
+    auto width = [](const std::vector<cv::Point>& pixels) {
+      const cv::RotatedRect r =
+          cv::minAreaRect(std::vector<cv::Point2f>(pixels.begin(), pixels.end()));
+      return std::min(r.size.width, r.size.height);
+    };
+    // Only when the blocks' edges made the boundary clearly wider than the limbs.
+    if (limbs.size() >= 8 && width(limbs) < 0.8 * width(boundary) - 1) from_points(limbs, false);
+  }
   return starts;
 }
 

@@ -163,10 +163,13 @@ cv::Rect RightRegion(const DepthSearch& search, const SsdMatch& match, int pad,
 // into the right image on its own (within the marks' depth range, widened by the pipe's
 // length across the view) and, when the two ends' depths differ by more than the radius, that
 // tilted cylinder is a second start.
+// With the left image's gradients, one more start from the boundary's limb pixels alone (those
+// whose gradient follows its dominant orientation): a pipe raised on blocks without the
+// blocks' edges.
 std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
                                             const std::vector<cv::Point>& boundary, double depth,
-                                            const DepthSearch& search,
-                                            const LocateOptions& options);
+                                            const DepthSearch& search, const LocateOptions& options,
+                                            const Gradients* gradients = nullptr);
 // A block (3.8.2), world-axis-aligned: the boundary back-projected onto its front plane at
 // `depth` gives the two extents across the view; the one along the view starts as their
 // mean. That depth is the least seen (a side face's strip, a sliver of the top), so two more

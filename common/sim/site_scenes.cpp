@@ -228,7 +228,7 @@ Scene SiteScene(uint64_t seed, SiteLevel level, bool hd) {
     Group g;
     const Eigen::Vector3d size(uni(1.0, 4.0), uni(1.0, 4.0), uni(1.0, 4.0));
     SceneObject o(name("box"),
-                  Block({at.x(), at.y(), 0}, size, chance(0.5) ? uni(-40.0, 40.0) * kDeg : 0.0));
+                  Block({at.x(), at.y(), 0.0}, size, chance(0.5) ? uni(-40.0, 40.0) * kDeg : 0.0));
     material(o);
     g.objects.push_back(o);
     return g;
@@ -265,7 +265,7 @@ Scene SiteScene(uint64_t seed, SiteLevel level, bool hd) {
     const double depth = 0.8 * r * 2;  // along the pipe
     auto support = [&](double along, double height) {
       const Eigen::Vector3d p = c.center + along * c.axis;
-      SceneObject b(name("support"), Block({p.x(), p.y(), 0}, {depth, bw, height}, yaw));
+      SceneObject b(name("support"), Block({p.x(), p.y(), 0.0}, {depth, bw, height}, yaw));
       material(b);
       g.objects.push_back(b);
     };

@@ -1,0 +1,54 @@
+// A seeded subset of the site benchmark (bench_site_accuracy): two scenes of each level with
+// the thesis's cameras (pipes in any direction and on supports, clutter with occlusion and
+// textures, far objects under noise; two lights and shadows), asserting that the objects in
+// full view are found, that no wrong model is reported as found, and that requests with
+// nothing to find are refused.
+#include <gtest/gtest.h>
+
+#include <opencv2/core/utility.hpp>
+
+#include "common/sim/site_scenes.h"
+#include "common/sim/vision/evaluation.h"
+
+namespace igms::object {
+namespace {
+
+TEST(SiteLevels, SeededScenesOfEachLevel) {
+  cv::setNumThreads(1);
+  std::vector<ObjectEvaluation> all;
+  std::vector<NothingThereEvaluation> nothing;
+  for (const auto level :
+       {site::SiteLevel::kPipes, site::SiteLevel::kClutter, site::SiteLevel::kFar}) {
+    for (int seed = 900; seed < 902; ++seed) {
+      const auto scene = site::SiteScene(seed, level, false);
+      const std::string name = std::string(site::SiteLevelName(level)) + "_" + std::to_string(seed);
+      const auto evals = EvaluateScene(scene, name, seed);
+      all.insert(all.end(), evals.begin(), evals.end());
+      const auto n = EvaluateNothingThere(scene, name, seed, 1);
+      nothing.insert(nothing.end(), n.begin(), n.end());
+    }
+  }
+  const Summary s = Summarize(all, "");
+  std::printf("in full view %d of %d found, %d wrong; partly hidden %d: %d refused, %d wrong\n",
+              s.full_found, s.full, s.full_wrong, s.hidden, s.hidden_refused, s.hidden_wrong);
+  for (const auto& e : all)
+    if (e.visible >= kFullView && (!e.result.found || e.wrong))
+      std::printf("  %s %s (%s, visible %.2f): %s %s\n", e.scene_name.c_str(),
+                  e.object_name.c_str(), e.kind.c_str(), e.visible,
+                  e.wrong ? "WRONG" : FailureName(e.result.reason), e.result.detail.c_str());
+  int false_finds = 0;
+  for (const auto& n : nothing) {
+    false_finds += n.result.found;
+    if (n.result.found)
+      std::printf("  %s: nothing there (%s) found\n", n.scene_name.c_str(), n.what.c_str());
+  }
+  ASSERT_GE(s.full, 15);
+  EXPECT_GE(s.full_found_rate, 0.9);
+  EXPECT_EQ(s.full_wrong, 0);
+  EXPECT_LE(s.hidden_wrong, 1);
+  ASSERT_GE(nothing.size(), 15u);
+  EXPECT_EQ(false_finds, 0);
+}
+
+}  // namespace
+}  // namespace igms::object
