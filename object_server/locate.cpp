@@ -168,6 +168,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                 support[0].outside, support[0].contrasted, support[0].edged, support[1].samples,
                 support[1].outside, support[1].contrasted, support[1].edged);
   if (const auto failure = CheckOutlineVisible(support, opt)) return fail(*failure);
+  if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
+    return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);
 
   // The other type, when this one explains the images only fairly.

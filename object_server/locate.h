@@ -76,7 +76,7 @@ struct LocateOptions {
   double max_rms_px = 0.8;           // consistency: per-image RMS residual, pixels
   double min_inlier_share = 0.6;     // consistency: share of outline samples with an edge
                                      // (of those that should show one)
-  double min_contrast_share = 0.5;   // occluded: less of the outline shows a step
+  double min_contrast_share = 0.35;  // occluded: less of the outline shows a step
   double max_outside_share = 0.2;    // occluded: more of the outline is beyond the image
   bool box_inner_edges = true;       // fit a box's edges between seen faces too, not only
                                      // its silhouette
@@ -86,8 +86,14 @@ struct LocateOptions {
   // A fit scoring worse than this (FitScore: the views' RMS residuals plus twice the share of
   // outline without an edge) is held against the other type's: refused when that explains
   // the images at least `other_type_ratio` times better (a box called a cylinder).
-  double other_type_score = 0.5;
-  double other_type_ratio = 2.0;
+  // The marks bound the object snugly (the operator puts them just outside its outline,
+  // 3.8): a fitted outline that leaves more than this (world units, at the marks' depth) of
+  // the marked rectangle empty on a side, or runs beyond it by more than max_beyond_marks_px,
+  // rests on part of the object or on another one.
+  double max_mark_gap = 1.6;
+  double max_beyond_marks_px = 6.0;
+  double other_type_score = 0.25;
+  double other_type_ratio = 1.5;
   double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)
   double ranger_accuracy = 0.5;      // world units: the range's own error
   // False, with what is wrong in *error, when invalid.

@@ -388,6 +388,43 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
   return out;
 }
 
+std::optional<StepFailure> CheckWithinMarks(const std::vector<Eigen::Vector2d>& left_outline,
+                                            const MarkedRegion& marks,
+                                            const geometry::ProjectiveCamera& left_camera,
+                                            const LocateOptions& options) {
+  if (left_outline.empty() || marks.hull.empty()) return std::nullopt;
+  Eigen::Vector2d lo(1e18, 1e18), hi(-1e18, -1e18), mlo = lo, mhi = hi;
+  for (const auto& p : left_outline) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  for (const auto& p : marks.hull) {
+    mlo = mlo.cwiseMin(Eigen::Vector2d(p.x, p.y));
+    mhi = mhi.cwiseMax(Eigen::Vector2d(p.x, p.y));
+  }
+  const Eigen::Vector2d c = 0.5 * (mlo + mhi);
+  // World units per pixel at the marks' depth.
+  const double unit = (PointOnPixelRay(left_camera, c + Eigen::Vector2d(1, 0), marks.depth) -
+                       PointOnPixelRay(left_camera, c, marks.depth))
+                          .norm();
+  const double max_gap_px = options.max_mark_gap / std::max(1e-9, unit) + 2;
+  const std::array<double, 4> gap = {lo.x() - mlo.x(), lo.y() - mlo.y(), mhi.x() - hi.x(),
+                                     mhi.y() - hi.y()};
+  const std::array<const char*, 4> side = {"left", "top", "right", "bottom"};
+  for (int k = 0; k < 4; ++k) {
+    if (gap[k] > max_gap_px)
+      return StepFailure{Failure::kFitFailed, "the fitted model leaves " +
+                                                  FormatFixed(gap[k] * unit, 1) +
+                                                  " of the marked region empty on its " + side[k] +
+                                                  ": it fits part of the object, or another one"};
+    if (-gap[k] > options.max_beyond_marks_px)
+      return StepFailure{Failure::kFitFailed, "the fitted model runs " + FormatFixed(-gap[k], 0) +
+                                                  " px beyond the marks on their " + side[k] +
+                                                  ": it takes in a neighbour's edges"};
+  }
+  return std::nullopt;
+}
+
 std::optional<StepFailure> CheckOutlineVisible(const std::array<OutlineSupport, 2>& support,
                                                const LocateOptions& options) {
   for (int v = 0; v < 2; ++v) {

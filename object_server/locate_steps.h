@@ -218,6 +218,13 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
 // it blends into what lies behind): the model would rest on a part of the object.
 std::optional<StepFailure> CheckOutlineVisible(const std::array<OutlineSupport, 2>& support,
                                                const LocateOptions& options);
+// Fails (fit failed) when the fitted outline in the left image leaves more than
+// max_mark_gap of the marks' bounding rectangle empty on a side, or runs beyond it by more
+// than max_beyond_marks_px: the marks bound the object snugly.
+std::optional<StepFailure> CheckWithinMarks(const std::vector<Eigen::Vector2d>& left_outline,
+                                            const MarkedRegion& marks,
+                                            const geometry::ProjectiveCamera& left_camera,
+                                            const LocateOptions& options);
 // Fails (left-right inconsistent) when either image has too few outline samples on an
 // edge or a too large RMS residual: background edges picked up in one view only. With the
 // outline's support, the share is of the samples that should show an edge.
