@@ -222,12 +222,13 @@ SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect p
   const cv::Rect search(patch.x + ox0, patch.y + oy0, patch.width + ox1 - ox0,
                         patch.height + oy1 - oy0);
   if ((search & cv::Rect(0, 0, right.cols, right.rows)) != search) return result;
-  cv::Mat map;
+  cv::Mat map, ncc;
   cv::matchTemplate(right(search), left(patch), map, cv::TM_SQDIFF);
+  cv::matchTemplate(right(search), left(patch), ncc, cv::TM_CCOEFF_NORMED);
   // map(y, x) is the SSD at offset (ox0 + x, oy0 + y); read it along the segment.
   const double length = (offset_hi - offset_lo).norm();
   const int steps = std::max(2, static_cast<int>(std::ceil(length / 0.25)));
-  auto ssd_at = [&](const Eigen::Vector2d& o) {
+  auto ssd_at = [&](const Eigen::Vector2d& o, const cv::Mat& map) {
     const double x = o.x() - ox0, y = o.y() - oy0;
     const int x0 = std::clamp(static_cast<int>(std::floor(x)), 0, map.cols - 2);
     const int y0 = std::clamp(static_cast<int>(std::floor(y)), 0, map.rows - 2);
@@ -238,7 +239,7 @@ SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect p
   double best = std::numeric_limits<double>::infinity();
   for (int i = 0; i <= steps; ++i) {
     const Eigen::Vector2d o = offset_lo + (offset_hi - offset_lo) * (double(i) / steps);
-    const double v = ssd_at(o);
+    const double v = ssd_at(o, map);
     if (v < best) {
       best = v;
       result.offset = o;
@@ -246,6 +247,9 @@ SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect p
   }
   result.ok = true;
   result.rms = std::sqrt(std::max(0.0, best) / patch.area());
+  // A flat patch (no contrast at all) has no defined correlation: OpenCV gives 0 or 1; a
+  // patch without texture matches nothing.
+  result.zncc = std::clamp(ssd_at(result.offset, ncc), -1.0, 1.0);
   return result;
 }
 

@@ -54,13 +54,16 @@ struct SsdMatch {
   bool ok = false;
   Eigen::Vector2d offset = Eigen::Vector2d::Zero();  // right position - left position
   double rms = 0;                                    // grey levels per pixel
+  // The zero-mean normalised cross-correlation at that offset, in [-1, 1]: the match's
+  // quality whatever the images' noise, contrast and brightness (1: the same pattern).
+  double zncc = 0;
 };
 
 // Matches the left patch `patch` (a rectangle of the left image) into the right image at
 // offsets on the segment from `offset_a` to `offset_b` (the epipolar segment of the depth
 // range, as offsets of the patch), by the smallest sum of squared differences (3.30). Only
 // the part of the segment where the shifted patch lies inside the right image is searched;
-// not ok when none is.
+// not ok when none is. The match's ZNCC is read at the same offset.
 SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect patch,
                            const Eigen::Vector2d& offset_a, const Eigen::Vector2d& offset_b);
 

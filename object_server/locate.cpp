@@ -46,6 +46,8 @@ const char* FailureName(Failure f) {
       return "left_right_inconsistent";
     case Failure::kFitFailed:
       return "fit_failed";
+    case Failure::kOccluded:
+      return "occluded";
   }
   return "unknown";
 }
@@ -75,7 +77,7 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "iterations must be at least 1";
     return false;
   }
-  if (!(max_rms_px > 0) || !(max_ssd_rms > 0)) {
+  if (!(max_rms_px > 0) || !(min_match_zncc > -1 && min_match_zncc < 1)) {
     *error = "thresholds must be positive";
     return false;
   }
@@ -116,6 +118,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const SsdMatch match =
       NarrowByRange(in, *pair, search, boundary, marks->depth, *first_match, opt, &res.range);
   res.ssd_rms = match.rms;
+  res.match_zncc = match.zncc;
   if (const auto failure = CheckMatch(match, opt)) return fail(*failure);
   const auto x_match = TriangulateMatch(*pair, search, match);
   if (!x_match)
@@ -131,7 +134,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                                         FitView{&in.right_camera, &grad_right}};
   const bool cylinder = in.type == SolidType::kCylinder;
   const std::vector<Eigen::VectorXd> starts =
-      cylinder ? CylinderStarts(*pair, boundary.pixels, depth0, search, opt)
+      cylinder ? CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left)
                : BoxStarts(in.left_camera, boundary.pixels, depth0);
   const Eigen::VectorXd& x0 = starts[0];
   spdlog::debug(
@@ -157,8 +160,35 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   res.rms_right_px = f.rms_px[1];
   if (!f.ok) return fail({Failure::kFitFailed, "model fit: " + f.error});
 
-  // 5. Consistency between the views.
-  if (const auto failure = CheckBothViews(f, opt)) return fail(*failure);
+  // 5. Consistency between the views, on the parts of the outline that should show an edge.
+  const std::array<OutlineSupport, 2> support = {
+      MeasureOutlineSupport(f.outline[0], pair->left, grad_left, fit),
+      MeasureOutlineSupport(f.outline[1], pair->right, grad_right, fit)};
+  spdlog::debug("locate: outline support left {}/{}/{}/{} right {}/{}/{}/{}", support[0].samples,
+                support[0].outside, support[0].contrasted, support[0].edged, support[1].samples,
+                support[1].outside, support[1].contrasted, support[1].edged);
+  if (const auto failure = CheckOutlineVisible(support, opt)) return fail(*failure);
+  if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
+    return fail(*failure);
+  if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);
+
+  // The other type, when this one explains the images only fairly.
+  if (FitScore(f) > opt.other_type_score) {
+    const std::vector<Eigen::VectorXd> other_starts =
+        cylinder ? BoxStarts(in.left_camera, boundary.pixels, depth0)
+                 : CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left);
+    const FitOutcome other = cylinder ? FitBox(other_starts, views, fit, opt)
+                                      : FitCylinder(other_starts, views, fit, opt);
+    spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
+                  FitScore(f));
+    if (other.ok && !CheckBothViews(other, opt) &&
+        opt.other_type_ratio * FitScore(other) < FitScore(f))
+      return fail({Failure::kFitFailed, std::string("a ") + (cylinder ? "box" : "cylinder") +
+                                            " explains the outline much better (score " +
+                                            FormatFixed(FitScore(other)) + " against " +
+                                            FormatFixed(FitScore(f)) + "): is the object a " +
+                                            (cylinder ? "box" : "cylinder") + "?"});
+  }
 
   // The result.
   if (cylinder) {

@@ -51,6 +51,8 @@ enum class Failure {
   kMatchOverThreshold = 7,     // the right image has no match for the object within the depth range
   kLeftRightInconsistent = 8,  // the fitted model does not explain one of the two images
   kFitFailed = 9,              // the model fit diverged or gave an impossible solid
+  // 10 is the server's FAILURE_FRAME_UNAVAILABLE.
+  kOccluded = 11,  // the object's outline is mostly hidden: by another object or the frame
 };
 const char* FailureName(Failure f);
 
@@ -63,19 +65,35 @@ struct LocateOptions {
   double edge_fraction = 0.35;       // boundary edges: gradient above this share of the max
   double min_edge_gradient = 6.0;    // ... and above this, grey levels per pixel
   double min_boundary_share = 0.25;  // boundary pixels / marked region perimeter, at least
-  double max_ssd_rms = 45.0;         // grey levels: worse SSD matches are rejected (a slanted
-                                     // object's whole patch differs between views)
+  // The right-image match is accepted when its zero-mean normalised cross-correlation
+  // reaches this: a measure of the images' own contrast and noise, where a fixed grey-level
+  // SSD limit refuses dark, noisy or differently lit objects and accepts bare bright ones.
+  double min_match_zncc = 0.5;
   double boundary_grow_px = 4.0;     // the marked region is grown by this for the boundary
   double search_px = 6.0;            // edge search either side of the predicted outline
   int outer_iterations = 5;          // re-measure edges this many times
   int inner_iterations = 6;          // Levenberg-Marquardt steps per measurement
   double max_rms_px = 0.8;           // consistency: per-image RMS residual, pixels
   double min_inlier_share = 0.6;     // consistency: share of outline samples with an edge
+                                     // (of those that should show one)
+  double min_contrast_share = 0.35;  // occluded: less of the outline shows a step
+  double max_outside_share = 0.2;    // occluded: more of the outline is beyond the image
   bool box_inner_edges = true;       // fit a box's edges between seen faces too, not only
                                      // its silhouette
   bool cylinder_inner_edges = true;  // fit the rim of a seen end cap against the side too
   double box_turn_rms_px = 0.1;      // a world-aligned box fitting worse than this (mean
                                      // RMS of the views) is tried turned about the vertical
+  // A fit scoring worse than this (FitScore: the views' RMS residuals plus twice the share of
+  // outline without an edge) is held against the other type's: refused when that explains
+  // the images at least `other_type_ratio` times better (a box called a cylinder).
+  // The marks bound the object snugly (the operator puts them just outside its outline,
+  // 3.8): a fitted outline that leaves more than this (world units, at the marks' depth) of
+  // the marked rectangle empty on a side, or runs beyond it by more than max_beyond_marks_px,
+  // rests on part of the object or on another one.
+  double max_mark_gap = 1.6;
+  double max_beyond_marks_px = 6.0;
+  double other_type_score = 0.25;
+  double other_type_ratio = 1.5;
   double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)
   double ranger_accuracy = 0.5;      // world units: the range's own error
   // False, with what is wrong in *error, when invalid.
@@ -153,6 +171,7 @@ struct LocateResult {
   // What was used.
   int boundary_pixels = 0;  // strong edge pixels inside the marked region
   double ssd_rms = 0;       // grey levels, the right-image match
+  double match_zncc = 0;    // its normalised cross-correlation
   int outline_samples = 0;  // edge measurements in the final fit (both images)
   double rms_left_px = 0, rms_right_px = 0;
   double elapsed_ms = 0;

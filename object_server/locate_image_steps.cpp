@@ -235,12 +235,13 @@ SsdMatch NarrowByRange(const LocateInput& in, const StereoPair& pair, const Dept
 }
 
 std::optional<StepFailure> CheckMatch(const SsdMatch& match, const LocateOptions& options) {
-  if (match.rms > options.max_ssd_rms)
+  if (match.zncc < options.min_match_zncc)
     return StepFailure{Failure::kMatchOverThreshold,
                        "best right-image match within the marks' depth +/- " +
-                           FormatFixed(options.depth_tolerance, 1) + " differs by " +
-                           FormatFixed(match.rms, 1) + " grey levels RMS (limit " +
-                           FormatFixed(options.max_ssd_rms, 1) + "): check the marks' depth"};
+                           FormatFixed(options.depth_tolerance, 1) + " correlates " +
+                           FormatFixed(match.zncc, 2) + " (at least " +
+                           FormatFixed(options.min_match_zncc, 2) + " needed; it differs by " +
+                           FormatFixed(match.rms, 1) + " grey levels RMS): check the marks' depth"};
   return std::nullopt;
 }
 

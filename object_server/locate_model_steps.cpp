@@ -55,7 +55,7 @@ std::optional<Eigen::VectorXd> TiltedCylinderStart(
     if (!ea || !eb) return std::nullopt;
     const SsdMatch m =
         MatchAlongSegment(pair.left, pair.right, end_patch & image_rect, *ea - pc, *eb - pc);
-    const auto xe = m.ok && m.rms <= options.max_ssd_rms
+    const auto xe = m.ok && m.zncc >= options.min_match_zncc
                         ? TriangulateMidpoint(left_camera, pc, *pair.right_camera, pc + m.offset)
                         : std::nullopt;
     if (!xe) return std::nullopt;
@@ -83,37 +83,98 @@ bool IsSolid(const FitOutcome& o) {
 
 }  // namespace
 
+namespace {
+
+// The boundary pixels whose gradient lies within 20 degrees of the boundary's dominant
+// orientation (a histogram of gradient angles modulo 180, weighted by magnitude): a pipe's
+// two limbs, without the vertical edges of the blocks it rests on. Empty when under half
+// the boundary or no orientation dominates.
+std::vector<cv::Point> LimbPixels(const std::vector<cv::Point>& boundary,
+                                  const Gradients& gradients) {
+  constexpr int kBins = 36;
+  std::array<double, kBins> hist{};
+  std::vector<double> angle(boundary.size());
+  double total = 0;
+  for (size_t i = 0; i < boundary.size(); ++i) {
+    const Eigen::Vector2d g = gradients.At(Eigen::Vector2d(boundary[i].x, boundary[i].y));
+    double a = std::atan2(g.y(), g.x());
+    if (a < 0) a += M_PI;
+    if (a >= M_PI) a -= M_PI;
+    angle[i] = a;
+    const double m = g.norm();
+    hist[static_cast<int>(a / M_PI * kBins) % kBins] += m;
+    total += m;
+  }
+  int best = 0;
+  double best_sum = -1;
+  for (int b = 0; b < kBins; ++b) {
+    const double sum = hist[(b + kBins - 1) % kBins] + hist[b] + hist[(b + 1) % kBins];
+    if (sum > best_sum) {
+      best_sum = sum;
+      best = b;
+    }
+  }
+  if (best_sum < 0.3 * total) return {};
+  const double dominant = (best + 0.5) * M_PI / kBins;
+  std::vector<cv::Point> out;
+  for (size_t i = 0; i < boundary.size(); ++i) {
+    double d = std::abs(angle[i] - dominant);
+    d = std::min(d, M_PI - d);
+    if (d < 20 * M_PI / 180) out.push_back(boundary[i]);
+  }
+  if (out.size() < boundary.size() / 2) return {};
+  return out;
+}
+
+}  // namespace
+
 std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
                                             const std::vector<cv::Point>& boundary, double depth,
-                                            const DepthSearch& search,
-                                            const LocateOptions& options) {
+                                            const DepthSearch& search, const LocateOptions& options,
+                                            const Gradients* gradients) {
   const geometry::ProjectiveCamera& left_camera = *pair.left_camera;
-  const std::vector<cv::Point2f> points(boundary.begin(), boundary.end());
-  const cv::RotatedRect rr = cv::minAreaRect(points);
-  cv::Point2f c[4];
-  rr.points(c);
-  Eigen::Vector2d e01(c[1].x - c[0].x, c[1].y - c[0].y), e12(c[2].x - c[1].x, c[2].y - c[1].y);
-  if (e01.norm() < e12.norm()) std::swap(e01, e12);
-  const Eigen::Vector2d along = e01.normalized(), across = e12.normalized();
-  const double half_len = std::max(1.0, 0.5 * e01.norm() - 1.0);
-  const double half_width = std::max(0.5, 0.5 * e12.norm() - 1.0);
-  const Eigen::Vector2d mid(rr.center.x, rr.center.y);
-  const double radius = 0.5 * (PointOnPixelRay(left_camera, mid + half_width * across, depth) -
-                               PointOnPixelRay(left_camera, mid - half_width * across, depth))
-                                  .norm();
-  const double axis_depth = depth + radius;
-  Eigen::VectorXd x0(7);
-  x0.segment<3>(0) =
-      PointOnPixelRay(left_camera, mid - (half_len - 0.5 * half_width) * along, axis_depth);
-  x0.segment<3>(3) =
-      PointOnPixelRay(left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
-  x0[6] = radius;
-  std::vector<Eigen::VectorXd> starts = {x0};
-  const auto tilted = TiltedCylinderStart(pair, search, x0, mid, along, half_len, half_width, depth,
-                                          radius, options);
-  if (tilted && std::abs(left_camera.Depth(tilted->segment<3>(0)) -
-                         left_camera.Depth(tilted->segment<3>(3))) > radius)
-    starts.push_back(*tilted);
+  std::vector<Eigen::VectorXd> starts;
+  auto from_points = [&](const std::vector<cv::Point>& pixels, bool tilted_too) {
+    const std::vector<cv::Point2f> points(pixels.begin(), pixels.end());
+    const cv::RotatedRect rr = cv::minAreaRect(points);
+    cv::Point2f c[4];
+    rr.points(c);
+    Eigen::Vector2d e01(c[1].x - c[0].x, c[1].y - c[0].y), e12(c[2].x - c[1].x, c[2].y - c[1].y);
+    if (e01.norm() < e12.norm()) std::swap(e01, e12);
+    const Eigen::Vector2d along = e01.normalized(), across = e12.normalized();
+    const double half_len = std::max(1.0, 0.5 * e01.norm() - 1.0);
+    const double half_width = std::max(0.5, 0.5 * e12.norm() - 1.0);
+    const Eigen::Vector2d mid(rr.center.x, rr.center.y);
+    const double radius = 0.5 * (PointOnPixelRay(left_camera, mid + half_width * across, depth) -
+                                 PointOnPixelRay(left_camera, mid - half_width * across, depth))
+                                    .norm();
+    const double axis_depth = depth + radius;
+    Eigen::VectorXd x0(7);
+    x0.segment<3>(0) =
+        PointOnPixelRay(left_camera, mid - (half_len - 0.5 * half_width) * along, axis_depth);
+    x0.segment<3>(3) =
+        PointOnPixelRay(left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
+    x0[6] = radius;
+    starts.push_back(x0);
+    if (!tilted_too) return;
+    const auto tilted = TiltedCylinderStart(pair, search, x0, mid, along, half_len, half_width,
+                                            depth, radius, options);
+    if (tilted && std::abs(left_camera.Depth(tilted->segment<3>(0)) -
+                           left_camera.Depth(tilted->segment<3>(3))) > radius)
+      starts.push_back(*tilted);
+  };
+  from_points(boundary, true);
+  // A pipe on supports: its limbs alone, when the blocks' edges widen the boundary.
+  if (gradients) {
+    const std::vector<cv::Point> limbs = LimbPixels(boundary, *gradients);
+    auto width = [](const std::vector<cv::Point>& pixels) {
+      const cv::RotatedRect r =
+          cv::minAreaRect(std::vector<cv::Point2f>(pixels.begin(), pixels.end()));
+      return std::min(r.size.width, r.size.height);
+    };
+    // Only when the blocks' edges made the boundary clearly wider than the limbs.
+    if (limbs.size() >= 8 && width(limbs) < 0.8 * width(boundary) - 1) from_points(limbs, false);
+  }
   return starts;
 }
 
@@ -237,10 +298,166 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
   return f;
 }
 
-std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options) {
+OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline,
+                                     const cv::Mat& image, const Gradients& gradients,
+                                     const FitOptions& fit) {
+  OutlineSupport out;
+  const int n = static_cast<int>(outline.size());
+  if (n < 3 || image.empty()) return out;
+  double area = 0;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d& a = outline[i];
+    const Eigen::Vector2d& b = outline[(i + 1) % n];
+    area += a.x() * b.y() - a.y() * b.x();
+  }
+  const double orient = area >= 0 ? 1.0 : -1.0;
+  // The image's noise near the outline: the median absolute difference of horizontal
+  // neighbours (edges are too few to move the median), over sqrt(2) for the difference.
+  cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>(
+      1, cv::Point2f(static_cast<float>(outline[0].x()), static_cast<float>(outline[0].y()))));
+  for (const auto& p : outline)
+    box |= cv::Rect(static_cast<int>(std::floor(p.x())), static_cast<int>(std::floor(p.y())), 2, 2);
+  box = GrowRect(box, 6, cv::Rect(0, 0, image.cols, image.rows));
+  std::vector<int> diffs;
+  for (int y = box.y; y < box.y + box.height; ++y) {
+    const uint8_t* row = image.ptr<uint8_t>(y);
+    for (int x = box.x; x + 1 < box.x + box.width; ++x)
+      diffs.push_back(std::abs(row[x + 1] - row[x]));
+  }
+  if (!diffs.empty()) {
+    std::nth_element(diffs.begin(), diffs.begin() + diffs.size() / 2, diffs.end());
+    out.noise_sigma = 1.4826 * diffs[diffs.size() / 2] / std::sqrt(2.0);
+  }
+  auto grey = [&](const Eigen::Vector2d& p) {
+    const double x = std::clamp(p.x(), 0.0, image.cols - 1.001);
+    const double y = std::clamp(p.y(), 0.0, image.rows - 1.001);
+    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+    const double fx = x - x0, fy = y - y0;
+    const auto at = [&](int yy, int xx) { return static_cast<double>(image.at<uint8_t>(yy, xx)); };
+    return (1 - fy) * ((1 - fx) * at(y0, x0) + fx * at(y0, x0 + 1)) +
+           fy * ((1 - fx) * at(y0 + 1, x0) + fx * at(y0 + 1, x0 + 1));
+  };
+  // A step of c grey levels blurred by edge_blur_px peaks at c / (sqrt(2 pi) blur) per pixel:
+  // the detector (min_gradient) sees steps of at least this. The means either side are of 6
+  // samples each, so their difference has noise sigma * sqrt(2 / 6).
+  const double blur = std::max(0.8, fit.edge_blur_px);
+  const double min_step = std::max({1.2 * std::sqrt(2 * M_PI) * blur * fit.min_gradient,
+                                    4.0 * out.noise_sigma * std::sqrt(2.0 / 6.0), 4.0});
+  // Sharp corners (a box's, a pipe's ends seen side on): the edge there is blurred round, so
+  // samples within 2 px of a vertex turning by over 30 degrees are left out.
+  std::vector<bool> sharp(n, false);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d in = outline[i] - outline[(i + n - 1) % n];
+    const Eigen::Vector2d on = outline[(i + 1) % n] - outline[i];
+    if (in.norm() > 1e-9 && on.norm() > 1e-9)
+      sharp[i] = in.normalized().dot(on.normalized()) < std::cos(30 * M_PI / 180);
+  }
+  auto inside = [&](const Eigen::Vector2d& q) {
+    return q.x() >= 0 && q.y() >= 0 && q.x() <= image.cols - 1 && q.y() <= image.rows - 1;
+  };
+  double carry = 0;  // arc length from the last sample
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d a = outline[i], b = outline[(i + 1) % n];
+    const double len = (b - a).norm();
+    if (len < 1e-9) continue;
+    const Eigen::Vector2d dir = (b - a) / len;
+    const Eigen::Vector2d normal = orient * Eigen::Vector2d(dir.y(), -dir.x());
+    double t = 1.0 - carry;
+    for (; t <= len; t += 1.0) {
+      if ((sharp[i] && t < 2.0) || (sharp[(i + 1) % n] && t > len - 2.0)) continue;
+      const Eigen::Vector2d p = a + t * dir;
+      ++out.samples;
+      if (!inside(p + 4 * normal) || !inside(p - 4 * normal)) {
+        ++out.outside;
+        continue;
+      }
+      double in_sum = 0, out_sum = 0;
+      for (const double d : {2.5, 3.5})
+        for (const double w : {-1.0, 0.0, 1.0}) {
+          in_sum += grey(p - d * normal + w * dir);
+          out_sum += grey(p + d * normal + w * dir);
+        }
+      if (std::abs(in_sum - out_sum) / 6 < min_step) continue;
+      ++out.contrasted;
+      double s;
+      if (EdgeAlongNormal(gradients, p, normal, 2.5, fit.min_gradient, &s) && std::abs(s) <= 1.5)
+        ++out.edged;
+    }
+    carry = len - (t - 1.0);
+  }
+  return out;
+}
+
+std::optional<StepFailure> CheckWithinMarks(const std::vector<Eigen::Vector2d>& left_outline,
+                                            const MarkedRegion& marks,
+                                            const geometry::ProjectiveCamera& left_camera,
+                                            const LocateOptions& options) {
+  if (left_outline.empty() || marks.hull.empty()) return std::nullopt;
+  Eigen::Vector2d lo(1e18, 1e18), hi(-1e18, -1e18), mlo = lo, mhi = hi;
+  for (const auto& p : left_outline) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  for (const auto& p : marks.hull) {
+    mlo = mlo.cwiseMin(Eigen::Vector2d(p.x, p.y));
+    mhi = mhi.cwiseMax(Eigen::Vector2d(p.x, p.y));
+  }
+  const Eigen::Vector2d c = 0.5 * (mlo + mhi);
+  // World units per pixel at the marks' depth.
+  const double unit = (PointOnPixelRay(left_camera, c + Eigen::Vector2d(1, 0), marks.depth) -
+                       PointOnPixelRay(left_camera, c, marks.depth))
+                          .norm();
+  const double max_gap_px = options.max_mark_gap / std::max(1e-9, unit) + 2;
+  const std::array<double, 4> gap = {lo.x() - mlo.x(), lo.y() - mlo.y(), mhi.x() - hi.x(),
+                                     mhi.y() - hi.y()};
+  const std::array<const char*, 4> side = {"left", "top", "right", "bottom"};
+  for (int k = 0; k < 4; ++k) {
+    if (gap[k] > max_gap_px)
+      return StepFailure{Failure::kFitFailed, "the fitted model leaves " +
+                                                  FormatFixed(gap[k] * unit, 1) +
+                                                  " of the marked region empty on its " + side[k] +
+                                                  ": it fits part of the object, or another one"};
+    if (-gap[k] > options.max_beyond_marks_px)
+      return StepFailure{Failure::kFitFailed, "the fitted model runs " + FormatFixed(-gap[k], 0) +
+                                                  " px beyond the marks on their " + side[k] +
+                                                  ": it takes in a neighbour's edges"};
+  }
+  return std::nullopt;
+}
+
+std::optional<StepFailure> CheckOutlineVisible(const std::array<OutlineSupport, 2>& support,
+                                               const LocateOptions& options) {
+  for (int v = 0; v < 2; ++v) {
+    const OutlineSupport& s = support[v];
+    const std::string name = v == 0 ? "left" : "right";
+    if (s.samples == 0) continue;
+    const double outside = double(s.outside) / s.samples;
+    if (outside > options.max_outside_share)
+      return StepFailure{Failure::kOccluded, FormatFixed(100 * outside, 0) +
+                                                 "% of the fitted outline lies beyond the " + name +
+                                                 " image's edge: only part of the "
+                                                 "object is in view"};
+    const int inside = s.samples - s.outside;
+    const double contrasted = inside ? double(s.contrasted) / inside : 0.0;
+    if (contrasted < options.min_contrast_share)
+      return StepFailure{Failure::kOccluded,
+                         "only " + FormatFixed(100 * contrasted, 0) +
+                             "% of the fitted outline stands out from what lies behind it in "
+                             "the " +
+                             name +
+                             " image: an object in front hides the rest, or it has the shade "
+                             "of its background"};
+  }
+  return std::nullopt;
+}
+
+std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options,
+                                          const std::array<OutlineSupport, 2>* support) {
   for (int v = 0; v < 2; ++v) {
     const char* name = v == 0 ? "left" : "right";
-    const double share = fit.sampled[v] ? double(fit.used[v]) / fit.sampled[v] : 0.0;
+    double share = fit.sampled[v] ? double(fit.used[v]) / fit.sampled[v] : 0.0;
+    if (support && (*support)[v].contrasted > 0)
+      share = double((*support)[v].edged) / (*support)[v].contrasted;
     if (share < options.min_inlier_share)
       return StepFailure{Failure::kLeftRightInconsistent,
                          std::string("only ") + FormatFixed(100 * share, 0) +

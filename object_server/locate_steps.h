@@ -137,8 +137,8 @@ StepResult<SsdMatch> MatchObject(const StereoPair& pair, const DepthSearch& sear
 SsdMatch NarrowByRange(const LocateInput& in, const StereoPair& pair, const DepthSearch& search,
                        const Boundary& boundary, double mark_depth, const SsdMatch& match,
                        const LocateOptions& options, RangeCheck* check);
-// Fails (match over threshold) when the match differs by more than max_ssd_rms grey levels
-// RMS.
+// Fails (match over threshold) when the match's normalised cross-correlation is under
+// min_match_zncc.
 std::optional<StepFailure> CheckMatch(const SsdMatch& match, const LocateOptions& options);
 // Midpoint triangulation of a left and a right pixel, or nullopt when their rays are
 // parallel.
@@ -163,10 +163,13 @@ cv::Rect RightRegion(const DepthSearch& search, const SsdMatch& match, int pad,
 // into the right image on its own (within the marks' depth range, widened by the pipe's
 // length across the view) and, when the two ends' depths differ by more than the radius, that
 // tilted cylinder is a second start.
+// With the left image's gradients, one more start from the boundary's limb pixels alone (those
+// whose gradient follows its dominant orientation): a pipe raised on blocks without the
+// blocks' edges.
 std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
                                             const std::vector<cv::Point>& boundary, double depth,
-                                            const DepthSearch& search,
-                                            const LocateOptions& options);
+                                            const DepthSearch& search, const LocateOptions& options,
+                                            const Gradients* gradients = nullptr);
 // A block (3.8.2), world-axis-aligned: the boundary back-projected onto its front plane at
 // `depth` gives the two extents across the view; the one along the view starts as their
 // mean. That depth is the least seen (a side face's strip, a sliver of the top), so two more
@@ -193,9 +196,40 @@ FitOutcome FitCylinder(const std::vector<Eigen::VectorXd>& starts,
 FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<FitView, 2>& views,
                   const FitOptions& fit, const LocateOptions& options);
 
-// 5. Fails (left-right inconsistent) when either image has too few outline samples on an
-// edge or a too large RMS residual: background edges picked up in one view only.
-std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options);
+// 5. Which parts of the fitted outline should show an edge, per view: sampled every pixel
+// along it (away from its corners), a sample counts when it lies inside the image and the
+// grey levels either side of it differ enough for the fit's edge detector to see a step
+// there (against the image's own noise, estimated from it). Of those, how many have an edge
+// within a pixel and a half. Parts hidden by an object in front (its surface runs across
+// the outline) and parts against a background of the object's own shade show no step and do
+// not count against the fit.
+struct OutlineSupport {
+  int samples = 0;         // along the outline
+  int outside = 0;         // beyond the image's edge
+  int contrasted = 0;      // inside, with a step the detector can see
+  int edged = 0;           // of those, with an edge on the outline
+  double noise_sigma = 0;  // the image's noise near the object, grey levels
+};
+OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline,
+                                     const cv::Mat& image, const Gradients& gradients,
+                                     const FitOptions& fit);
+// Fails (occluded) when more than max_outside_share of either view's outline lies beyond the
+// image or less than min_contrast_share of it shows a step (something in front hides it, or
+// it blends into what lies behind): the model would rest on a part of the object.
+std::optional<StepFailure> CheckOutlineVisible(const std::array<OutlineSupport, 2>& support,
+                                               const LocateOptions& options);
+// Fails (fit failed) when the fitted outline in the left image leaves more than
+// max_mark_gap of the marks' bounding rectangle empty on a side, or runs beyond it by more
+// than max_beyond_marks_px: the marks bound the object snugly.
+std::optional<StepFailure> CheckWithinMarks(const std::vector<Eigen::Vector2d>& left_outline,
+                                            const MarkedRegion& marks,
+                                            const geometry::ProjectiveCamera& left_camera,
+                                            const LocateOptions& options);
+// Fails (left-right inconsistent) when either image has too few outline samples on an
+// edge or a too large RMS residual: background edges picked up in one view only. With the
+// outline's support, the share is of the samples that should show an edge.
+std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options,
+                                          const std::array<OutlineSupport, 2>* support = nullptr);
 
 // The result from the fit's parameters, with one standard deviation from its covariance. A
 // cylinder's axis points up (along +x when level); it is left as the default when the

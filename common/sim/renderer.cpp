@@ -40,6 +40,7 @@ class Tracer {
       solids_.emplace_back(object.shape, center_);
     }
     table_shade_ = Shade(Eigen::Vector3d::UnitZ());
+    for (const auto& object : scene.objects) bounds_.push_back(BoundingSphere(object.shape));
     const Eigen::Vector3d a =
         (minv_ * Eigen::Vector3d(size_.width / 2.0, size_.height / 2.0, 1)).normalized();
     const Eigen::Vector3d b =
@@ -82,8 +83,12 @@ class Tracer {
         const Eigen::Vector3d p = center_ + t * d;
         if (p.x() >= table.x_min && p.x() <= table.x_max && p.y() >= table.y_min &&
             p.y() <= table.y_max) {
-          if (table_radiance >= 0.0f) return {kTable, table_radiance};
-          return {kTable, static_cast<float>(255.0 * TableAlbedo(p, t, d) * table_shade_)};
+          // In shadow, the table's radiance scaled by the light it still gets.
+          const double lit = scene_.lighting.shadows
+                                 ? ShadeAt(Eigen::Vector3d::UnitZ(), p, -1) / table_shade_
+                                 : 1.0;
+          if (table_radiance >= 0.0f) return {kTable, static_cast<float>(table_radiance * lit)};
+          return {kTable, static_cast<float>(255.0 * TableAlbedo(p, t, d) * table_shade_ * lit)};
         }
       }
     }
@@ -91,7 +96,9 @@ class Tracer {
     const SceneObject& object = scene_.objects[static_cast<size_t>(hit_object)];
     const double rho =
         object.texture.enabled() ? AlbedoAt(object, center_ + best_t * d) : object.albedo;
-    return {key, static_cast<float>(255.0 * rho * Shade(normal))};
+    const double shade =
+        scene_.lighting.shadows ? ShadeAt(normal, center_ + best_t * d, hit_object) : Shade(normal);
+    return {key, static_cast<float>(255.0 * rho * shade)};
   }
 
   // The table's radiance filtered over pixel (x, y)'s footprint, as the pixel-centre ray sees
@@ -157,6 +164,40 @@ class Tracer {
     return s;
   }
 
+  // Shade() with shadows: a light counts only when no solid lies between p and it. `self` is
+  // the solid p lies on (-1: the table); a convex solid never shadows its own lit side.
+  double ShadeAt(const Eigen::Vector3d& n, const Eigen::Vector3d& p, int self) const {
+    double s = scene_.lighting.ambient;
+    for (const auto& l : lights_) {
+      const double c = n.dot(l.dir);
+      if (c <= 0) continue;
+      if (!Blocked(p, l.dir, self)) s += l.intensity * c;
+    }
+    return s;
+  }
+
+  bool Blocked(const Eigen::Vector3d& p, const Eigen::Vector3d& dir, int self) const {
+    for (size_t i = 0; i < bounds_.size(); ++i) {
+      if (static_cast<int>(i) == self) continue;
+      // The solid's bounding sphere first: most shadow rays pass far from most solids.
+      const Eigen::Vector3d q = bounds_[i].first - p;
+      const double along = q.dot(dir);
+      const double r = bounds_[i].second;
+      if (along < -r || (q - along * dir).squaredNorm() > r * r) continue;
+      if (Intersect(scene_.objects[i].shape, p, dir)) return true;
+    }
+    return false;
+  }
+
+  static std::pair<Eigen::Vector3d, double> BoundingSphere(const Shape& shape) {
+    const auto points = OutlinePoints(shape, 36);
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto& q : points) c += q / static_cast<double>(points.size());
+    double r = 0;
+    for (const auto& q : points) r = std::max(r, (q - c).norm());
+    return {c, 1.05 * r + 0.05};
+  }
+
   // Pixel rectangle that holds the solid's projection (the whole image if any outline point
   // is behind the camera), padded by two pixels.
   static cv::Rect2d ImageRect(const Shape& shape, const geometry::ProjectiveCamera& camera) {
@@ -184,7 +225,20 @@ class Tracer {
   double table_shade_ = 1.0;
   std::vector<DirLight> lights_;
   std::vector<cv::Rect2d> rects_;
-  std::vector<SolidFromOrigin> solids_;  // every ray starts at the camera centre
+  std::vector<SolidFromOrigin> solids_;                     // every ray starts at the camera centre
+  std::vector<std::pair<Eigen::Vector3d, double>> bounds_;  // solids' bounding spheres
+
+ public:
+  // Whether solid i alone covers image point (u, v), whatever hides it.
+  bool Covers(int i, double u, double v) const {
+    Eigen::Vector3d d = ray_ * Eigen::Vector3d(u, v, 1.0);
+    d.normalize();
+    double t;
+    int face;
+    return solids_[i].Hit(d, std::numeric_limits<double>::infinity(), &t, &face);
+  }
+  // The solid's padded image rectangle (the whole image when part is behind the camera).
+  const cv::Rect2d& Rect(int i) const { return rects_[i]; }
 };
 
 std::vector<int>& ScratchObjects(size_t size) {
@@ -261,6 +315,34 @@ cv::Mat RenderRadiance(const Scene& scene, const geometry::ProjectiveCamera& cam
     }
   }
   return radiance;
+}
+
+std::vector<double> VisibleFractions(const Scene& scene, const geometry::ProjectiveCamera& camera) {
+  const Tracer tracer(scene, camera);
+  const auto size = camera.image_size();
+  std::vector<int> objects(tracer.object_count());
+  std::vector<double> out(scene.objects.size(), 0.0);
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const int index = static_cast<int>(i);
+    const cv::Rect2d& r = tracer.Rect(index);
+    // Wholly behind the camera (or a rectangle that lost its meaning): nothing seen.
+    if (r.width > 20 * size.width || r.height > 20 * size.height) continue;
+    long covered = 0, seen = 0;
+    for (int y = static_cast<int>(std::floor(r.y));
+         y <= static_cast<int>(std::ceil(r.y + r.height)); ++y) {
+      for (int x = static_cast<int>(std::floor(r.x));
+           x <= static_cast<int>(std::ceil(r.x + r.width)); ++x) {
+        if (!tracer.Covers(index, x, y)) continue;
+        ++covered;
+        if (x < 0 || y < 0 || x >= size.width || y >= size.height) continue;
+        const int count = tracer.ObjectsMeeting(x, x, y, y, objects.data());
+        const int key = tracer.Trace(x, y, objects.data(), count).key;
+        seen += key >= 0 && key / 8 == index;
+      }
+    }
+    out[i] = covered ? static_cast<double>(seen) / covered : 0.0;
+  }
+  return out;
 }
 
 cv::Mat ApplySensor(const cv::Mat& radiance, const SensorModel& sensor, uint64_t stream) {

@@ -49,6 +49,13 @@ struct StereoImages {
 };
 StereoImages RenderStereo(const Scene& scene, const RenderOptions& options = {});
 
+// The share of each scene object's image (in scene.objects' order) that the camera sees:
+// pixels where the object is the nearest surface, over the pixels its silhouette would cover
+// alone in an unbounded image. Less than 1 when another solid hides part of it or part lies
+// outside the image; 0 for an object wholly behind the camera. From pixel centres, no
+// anti-aliasing: good to a pixel's share of the silhouette.
+std::vector<double> VisibleFractions(const Scene& scene, const geometry::ProjectiveCamera& camera);
+
 // The sensor model alone, applied to a radiance image (CV_32F) to give CV_8U.
 cv::Mat ApplySensor(const cv::Mat& radiance, const SensorModel& sensor, uint64_t stream);
 

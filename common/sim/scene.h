@@ -23,7 +23,8 @@
 namespace igms::site {
 
 // A directional light: `direction` points from the scene towards the light (any length;
-// normalised on use). Shading is Lambertian without shadows.
+// normalised on use). Shading is Lambertian; with Lighting::shadows a solid between a
+// surface point and the light takes that light away (hard shadows, as from a distant lamp).
 struct Light {
   Eigen::Vector3d direction{0.0, 0.0, 1.0};
   double intensity = 0.5;
@@ -32,6 +33,7 @@ struct Light {
 struct Lighting {
   double ambient = 0.35;  // added to every surface, whatever its orientation
   std::vector<Light> lights;
+  bool shadows = false;  // solids cast shadows on the table and on each other
 };
 
 // The optical table: a dark rectangle in the plane z = 0 drilled with a square grid of

@@ -123,6 +123,7 @@ Scene Parse(const YAML::Node& root) {
   }
   if (const auto l = root["lighting"]) {
     s.lighting.ambient = Get(l, "ambient", s.lighting.ambient, "lighting");
+    if (l["shadows"]) s.lighting.shadows = l["shadows"].as<bool>();
     if (l["lights"]) {
       s.lighting.lights.clear();
       for (size_t i = 0; i < l["lights"].size(); ++i) {
@@ -227,7 +228,9 @@ std::string SceneToYaml(const Scene& s) {
     EmitVec(out, l.direction);
     out << YAML::Key << "intensity" << YAML::Value << l.intensity << YAML::EndMap;
   }
-  out << YAML::EndSeq << YAML::EndMap;
+  out << YAML::EndSeq;
+  if (s.lighting.shadows) out << YAML::Key << "shadows" << YAML::Value << true;
+  out << YAML::EndMap;
   const Table& t = s.table;
   out << YAML::Key << "table" << YAML::Value << YAML::Flow << YAML::BeginMap;
   out << YAML::Key << "enabled" << YAML::Value << t.enabled;

@@ -343,7 +343,7 @@ TEST_F(LocateSteps, TheMatchTriangulatesToTheCylindersFrontDepth) {
   const LocateInput in = Input(true);
   const Through3 t = RunThroughStep3(in);
   EXPECT_FALSE(CheckMatch(t.match, options_).has_value());
-  EXPECT_LT(t.match.rms, options_.max_ssd_rms);
+  EXPECT_GT(t.match.zncc, options_.min_match_zncc);
   const double front = site::FrontDepth(*cylinder_, in.left_camera);
   EXPECT_NEAR(t.depth, front, 1.5);  // a pixel of disparity is about 1 in here
   // The right image's region is the patch moved by the match and grown.
@@ -365,18 +365,19 @@ TEST_F(LocateSteps, MatchObjectFailsWhenTheSearchLeavesTheRightImage) {
   EXPECT_TRUE(Contains(r.failure().detail, "leaves the right image")) << r.failure().detail;
 }
 
-TEST(LocateStepsGeometry, CheckMatchHoldsTheSsdLimit) {
+TEST(LocateStepsGeometry, CheckMatchHoldsTheCorrelationLimit) {
   LocateOptions options;
-  options.max_ssd_rms = 45;
+  options.min_match_zncc = 0.5;
   SsdMatch m;
   m.ok = true;
-  m.rms = 45;
+  m.rms = 60;  // a large SSD alone refuses nothing: a dark or noisy pair has one
+  m.zncc = 0.5;
   EXPECT_FALSE(CheckMatch(m, options).has_value());
-  m.rms = 45.5;
+  m.zncc = 0.45;
   const auto failure = CheckMatch(m, options);
   ASSERT_TRUE(failure.has_value());
   EXPECT_EQ(failure->reason, Failure::kMatchOverThreshold);
-  EXPECT_TRUE(Contains(failure->detail, "45.5 grey levels")) << failure->detail;
+  EXPECT_TRUE(Contains(failure->detail, "correlates 0.45")) << failure->detail;
 }
 
 TEST_F(LocateSteps, ARangeThatAgreesNarrowsTheMatchAndOneThatDoesNotIsOnlyRecorded) {

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
+#include <random>
 
 #include "common/sim/marks.h"
 #include "common/sim/renderer.h"
+#include "common/sim/testbed.h"
 #include "common/stats/percentile.h"
 #include "object_server/debug_image.h"
 #include "object_server/solid_models.h"
@@ -16,6 +18,8 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
                                             uint64_t mark_seed, const LocateOptions& options,
                                             const std::string& debug_dir) {
   const site::StereoImages images = site::RenderStereo(scene);
+  const std::vector<double> seen_left = site::VisibleFractions(scene, scene.cameras.left);
+  const std::vector<double> seen_right = site::VisibleFractions(scene, scene.cameras.right);
   std::vector<ObjectEvaluation> out;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const auto& object = scene.objects[i];
@@ -27,6 +31,7 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
     ObjectEvaluation e;
     e.scene_name = scene_name;
     e.object_name = object.name;
+    e.visible = std::min(seen_left[i], seen_right[i]);
     LocateInput in;
     in.type = cyl ? SolidType::kCylinder : SolidType::kBox;
     in.marks = *marks;
@@ -77,9 +82,85 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
         }
       }
     }
+    e.wrong = e.result.found && WrongModel(e);
     out.push_back(e);
   }
   return out;
+}
+
+std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scene,
+                                                         const std::string& scene_name,
+                                                         uint64_t seed, int count,
+                                                         const LocateOptions& options) {
+  const site::StereoImages images = site::RenderStereo(scene);
+  const std::vector<double> seen_left = site::VisibleFractions(scene, scene.cameras.left);
+  const std::vector<double> seen_right = site::VisibleFractions(scene, scene.cameras.right);
+  std::vector<NothingThereEvaluation> out;
+  auto locate = [&](SolidType type, const site::Marks& marks) {
+    LocateInput in;
+    in.type = type;
+    in.marks = marks;
+    in.left = images.left;
+    in.right = images.right;
+    in.left_camera = scene.cameras.left;
+    in.right_camera = scene.cameras.right;
+    return Locate(in, options);
+  };
+  struct Rect {
+    double u0, v0, u1, v1;
+  };
+  std::vector<Rect> rects;
+  for (const auto& o : scene.objects) {
+    Rect r;
+    if (site::ImageBounds(o.shape, scene.cameras.left, r.u0, r.v0, r.u1, r.v1)) rects.push_back(r);
+  }
+  std::mt19937_64 rng(seed * 31 + 7);
+  auto uni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  const Eigen::Vector3d eye = scene.cameras.left.Center();
+  const auto size = scene.cameras.left.image_size();
+  for (int made = 0, attempt = 0; made < count && attempt < 500; ++attempt) {
+    const double dist = uni(36, 96);
+    site::Box phantom;
+    phantom.size = {uni(1, 4), uni(1, 4), uni(1, 4)};
+    phantom.center = {eye.x() + uni(-0.22, 0.22) * dist, eye.y() - dist, phantom.size.z() / 2};
+    Rect r;
+    if (!site::ImageBounds(phantom, scene.cameras.left, r.u0, r.v0, r.u1, r.v1)) continue;
+    if (r.u0 < 20 || r.v0 < 20 || r.u1 > size.width - 20 || r.v1 > size.height - 20) continue;
+    double nearest = 1e18;
+    for (const auto& o : rects) {
+      const double dx = std::max({0.0, o.u0 - r.u1, r.u0 - o.u1});
+      const double dy = std::max({0.0, o.v0 - r.v1, r.v0 - o.v1});
+      nearest = std::min(nearest, std::hypot(dx, dy));
+    }
+    // The marks lie up to 1 in outside the silhouette: keep them clear of every object.
+    if (nearest < 16) continue;
+    const auto marks = site::GenerateMarks(phantom, scene.cameras.left, seed * 1000 + 500 + made);
+    if (!marks) continue;
+    ++made;
+    const SolidType type = made % 2 ? SolidType::kCylinder : SolidType::kBox;
+    out.push_back({scene_name, nearest < 30 ? "gap" : "bare", locate(type, *marks)});
+  }
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const auto& object = scene.objects[i];
+    const bool cylinder = std::holds_alternative<site::Cylinder>(object.shape);
+    if (!cylinder && !std::holds_alternative<site::Box>(object.shape)) continue;
+    if (std::min(seen_left[i], seen_right[i]) < kFullView) continue;
+    const auto marks = site::GenerateMarks(object.shape, scene.cameras.left, seed * 1000 + i);
+    if (!marks) continue;
+    out.push_back({scene_name, "wrong_type",
+                   locate(cylinder ? SolidType::kBox : SolidType::kCylinder, *marks)});
+  }
+  return out;
+}
+
+bool WrongModel(const ObjectEvaluation& e) {
+  if (!e.result.found) return false;
+  if (e.position_error > 1.0) return true;
+  if (e.kind == "box") return e.size_error.maxCoeff() > 0.5;
+  if (e.radius_error > 0.15) return true;
+  if (e.kind == "lying")
+    return e.height_error > 0.5 && e.height_error > 3 * e.result.cylinder.height_sigma;
+  return e.height_error > 0.5;
 }
 
 Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& which) {
@@ -90,6 +171,15 @@ Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& w
     if (!which.empty() && e.kind != which) continue;
     ++s.count;
     time.push_back(e.result.elapsed_ms);
+    if (e.visible >= kFullView) {
+      ++s.full;
+      s.full_found += e.result.found;
+      s.full_wrong += e.wrong;
+    } else {
+      ++s.hidden;
+      s.hidden_refused += !e.result.found;
+      s.hidden_wrong += e.wrong;
+    }
     if (!e.result.found) continue;
     ++s.found;
     position.push_back(e.position_error);
@@ -108,6 +198,7 @@ Summary Summarize(const std::vector<ObjectEvaluation>& all, const std::string& w
     }
   }
   s.found_rate = s.count ? double(s.found) / s.count : 0;
+  s.full_found_rate = s.full ? double(s.full_found) / s.full : 0;
   s.radius_median = stats::Percentile(radius, 0.5);
   s.radius_p90 = stats::Percentile(radius, 0.9);
   s.height_median = stats::Percentile(height, 0.5);

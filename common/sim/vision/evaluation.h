@@ -17,7 +17,12 @@ struct ObjectEvaluation {
   std::string kind;  // cylinder (upright or lying) or box
   bool lying = false;
   double distance = 0;  // from the left camera centre to the object's centre
+  // The share of its silhouette the cameras see (the lesser of the two; renderer.h's
+  // VisibleFractions): under 1 when another object hides part of it or part is out of view.
+  double visible = 1;
   LocateResult result;
+  // Found, but not this object: a position or a dimension far beyond any target (WrongModel).
+  bool wrong = false;
   // Errors, world units (valid when result.found).
   double radius_error = 0, height_error = 0, position_error = 0;
   double axis_error_deg = 0;  // cylinder: axis direction; box: yaw
@@ -32,6 +37,15 @@ struct ObjectEvaluation {
   std::vector<double> z_scores;
 };
 
+// Objects at least this visible count as in full view: refusing one is a miss; refusing a
+// less visible one is a correct answer (it cannot be measured whole).
+inline constexpr double kFullView = 0.95;
+
+// Whether a found result is another solid than the object: centre off by more than 1 in, a
+// radius by 0.15 in, a height or a box size by 0.5 in, or (a lying pipe's length, which its
+// sigma may say is ill seen) by more than 0.5 in and 3 reported sigma.
+bool WrongModel(const ObjectEvaluation& e);
+
 // Renders the scene's stereo pair, generates marks for each cylinder and box from the
 // ground truth (seeded by mark_seed and the object's index), locates and compares. With a
 // debug_dir, writes each object's debug image (debug_image.h) there as SCENE_OBJECT.png.
@@ -39,8 +53,29 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
                                             uint64_t mark_seed, const LocateOptions& options = {},
                                             const std::string& debug_dir = "");
 
+// Requests with nothing to find (the "nothing there"): marks around bare table, marks
+// around a gap between objects, and each object in full view asked for as the other type (a
+// cylinder called a box, a box called a cylinder). Every one should be refused.
+struct NothingThereEvaluation {
+  std::string scene_name;
+  std::string what;  // "bare", "gap" or "wrong_type"
+  LocateResult result;
+};
+// `count` bare-or-gap requests (marks around a phantom block 1-4 in wide whose silhouette
+// clears every object's by 16 px or more, "gap" when an object lies within 30 px), and the
+// wrong-type requests.
+std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scene,
+                                                         const std::string& scene_name,
+                                                         uint64_t seed, int count,
+                                                         const LocateOptions& options = {});
+
 struct Summary {
   int count = 0, found = 0;
+  // In full view (visible >= kFullView): how many, found, found wrong. Partly hidden: how
+  // many, refused (a correct answer), found wrong.
+  int full = 0, full_found = 0, full_wrong = 0;
+  int hidden = 0, hidden_refused = 0, hidden_wrong = 0;
+  double full_found_rate = 0;
   double found_rate = 0;
   double radius_median = 0, radius_p90 = 0, height_median = 0, height_p90 = 0;
   double position_median = 0, position_p90 = 0;

@@ -1,0 +1,142 @@
+// The locator on scenes that look like a site (common/sim/site_scenes.h): per level and camera
+// pair, per object type, how many objects in full view (at least 95% visible in both images)
+// were found and how many of those were wrong models; how many partly hidden ones were
+// refused (a correct answer) or found wrong; the errors of what was found and the share of
+// errors within two reported sigma.
+// Usage: bench_site_accuracy [scenes=40] [first_seed=1] [levels=pipes,clutter,far]
+//                            [cameras=thesis,hd] [-v [DEBUG_IMAGE_DIR]]
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <opencv2/core/utility.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/sim/site_scenes.h"
+#include "common/sim/vision/evaluation.h"
+
+using igms::object::ObjectEvaluation;
+using igms::object::Summary;
+
+namespace {
+
+std::vector<std::string> Split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');) out.push_back(item);
+  return out;
+}
+
+void PrintTable(const std::vector<ObjectEvaluation>& all) {
+  std::printf("  %-8s %4s %8s %5s | %4s %7s %5s | %-15s | %-15s | %-13s | %-17s | %5s\n", "type",
+              "full", "found", "wrong", "hid", "refused", "wrong", "radius med/p90",
+              "height med/p90", "position med", "size med x,y,z", "2sig");
+  for (const char* kind : {"upright", "lying", "box"}) {
+    const Summary s = igms::object::Summarize(all, kind);
+    if (s.count == 0) continue;
+    char found[32];
+    std::snprintf(found, sizeof found, "%d/%.0f%%", s.full_found, 100 * s.full_found_rate);
+    std::printf("  %-8s %4d %8s %5d | %4d %7d %5d | ", kind, s.full, found, s.full_wrong, s.hidden,
+                s.hidden_refused, s.hidden_wrong);
+    if (std::strcmp(kind, "box") == 0)
+      std::printf("%-15s | %-15s | %6.3f        | %5.3f %5.3f %5.3f | %4.0f%%\n", "-", "-",
+                  s.position_median, s.size_median.x(), s.size_median.y(), s.size_median.z(),
+                  100 * s.within_2_sigma);
+    else
+      std::printf("%6.4f / %6.4f | %6.4f / %6.4f | %6.3f        | %-17s | %4.0f%%\n",
+                  s.radius_median, s.radius_p90, s.height_median, s.height_p90, s.position_median,
+                  "-", 100 * s.within_2_sigma);
+  }
+  const Summary t = igms::object::Summarize(all, "");
+  std::printf(
+      "  all: in full view %d of %d found (%.1f%%), %d wrong; partly hidden %d: %d refused, "
+      "%d wrong\n",
+      t.full_found, t.full, 100 * t.full_found_rate, t.full_wrong, t.hidden, t.hidden_refused,
+      t.hidden_wrong);
+}
+
+void PrintNothing(const std::vector<igms::object::NothingThereEvaluation>& all) {
+  std::printf("  nothing there, reported found:");
+  for (const char* what : {"bare", "gap", "wrong_type"}) {
+    int n = 0, found = 0;
+    for (const auto& e : all)
+      if (e.what == what) {
+        ++n;
+        found += e.result.found;
+      }
+    std::printf(" %s %d of %d;", what, found, n);
+  }
+  std::printf("\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cv::setNumThreads(1);
+  const int scenes = argc > 1 ? std::atoi(argv[1]) : 40;
+  const int first = argc > 2 ? std::atoi(argv[2]) : 1;
+  const auto levels = Split(argc > 3 ? argv[3] : "pipes,clutter,far");
+  const auto cameras = Split(argc > 4 ? argv[4] : "thesis,hd");
+  const bool verbose = argc > 5 && std::strcmp(argv[5], "-v") == 0;
+  const std::string debug_dir = argc > 6 ? argv[6] : "";
+  std::printf("Locator on site-like scenes: %d scenes per level and camera pair, seeds %d..%d\n",
+              scenes, first, first + scenes - 1);
+  std::printf("(full: at least %.0f%% visible in both images; hid: partly hidden or out of view)\n",
+              100 * igms::object::kFullView);
+  std::vector<ObjectEvaluation> everything;
+  std::vector<igms::object::NothingThereEvaluation> everything_nothing;
+  for (const auto& camera : cameras) {
+    for (const auto& level_name : levels) {
+      igms::site::SiteLevel level = igms::site::SiteLevel::kPipes;
+      for (const auto l : {igms::site::SiteLevel::kPipes, igms::site::SiteLevel::kClutter,
+                           igms::site::SiteLevel::kFar})
+        if (level_name == igms::site::SiteLevelName(l)) level = l;
+      const bool hd = camera == "hd";
+      std::vector<ObjectEvaluation> all;
+      std::vector<igms::object::NothingThereEvaluation> nothing;
+      timespec c0, c1;
+      clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
+      for (int s = 0; s < scenes; ++s) {
+        const auto scene = igms::site::SiteScene(first + s, level, hd);
+        const std::string name = level_name + "_" + camera + "_" + std::to_string(first + s);
+        for (const auto& e : igms::object::EvaluateScene(scene, name, first + s, {}, debug_dir)) {
+          if (verbose)
+            std::printf(
+                "%-18s %-11s %-7s d=%5.1f vis=%.2f %s r=%+.3f h=%+.3f pos=%.3f "
+                "size=(%+.2f %+.2f %+.2f) %s\n",
+                e.scene_name.c_str(), e.object_name.c_str(), e.kind.c_str(), e.distance, e.visible,
+                e.wrong            ? "WRONG"
+                : e.result.found   ? "found"
+                : e.visible < 0.95 ? "refus"
+                                   : "MISS ",
+                e.radius_signed, e.height_signed, e.position_error, e.size_signed.x(),
+                e.size_signed.y(), e.size_signed.z(),
+                e.result.found ? ""
+                               : (std::string(igms::object::FailureName(e.result.reason)) + ": " +
+                                  e.result.detail)
+                                     .c_str());
+          all.push_back(e);
+        }
+        for (const auto& n : igms::object::EvaluateNothingThere(scene, name, first + s, 2)) {
+          if (verbose && n.result.found)
+            std::printf("%-18s nothing there (%s) reported found\n", name.c_str(), n.what.c_str());
+          nothing.push_back(n);
+        }
+      }
+      clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c1);
+      const double cpu_s = (c1.tv_sec - c0.tv_sec) + (c1.tv_nsec - c0.tv_nsec) * 1e-9;
+      std::printf("\nlevel %s, %s cameras (%zu objects, %.0f s CPU):\n", level_name.c_str(),
+                  camera.c_str(), all.size(), cpu_s);
+      PrintTable(all);
+      PrintNothing(nothing);
+      everything_nothing.insert(everything_nothing.end(), nothing.begin(), nothing.end());
+      everything.insert(everything.end(), all.begin(), all.end());
+    }
+  }
+  std::printf("\nevery level:\n");
+  PrintTable(everything);
+  PrintNothing(everything_nothing);
+  return 0;
+}

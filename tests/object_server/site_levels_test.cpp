@@ -1,0 +1,62 @@
+// A seeded subset of the site benchmark (bench_site_accuracy): two scenes of each level with
+// the thesis's cameras (pipes in any direction and on supports, clutter with occlusion and
+// textures, far objects under noise; two lights and shadows), asserting that the objects in
+// full view are found and marks around bare table or a gap are refused. The bounds hold the
+// present figures (24 of 30 in full view found, 8 wrong models of 38 objects, no bare or gap
+// request found) against regression; the targets (99% found, wrong models rare, wrong
+// types refused) are not met yet: bench_site_accuracy prints how far off.
+#include <gtest/gtest.h>
+
+#include <opencv2/core/utility.hpp>
+
+#include "common/sim/site_scenes.h"
+#include "common/sim/vision/evaluation.h"
+
+namespace igms::object {
+namespace {
+
+TEST(SiteLevels, SeededScenesOfEachLevel) {
+  cv::setNumThreads(1);
+  std::vector<ObjectEvaluation> all;
+  std::vector<NothingThereEvaluation> nothing;
+  for (const auto level :
+       {site::SiteLevel::kPipes, site::SiteLevel::kClutter, site::SiteLevel::kFar}) {
+    for (int seed = 900; seed < 902; ++seed) {
+      const auto scene = site::SiteScene(seed, level, false);
+      const std::string name = std::string(site::SiteLevelName(level)) + "_" + std::to_string(seed);
+      const auto evals = EvaluateScene(scene, name, seed);
+      all.insert(all.end(), evals.begin(), evals.end());
+      const auto n = EvaluateNothingThere(scene, name, seed, 1);
+      nothing.insert(nothing.end(), n.begin(), n.end());
+    }
+  }
+  const Summary s = Summarize(all, "");
+  std::printf("in full view %d of %d found, %d wrong; partly hidden %d: %d refused, %d wrong\n",
+              s.full_found, s.full, s.full_wrong, s.hidden, s.hidden_refused, s.hidden_wrong);
+  for (const auto& e : all)
+    if (e.visible >= kFullView && (!e.result.found || e.wrong))
+      std::printf("  %s %s (%s, visible %.2f): %s %s\n", e.scene_name.c_str(),
+                  e.object_name.c_str(), e.kind.c_str(), e.visible,
+                  e.wrong ? "WRONG" : FailureName(e.result.reason), e.result.detail.c_str());
+  int false_finds = 0, wrong_types = 0, requests = 0;
+  for (const auto& n : nothing) {
+    if (n.what == "wrong_type") {
+      wrong_types += n.result.found;
+      continue;
+    }
+    ++requests;
+    false_finds += n.result.found;
+    if (n.result.found)
+      std::printf("  %s: nothing there (%s) found\n", n.scene_name.c_str(), n.what.c_str());
+  }
+  std::printf("nothing there: %d of %d found; wrong types found: %d\n", false_finds, requests,
+              wrong_types);
+  ASSERT_GE(s.full, 25);
+  EXPECT_GE(s.full_found_rate, 0.75);
+  EXPECT_LE(s.full_wrong + s.hidden_wrong, 14);
+  ASSERT_GE(requests, 5);
+  EXPECT_EQ(false_finds, 0);
+}
+
+}  // namespace
+}  // namespace igms::object
