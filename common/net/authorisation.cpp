@@ -20,7 +20,7 @@ int Score(const std::string& pattern, const std::string& method) {
     return match ? 1 + static_cast<int>(service.size()) : -1;
   }
   const bool match = method == pattern || EndsWith(method, "." + pattern);
-  return match ? 1000 + static_cast<int>(pattern.size()) : -1;
+  return match ? 1000 : -1;  // any exact rule beats any service rule
 }
 
 }  // namespace
@@ -50,7 +50,7 @@ const std::pair<std::string, std::vector<std::string>>* Authorisation::Rule(
   int best_score = -1;
   for (const auto& rule : rules_) {
     const int s = Score(rule.first, method);
-    if (s > best_score) {
+    if (s >= best_score) {  // a tie goes to the later rule: the lab file's over the built-in
       best_score = s;
       best = &rule;
     }

@@ -3,7 +3,9 @@
 //
 // A rule is a method's full name ("igms.devices.PlatformService.SetOrientation"), its
 // service's methods ("igms.devices.PlatformService.*"; the package may be left out:
-// "PlatformService.*"), or "*"; the most specific rule that matches decides. A rule's names
+// "PlatformService.*"), or "*". A method's own rule beats its service's, which beats "*";
+// between two of a kind the later decides (the lab file's lab.permissions come after the
+// built-in table). A rule's names
 // may include "*": any certificate of the lab's authority.
 #pragma once
 

@@ -133,16 +133,18 @@ TlsContext::TlsContext(const TlsOptions& o, Role role) : role_(role) {
     const bool key_ok = key && SSL_CTX_use_PrivateKey(ctx_, key) == 1;
     EVP_PKEY_free(key);
     if (!key_ok) fail("the key is not PEM");
+  } else if (o.cert_file.empty() && role == Role::kClient) {
+    // A client with no certificate of its own: the server will refuse it, and say so.
   } else {
     if (SSL_CTX_use_certificate_file(ctx_, o.cert_file.c_str(), SSL_FILETYPE_PEM) != 1)
       fail("cannot read the certificate " + o.cert_file + " (igms certs issue NAME)");
     if (SSL_CTX_use_PrivateKey_file(ctx_, o.key_file.c_str(), SSL_FILETYPE_PEM) != 1)
       fail("cannot read the key " + o.key_file);
   }
-  if (SSL_CTX_check_private_key(ctx_) != 1) fail("the key does not match " + source_);
   X509* own = SSL_CTX_get0_certificate(ctx_);
+  if (own && SSL_CTX_check_private_key(ctx_) != 1) fail("the key does not match " + source_);
   name_ = CommonName(own);
-  not_after_unix_ = ToUnix(X509_get0_notAfter(own));
+  not_after_unix_ = own ? ToUnix(X509_get0_notAfter(own)) : 0;
   // Both sides prove themselves: a server refuses a client without a certificate.
   SSL_CTX_set_verify(
       ctx_, SSL_VERIFY_PEER | (role == Role::kServer ? SSL_VERIFY_FAIL_IF_NO_PEER_CERT : 0),
@@ -282,7 +284,11 @@ std::string TlsEngine::PeerName() const {
 std::string ExplainTlsError(const std::string& reason, bool server_side) {
   auto has = [&](const char* s) { return reason.find(s) != std::string::npos; };
   std::string what;
-  if (has("peer did not return a certificate") || has("certificate required")) {
+  if (server_side && has("alert") && !has("certificate required")) {
+    what =
+        "the client refused this server's certificate (another authority, expired, or not "
+        "naming the host it dialled)";
+  } else if (has("peer did not return a certificate") || has("certificate required")) {
     what = server_side ? "the client presented no certificate"
                        : "the server wants a certificate and this client has none";
   } else if (has("certificate has expired") || has("certificate expired")) {
