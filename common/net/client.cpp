@@ -616,8 +616,10 @@ void Client::SendCall(std::uint64_t id, const std::string& method, std::string f
         impl_->pending.emplace(id, std::move(p));
       }
       if (impl_->tls_context) {
-        // TLS: the strand encrypts and writes (one SSL object, one thread at a time).
-        if (impl_->QueueLocked(std::move(frame))) {
+        // TLS: written from here when the stream is idle, else by the strand.
+        if (!impl_->writing && impl_->tls && impl_->tls->TryDirectWrite(frame)) {
+          impl_->sent_since_heartbeat = true;
+        } else if (impl_->QueueLocked(std::move(frame))) {
           asio::post(impl_->strand,
                      [impl = impl_, gen = impl_->live_generation] { impl->WriteNext(gen); });
         }

@@ -10,6 +10,7 @@
 
 #include <boost/asio/post.hpp>
 #include <boost/asio/write.hpp>
+#include <cerrno>
 #include <ctime>
 #include <stdexcept>
 
@@ -332,12 +333,16 @@ void TlsStream::ReadCiphertext(std::function<void(const std::string&)> then) {
                               then(ec == asio::error::eof ? "eof" : ec.message());
                               return;
                             }
-                            self->engine_.Feed(self->cipher_in_.data(), n);
+                            {
+                              std::lock_guard lock(self->mutex_);
+                              self->engine_.Feed(self->cipher_in_.data(), n);
+                            }
                             then("");
                           });
 }
 
 void TlsStream::AsyncHandshake(Done done) {
+  std::lock_guard lock(mutex_);
   const auto step = engine_.Handshake();
   switch (step) {
     case TlsEngine::Step::kDone:
@@ -361,14 +366,25 @@ void TlsStream::AsyncHandshake(Done done) {
   }
 }
 
-void TlsStream::AsyncReadSome(char* out, std::size_t n, ReadDone done) {
-  // Everything already decryptable, record after record, up to n.
+// With the lock held: every whole record already here, decrypted into out (up to n).
+std::size_t TlsStream::DecryptLocked(char* out, std::size_t n, std::string* error) {
   std::size_t got = 0;
   long r = 0;
   while (got < n && (r = engine_.Read(out + got, n - got)) > 0) got += static_cast<std::size_t>(r);
   if (engine_.HasOutput()) Flush(nullptr);  // post-handshake messages (key updates)
-  if (got > 0 || r < 0) {
-    const std::string error = got > 0 ? "" : (r == -1 ? "eof" : engine_.error());
+  if (got == 0 && r == -1) *error = "eof";
+  if (got == 0 && r == -2) *error = engine_.error();
+  return got;
+}
+
+void TlsStream::AsyncReadSome(char* out, std::size_t n, ReadDone done) {
+  std::string error;
+  std::size_t got = 0;
+  {
+    std::lock_guard lock(mutex_);
+    got = DecryptLocked(out, n, &error);
+  }
+  if (got > 0 || !error.empty()) {
     // Posted: a caller that reads again from its completion does not recurse.
     asio::post(socket_.get_executor(), [done = std::move(done), error, got] { done(error, got); });
     return;
@@ -379,24 +395,55 @@ void TlsStream::AsyncReadSome(char* out, std::size_t n, ReadDone done) {
           done(e, 0);
           return;
         }
+        std::string error;
         std::size_t got = 0;
-        long r = 0;
-        while (got < n && (r = self->engine_.Read(out + got, n - got)) > 0)
-          got += static_cast<std::size_t>(r);
-        if (self->engine_.HasOutput()) self->Flush(nullptr);
-        if (got > 0) {
-          done("", got);
-        } else if (r < 0) {
-          done(r == -1 ? "eof" : self->engine_.error(), 0);
+        {
+          std::lock_guard lock(self->mutex_);
+          got = self->DecryptLocked(out, n, &error);
+        }
+        if (got > 0 || !error.empty()) {
+          done(error, got);
         } else {
           self->AsyncReadSome(out, n, std::move(done));  // a partial record: read on
         }
       });
 }
 
-bool TlsStream::Encrypt(const char* data, std::size_t n) { return engine_.Write(data, n); }
+bool TlsStream::Encrypt(const char* data, std::size_t n) {
+  std::lock_guard lock(mutex_);
+  return engine_.Write(data, n);
+}
+
+bool TlsStream::TryDirectWrite(const std::string& frame) {
+  std::unique_lock lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock() || writing_ || !pending_.empty() || !socket_.is_open()) return false;
+  if (!engine_.Write(frame.data(), frame.size())) return false;  // the strand's write reports it
+  std::string out;
+  engine_.TakeOutput(&out);
+  std::size_t sent = 0;
+  while (sent < out.size()) {
+    const ssize_t n = ::send(socket_.native_handle(), out.data() + sent, out.size() - sent,
+                             MSG_DONTWAIT | MSG_NOSIGNAL);
+    if (n > 0) {
+      sent += static_cast<std::size_t>(n);
+    } else if (n < 0 && errno == EINTR) {
+      continue;
+    } else {
+      break;  // a full socket buffer, or an error the strand's next write reports
+    }
+  }
+  if (sent < out.size()) {
+    pending_ = out.substr(sent);
+    asio::post(socket_.get_executor(), [self = shared_from_this()] {
+      std::lock_guard lock(self->mutex_);
+      self->StartWrite();
+    });
+  }
+  return true;
+}
 
 void TlsStream::AsyncWrite(const char* data, std::size_t n, Done done) {
+  std::lock_guard lock(mutex_);
   if (!engine_.Write(data, n)) {
     asio::post(socket_.get_executor(), [done = std::move(done), e = engine_.error()] { done(e); });
     return;
@@ -405,11 +452,13 @@ void TlsStream::AsyncWrite(const char* data, std::size_t n, Done done) {
 }
 
 void TlsStream::Flush(Done done) {
+  std::lock_guard lock(mutex_);
   engine_.TakeOutput(&pending_);
   if (done) pending_done_.push_back(std::move(done));
   StartWrite();
 }
 
+// With the lock held.
 void TlsStream::StartWrite() {
   if (writing_) return;
   if (pending_.empty()) {
@@ -427,19 +476,26 @@ void TlsStream::StartWrite() {
   flight_done_.swap(pending_done_);
   asio::async_write(socket_, asio::buffer(flight_),
                     [self = shared_from_this()](boost::system::error_code ec, std::size_t) {
-                      self->writing_ = false;
-                      self->flight_.clear();
-                      auto dones = std::move(self->flight_done_);
-                      self->flight_done_.clear();
-                      if (ec) self->write_error_ = "write failed: " + ec.message();
-                      for (const auto& d : dones) d(self->write_error_);
-                      if (!ec) self->StartWrite();
+                      std::vector<Done> dones;
+                      std::string error;
+                      {
+                        std::lock_guard lock(self->mutex_);
+                        self->writing_ = false;
+                        self->flight_.clear();
+                        dones.swap(self->flight_done_);
+                        if (ec) self->write_error_ = "write failed: " + ec.message();
+                        error = self->write_error_;
+                        if (!ec) self->StartWrite();
+                      }
+                      // Outside the lock: a completion may write again.
+                      for (const auto& d : dones) d(error);
                     });
 }
 
 void TlsStream::Shutdown() {
   // Best effort and non-blocking: the peer learns the close was deliberate. Not while a
   // write is on the socket (the alert would land inside its records).
+  std::lock_guard lock(mutex_);
   if (writing_ || !pending_.empty() || !socket_.is_open()) return;
   engine_.Close();
   std::string out;

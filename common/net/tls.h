@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -111,7 +112,8 @@ class TlsEngine {
   std::string error_;
 };
 
-// A TlsEngine beside a connected socket. Every method runs on the socket's strand.
+// A TlsEngine beside a connected socket. Every method runs on the socket's strand, but
+// TryDirectWrite.
 class TlsStream : public std::enable_shared_from_this<TlsStream> {
  public:
   using Socket = boost::asio::ip::tcp::socket;
@@ -130,6 +132,9 @@ class TlsStream : public std::enable_shared_from_this<TlsStream> {
   // Encrypts without a completion (the caller gathers several, then Flush).
   bool Encrypt(const char* data, std::size_t n);
   void Flush(Done done);
+  // From any thread: encrypts and sends a frame at once when nothing else is being written
+  // (a client's call skips the hop to its network thread). False: use the strand.
+  bool TryDirectWrite(const std::string& frame);
   // close_notify, best effort; the socket stays the caller's to close.
   void Shutdown();
 
@@ -139,8 +144,12 @@ class TlsStream : public std::enable_shared_from_this<TlsStream> {
  private:
   void ReadCiphertext(std::function<void(const std::string&)> then);
   void StartWrite();
+  std::size_t DecryptLocked(char* out, std::size_t n, std::string* error);
 
   Socket& socket_;
+  // The engine and the write state are the strand's, but for TryDirectWrite from a
+  // caller's thread: the lock makes the two take turns (recursive: reads flush).
+  std::recursive_mutex mutex_;
   TlsEngine engine_;
   std::vector<char> cipher_in_;
   std::string pending_;             // ciphertext not yet on the socket

@@ -204,7 +204,7 @@ int main() {
   igms::config::TuneAllocator();
   spdlog::set_level(spdlog::level::warn);
   const std::string dir = "/tmp/igms-bench-tls-" + std::to_string(::getpid());
-  igms::certs::InitFolder(dir, 2);
+  igms::certs::InitFolder(dir, 30);
   igms::certs::IssueOptions o;
   o.hosts = {"127.0.0.1"};
   igms::certs::IssueToFolder(dir, "video", o);
