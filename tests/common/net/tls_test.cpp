@@ -6,8 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/read.hpp>
+#include <boost/asio/write.hpp>
 #include <filesystem>
+#include <mutex>
 #include <string>
+#include <thread>
 
 #include "common/certs/certs.h"
 #include "common/net/client.h"
@@ -302,6 +307,87 @@ TEST(Tls, ExpiryIsWarnedAWeekAhead) {
             std::string::npos);
   TlsContext old(lab.As("old"), TlsContext::Role::kClient);
   EXPECT_NE(old.ExpiryWarning(std::chrono::hours(24 * 7)).find("expired on"), std::string::npos);
+}
+
+// A loopback relay between a client and a server that keeps every byte it passes on, both
+// ways: what anyone watching the lab network would see.
+class Wiretap {
+ public:
+  explicit Wiretap(std::uint16_t server_port)
+      : acceptor_(io_, {boost::asio::ip::make_address("127.0.0.1"), 0}) {
+    thread_ = std::thread([this, server_port] {
+      boost::asio::ip::tcp::socket client(io_), server(io_);
+      acceptor_.accept(client);
+      server.connect({boost::asio::ip::make_address("127.0.0.1"), server_port});
+      std::thread back([&] { Pump(server, client); });
+      Pump(client, server);
+      back.join();
+    });
+  }
+  ~Wiretap() { thread_.join(); }
+  std::uint16_t port() const { return acceptor_.local_endpoint().port(); }
+  std::string Seen() {
+    std::lock_guard lock(mutex_);
+    return seen_;
+  }
+
+ private:
+  void Pump(boost::asio::ip::tcp::socket& from, boost::asio::ip::tcp::socket& to) {
+    char buf[65536];
+    boost::system::error_code ec;
+    for (;;) {
+      const std::size_t n = from.read_some(boost::asio::buffer(buf), ec);
+      if (ec) break;
+      {
+        std::lock_guard lock(mutex_);
+        seen_.append(buf, n);
+      }
+      boost::asio::write(to, boost::asio::buffer(buf, n), ec);
+      if (ec) break;
+    }
+    to.shutdown(boost::asio::ip::tcp::socket::shutdown_send, ec);
+  }
+  boost::asio::io_context io_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  std::thread thread_;
+  std::mutex mutex_;
+  std::string seen_;
+};
+
+// What the wiretap saw of a session carrying the token and a frame of "video".
+std::string Overheard(const std::optional<TlsOptions>& server_tls,
+                      const std::optional<TlsOptions>& client_tls) {
+  IoThread io;
+  ServerOptions so;
+  so.token = "lab-token-0f3c9a";
+  TlsServer s(io.io(), server_tls ? *server_tls : TlsOptions{}, so);
+  std::string seen;
+  {
+    Wiretap tap(s.server.port());
+    ClientOptions co = To(s, client_tls);
+    co.port = tap.port();
+    co.token = so.token;
+    Client c(io.io(), co);
+    c.Start();
+    EXPECT_TRUE(Echo(c, std::string(200000, 'V') + "VIDEO-ROW-MARKER").ok());
+    c.Stop();
+    s.server.Stop();
+    seen = tap.Seen();
+  }
+  return seen;
+}
+
+TEST(Tls, NothingTravelsInClear) {
+  // The tap works: without TLS it sees the token and the video.
+  const std::string plain = Overheard(std::nullopt, std::nullopt);
+  EXPECT_NE(plain.find("lab-token-0f3c9a"), std::string::npos);
+  EXPECT_NE(plain.find("VIDEO-ROW-MARKER"), std::string::npos);
+  // With TLS it sees 200 KB each way, and neither.
+  const std::string tls = Overheard(TheLab().As("video"), TheLab().As("control"));
+  EXPECT_GT(tls.size(), 400000u);
+  EXPECT_EQ(tls.find("lab-token-0f3c9a"), std::string::npos);
+  EXPECT_EQ(tls.find("VIDEO-ROW-MARKER"), std::string::npos);
+  EXPECT_EQ(tls.find("VVVVVVVVVVVVVVVV"), std::string::npos);
 }
 
 }  // namespace
