@@ -10,6 +10,7 @@
 #include <boost/asio/post.hpp>
 #include <boost/asio/read.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/write.hpp>
 #include <ctime>
@@ -50,6 +51,45 @@ struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
   Authorisation authorisation = Authorisation::Default();
   FailureLimiter limiter;
   std::unique_ptr<asio::signal_set> sighup;
+  std::unique_ptr<asio::steady_timer> expiry_timer;
+
+  void WarnIfExpiring(const TlsContext& context) {
+    const std::string warning = context.ExpiryWarning(std::chrono::hours(24 * 7));
+    if (!warning.empty()) spdlog::warn("{}: {}", options.name, warning);
+  }
+
+  bool Reload() {
+    try {
+      auto context = std::make_shared<const TlsContext>(tls_options, TlsContext::Role::kServer);
+      WarnIfExpiring(*context);
+      std::lock_guard lock(mutex);
+      tls = std::move(context);
+    } catch (const std::exception& e) {
+      spdlog::error("{}: keeping the certificate in use: {}", options.name, e.what());
+      return false;
+    }
+    spdlog::info("{}: certificate files read again; new connections use them", options.name);
+    return true;
+  }
+
+  void WaitForSighup() {
+    sighup->async_wait([self = shared_from_this()](const boost::system::error_code& ec, int) {
+      if (ec) return;
+      spdlog::info("{}: SIGHUP: reading the certificate files again", self->options.name);
+      self->Reload();
+      self->WaitForSighup();
+    });
+  }
+
+  // A server runs for weeks: the week's notice of expiry is checked twice a day too.
+  void CheckExpiryLater() {
+    expiry_timer->expires_after(std::chrono::hours(12));
+    expiry_timer->async_wait([self = shared_from_this()](const boost::system::error_code& ec) {
+      if (ec) return;
+      if (auto context = self->Tls()) self->WarnIfExpiring(*context);
+      self->CheckExpiryLater();
+    });
+  }
 
   std::shared_ptr<const TlsContext> Tls() {
     std::lock_guard lock(mutex);
@@ -160,50 +200,26 @@ void Server::Start() {
     // A server whose certificate cannot be read does not start (rather than serve in clear).
     auto context =
         std::make_shared<const TlsContext>(impl_->tls_options, TlsContext::Role::kServer);
-    const std::string warning = context->ExpiryWarning(std::chrono::hours(24 * 7));
-    if (!warning.empty()) spdlog::warn("{}: {}", options_.name, warning);
+    impl_->WarnIfExpiring(*context);
     {
       std::lock_guard lock(impl_->mutex);
       impl_->tls = std::move(context);
     }
     if (options_.reload_on_sighup) {
       impl_->sighup = std::make_unique<asio::signal_set>(impl_->io, SIGHUP);
-      WaitForSighup();
+      impl_->WaitForSighup();
     }
+    impl_->expiry_timer = std::make_unique<asio::steady_timer>(impl_->strand);
+    impl_->CheckExpiryLater();
   }
   spdlog::info("{}: listening on {}:{}{}", options_.name, options_.bind_address, port_,
                impl_->tls_options.enabled ? " (TLS 1.3, mutual certificates)" : "");
   impl_->Accept();
 }
 
-void Server::WaitForSighup() {
-  impl_->sighup->async_wait(
-      [this, weak = std::weak_ptr<Impl>(impl_)](const boost::system::error_code& ec, int) {
-        if (ec || weak.expired()) return;
-        spdlog::info("{}: SIGHUP: reading the certificate files again", options_.name);
-        ReloadTls();
-        WaitForSighup();
-      });
-}
-
 bool Server::tls() const { return impl_->Tls() != nullptr; }
 
-bool Server::ReloadTls() {
-  if (!impl_->tls_options.enabled) return false;
-  try {
-    auto context =
-        std::make_shared<const TlsContext>(impl_->tls_options, TlsContext::Role::kServer);
-    const std::string warning = context->ExpiryWarning(std::chrono::hours(24 * 7));
-    if (!warning.empty()) spdlog::warn("{}: {}", options_.name, warning);
-    std::lock_guard lock(impl_->mutex);
-    impl_->tls = std::move(context);
-  } catch (const std::exception& e) {
-    spdlog::error("{}: keeping the certificate in use: {}", options_.name, e.what());
-    return false;
-  }
-  spdlog::info("{}: certificate files read again; new connections use them", options_.name);
-  return true;
-}
+bool Server::ReloadTls() { return impl_->tls_options.enabled && impl_->Reload(); }
 
 void Server::Stop() {
   std::set<std::shared_ptr<Session>> sessions;
@@ -213,11 +229,12 @@ void Server::Stop() {
     impl_->stopped = true;
     sessions.swap(impl_->sessions);
   }
-  if (impl_->sighup) {
-    // On the loop's thread: a signal set is not thread-safe.
-    asio::post(impl_->io, [impl = impl_] {
+  if (impl_->sighup || impl_->expiry_timer) {
+    // On the loop's thread: neither a signal set nor a timer is thread-safe.
+    asio::post(impl_->strand, [impl = impl_] {
       boost::system::error_code ignored;
-      impl->sighup->cancel(ignored);
+      if (impl->sighup) impl->sighup->cancel(ignored);
+      if (impl->expiry_timer) impl->expiry_timer->cancel();
     });
   }
   // The port must be free when Stop returns to a caller outside the io_context (a test

@@ -181,7 +181,6 @@ class Server {
   struct Impl;
 
  private:
-  void WaitForSighup();
   using MethodFn = std::function<void(std::string_view, std::weak_ptr<Session>, std::uint64_t)>;
   using StreamFn = std::function<Status(std::string_view, std::weak_ptr<Session>, std::uint64_t)>;
   void AddMethod(const std::string& method, MethodFn fn);
