@@ -2,6 +2,8 @@
 // side (as a client's first flight) and on the client's (as the server's answer to a
 // ClientHello). Neither side may crash, leak or hang; each must fail with a reason or
 // want more bytes. The certificates are made once, in memory, by common/certs.
+// fuzz_seeds/fuzz_tls_handshake starts it from a real ClientHello (first byte 1: to the
+// server) and a real server flight (first byte 0: to the client).
 #include <cstddef>
 #include <cstdint>
 #include <memory>
