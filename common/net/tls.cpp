@@ -22,6 +22,9 @@ namespace asio = boost::asio;
 
 namespace {
 
+constexpr std::size_t kRecordBytes = 16 * 1024 + 256;  // a TLS record and its overhead
+constexpr std::size_t kMaxReadBytes = 256 * 1024;
+
 bool IsIp(const std::string& host) {
   unsigned char buf[16];
   return inet_pton(AF_INET, host.c_str(), buf) == 1 || inet_pton(AF_INET6, host.c_str(), buf) == 1;
@@ -323,22 +326,27 @@ std::string ExplainTlsError(const std::string& reason, bool server_side) {
 
 TlsStream::TlsStream(Socket& socket, std::shared_ptr<const TlsContext> context,
                      const std::string& host)
-    : socket_(socket), engine_(std::move(context), host), cipher_in_(256 * 1024) {}
+    : socket_(socket), engine_(std::move(context), host), cipher_in_(kRecordBytes) {}
 
 void TlsStream::ReadCiphertext(std::function<void(const std::string&)> then) {
-  socket_.async_read_some(asio::buffer(cipher_in_),
-                          [self = shared_from_this(), then = std::move(then)](
-                              boost::system::error_code ec, std::size_t n) {
-                            if (ec) {
-                              then(ec == asio::error::eof ? "eof" : ec.message());
-                              return;
-                            }
-                            {
-                              std::lock_guard lock(self->mutex_);
-                              self->engine_.Feed(self->cipher_in_.data(), n);
-                            }
-                            then("");
-                          });
+  socket_.async_read_some(
+      asio::buffer(cipher_in_), [self = shared_from_this(), then = std::move(then)](
+                                    boost::system::error_code ec, std::size_t n) {
+        if (ec) {
+          then(ec == asio::error::eof ? "eof" : ec.message());
+          return;
+        }
+        {
+          std::lock_guard lock(self->mutex_);
+          self->engine_.Feed(self->cipher_in_.data(), n);
+        }
+        // An idle session keeps one record's room; a busy one grows it
+        // to take a large frame's records in few reads.
+        if (n == self->cipher_in_.size() && self->cipher_in_.size() < kMaxReadBytes) {
+          self->cipher_in_.resize(self->cipher_in_.size() * 4);
+        }
+        then("");
+      });
 }
 
 void TlsStream::AsyncHandshake(Done done) {

@@ -4,7 +4,8 @@
 // key, TLS 1.3 only, peers verified. TlsStream runs OpenSSL over memory buffers beside an
 // Asio socket, on the socket's strand: ciphertext goes to the socket in one write for
 // everything queued (a burst of small frames, or a 500 KB frame's many records), rather
-// than one system call per TLS record as Asio's ssl::stream makes.
+// than one system call per TLS record as Asio's ssl::stream makes; reads take up to
+// 256 KB of records at once on a busy connection (one record's room on an idle one).
 #pragma once
 
 #include <utility>
