@@ -8,7 +8,7 @@ find_package(Protobuf REQUIRED)
 find_package(yaml-cpp REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(SQLite3 REQUIRED)
-find_package(OpenSSL REQUIRED COMPONENTS Crypto)  # libcrypto: SHA-256 of the calibration
+find_package(OpenSSL REQUIRED COMPONENTS Crypto SSL)  # SHA-256 of the calibration; TLS (docs/security.md)
 find_package(glfw3 3.3 REQUIRED)
 find_package(OpenGL REQUIRED)
 find_package(OpenAL REQUIRED)

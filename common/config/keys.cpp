@@ -124,6 +124,14 @@ const Keys& CommonKeys() {
     Keys k;
     k.Add("lab.token", KeyType::kString, "",
           "a shared secret every client must present; empty: none (a closed lab network)");
+    k.Choice("lab.tls", {"off", "on"}, "off",
+             "on: TLS 1.3 with mutual certificates on every connection (docs/security.md)");
+    k.Add("lab.certs", KeyType::kString, "",
+          "the folder of ca.crt, NAME.crt, NAME.key (empty: $CREDENTIALS_DIRECTORY, else certs "
+          "beside the file)");
+    k.Add("lab.permissions", KeyType::kMap, "",
+          "method (or Service.*) to the certificate names that may call it, over the built-in "
+          "table (docs/security.md)");
     k.Path("lab.calibration", "the cameras' calibration file (docs/calibration.md)");
     k.Add("lab.database", KeyType::kOutputPath, "", "the geometric database");
     const std::vector<std::string> levels = {"trace", "debug",    "info", "warn",

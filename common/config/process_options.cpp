@@ -3,6 +3,7 @@
 #include <malloc.h>
 #include <spdlog/spdlog.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
@@ -32,6 +33,52 @@ std::uint16_t ProcessOptions::PortOf(const std::string& process) const {
   if (port <= 0 || port > 65535) throw config.Error(key, config.Find(key), "must be 1-65535");
   return static_cast<std::uint16_t>(port);
 }
+
+LabSecurity SecurityOf(const LabConfig& config, const std::string& name) {
+  LabSecurity s;
+  s.name = name;
+  const std::string tls = config.Get<std::string>("lab.tls", "off");
+  if (tls == "on" || tls == "true") {
+    s.tls = true;
+  } else if (tls != "off" && tls != "false") {
+    throw config.Error("lab.tls", config.Find("lab.tls"), "must be on or off");
+  }
+  const std::string dir = config.Get<std::string>("lab.certs", "");
+  const char* credentials = std::getenv("CREDENTIALS_DIRECTORY");  // systemd LoadCredential=
+  if (!dir.empty()) {
+    s.certs_dir = config.ResolvePath(dir);
+  } else if (credentials && *credentials) {
+    s.certs_dir = credentials;
+  } else {
+    s.certs_dir = config.ResolvePath("certs");
+  }
+  const YAML::Node table = config.Find("lab.permissions");
+  if (table.IsDefined() && table.IsMap()) {
+    for (const auto& kv : table) {
+      std::vector<std::string> names;
+      if (kv.second.IsSequence()) {
+        for (const auto& n : kv.second) names.push_back(n.Scalar());
+      } else if (kv.second.IsScalar()) {
+        names.push_back(kv.second.Scalar());
+      } else if (!kv.second.IsNull()) {
+        throw config.Error("lab.permissions." + kv.first.Scalar(), kv.second,
+                           "must be a list of certificate names");
+      }
+      s.permissions.emplace_back(kv.first.Scalar(), std::move(names));
+    }
+  }
+  return s;
+}
+
+namespace {
+LabSecurity& SecuritySlot() {
+  static LabSecurity security;
+  return security;
+}
+}  // namespace
+
+const LabSecurity& ProcessSecurity() { return SecuritySlot(); }
+void SetProcessSecurity(LabSecurity security) { SecuritySlot() = std::move(security); }
 
 void TuneAllocator() {
   // Frames of images and large requests are allocated and freed many times a second; above
@@ -188,6 +235,7 @@ std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
       if (!out.check_only) spdlog::warn("{} (going on: --allow-unknown-keys)", p.Text());
     }
     keys.Read(out);
+    SetProcessSecurity(SecurityOf(out.config, out.name));
   } catch (const ConfigError& e) {
     std::cerr << program << ": " << e.what() << "\n";
     *exit_code = kExitUsage;

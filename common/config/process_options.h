@@ -19,6 +19,8 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "common/config/keys.h"
 #include "common/config/lab_config.h"
@@ -45,6 +47,21 @@ struct ProcessOptions {
   std::string HostOf(const std::string& process) const;
   std::uint16_t PortOf(const std::string& process) const;
 };
+
+// The lab's transport security for one process (docs/security.md).
+struct LabSecurity {
+  bool tls = false;       // lab.tls: on
+  std::string certs_dir;  // lab.certs, made absolute
+  std::string name;       // whose certificate this process presents
+  // lab.permissions: method or "Service.*" pattern -> certificate names.
+  std::vector<std::pair<std::string, std::vector<std::string>>> permissions;
+};
+// Reads lab.tls, lab.certs and lab.permissions; throws ConfigError for a bad value.
+LabSecurity SecurityOf(const LabConfig& config, const std::string& name);
+// The process-wide settings every server and client of common/net takes unless told
+// otherwise: ParseProcessOptions sets them, so no component has to pass them on.
+const LabSecurity& ProcessSecurity();
+void SetProcessSecurity(LabSecurity security);
 
 // Keeps large message buffers on the heap (see the .cpp). ParseProcessOptions calls it;
 // programs that don't use it (benchmarks) call it themselves.

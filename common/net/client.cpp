@@ -54,6 +54,10 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   ClientOptions options;
   asio::strand<asio::io_context::executor_type> strand;
   tcp::socket socket;
+  // With TLS: the context (made at Start) and the connection's stream (one per connection).
+  std::shared_ptr<const TlsContext> tls_context;
+  std::string tls_error;  // why the context could not be made
+  std::shared_ptr<TlsStream> tls;
   tcp::resolver resolver;
   asio::steady_timer connect_timer, retry_timer, heartbeat_timer;
   // Fires at the earliest deadline of the calls in flight; one timer for all of them, so a
@@ -127,10 +131,35 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     return true;
   }
 
-  // On the strand, with `writing` set: sends the queue one frame after another.
+  // On the strand, with `writing` set: sends the queue one frame after another (with TLS,
+  // all of it, encrypted, in one write).
   void WriteNext(std::uint64_t gen) {
     std::unique_lock lock(write_mutex);
     if (gen != generation) return;  // Drop has reset the queue
+    if (tls) {
+      if (out.empty()) {
+        writing = false;
+        return;
+      }
+      std::deque<std::string> batch;
+      batch.swap(out);
+      lock.unlock();
+      for (const auto& frame : batch) {
+        if (!tls->Encrypt(frame.data(), frame.size())) {
+          Drop("TLS: " + tls->engine().error());
+          return;
+        }
+      }
+      tls->Flush([self = shared_from_this(), gen](const std::string& error) {
+        if (gen != self->generation) return;
+        if (!error.empty()) {
+          self->Drop(error);
+          return;
+        }
+        self->WriteNext(gen);
+      });
+      return;
+    }
     if (out.empty()) {
       writing = false;
       return;
@@ -177,6 +206,11 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     if (IsStopped()) return;
     ++generation;
     const auto gen = generation;
+    tls.reset();
+    if (!tls_error.empty()) {
+      Drop(tls_error);
+      return;
+    }
     SetState(ConnectionState::kConnecting, "connecting to " + Where());
     connect_timer.expires_after(options.connect_timeout);
     connect_timer.async_wait([self = shared_from_this(), gen](boost::system::error_code ec) {
@@ -212,6 +246,23 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
   void OnConnected() {
     boost::system::error_code ignored;
     socket.set_option(tcp::no_delay(true), ignored);
+    if (!tls_context) {
+      OnSecured();
+      return;
+    }
+    tls = std::make_shared<TlsStream>(socket, tls_context, options.host);
+    tls->AsyncHandshake([self = shared_from_this(), gen = generation](const std::string& error) {
+      if (gen != self->generation) return;
+      if (!error.empty()) {
+        self->Drop("TLS: " + error);
+        return;
+      }
+      self->OnSecured();
+    });
+  }
+
+  // Connected, and with TLS past the handshake.
+  void OnSecured() {
     backoff = std::chrono::milliseconds(100);
     last_server_error.clear();
     in = ReadBuffer();
@@ -259,35 +310,60 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
     in.shrink_if_idle(1u << 20);
     const std::size_t need = std::max<std::size_t>(BytesStillNeeded(in.pending()), 4096);
     char* at = in.prepare(need);
+    if (tls) {
+      tls->AsyncReadSome(at, in.room(),
+                         [self = shared_from_this(), gen](const std::string& error, std::size_t n) {
+                           if (gen != self->generation) return;
+                           self->OnRead(gen,
+                                        error == "eof"  ? "server closed the connection"
+                                        : error.empty() ? ""
+                                                        : "TLS: " + error,
+                                        n);
+                         });
+      return;
+    }
     socket.async_read_some(
         asio::buffer(at, in.room()),
         [self = shared_from_this(), gen](boost::system::error_code ec, std::size_t n) {
           if (gen != self->generation) return;
-          if (ec) {
-            self->Drop(ec == asio::error::eof ? "server closed the connection" : ec.message());
+          self->OnRead(gen,
+                       !ec                      ? ""
+                       : ec == asio::error::eof ? "server closed the connection"
+                                                : ec.message(),
+                       n);
+        });
+  }
+
+  void OnRead(std::uint64_t gen, const std::string& error, std::size_t n) {
+    auto* self = this;
+    {
+      {
+        if (!error.empty()) {
+          self->Drop(error);
+          return;
+        }
+        self->in.commit(n);
+        for (;;) {
+          DecodeResult r = DecodeFrame(self->in.pending(), self->options.max_frame_bytes);
+          if (r.status == DecodeStatus::kNeedMore) break;
+          if (r.status == DecodeStatus::kError) {
+            self->Drop("bad frame from server: " + r.error);
             return;
           }
-          self->in.commit(n);
-          for (;;) {
-            DecodeResult r = DecodeFrame(self->in.pending(), self->options.max_frame_bytes);
-            if (r.status == DecodeStatus::kNeedMore) break;
-            if (r.status == DecodeStatus::kError) {
-              self->Drop("bad frame from server: " + r.error);
-              return;
-            }
-            igms::Envelope e;
-            std::string_view payload;
-            std::string error;
-            if (!ParseEnvelopeView(r.frame, &e, &payload, &error)) {
-              self->Drop("bad frame from server: " + error);
-              return;
-            }
-            self->OnEnvelope(e, payload);
-            self->in.consume(r.consumed);
-            if (gen != self->generation) return;
+          igms::Envelope e;
+          std::string_view payload;
+          std::string error;
+          if (!ParseEnvelopeView(r.frame, &e, &payload, &error)) {
+            self->Drop("bad frame from server: " + error);
+            return;
           }
-          self->Read(gen);
-        });
+          self->OnEnvelope(e, payload);
+          self->in.consume(r.consumed);
+          if (gen != self->generation) return;
+        }
+        self->Read(gen);
+      }
+    }
   }
 
   void OnEnvelope(igms::Envelope& e, std::string_view payload) {
@@ -343,6 +419,7 @@ struct Client::Impl : std::enable_shared_from_this<Client::Impl> {
       std::lock_guard lock(write_mutex);
       live = false;
       boost::system::error_code ignored;
+      if (tls) tls->Shutdown();
       socket.close(ignored);
       out.clear();
       writing = false;
@@ -449,6 +526,16 @@ Client::Client(asio::io_context& io, ClientOptions options)
 Client::~Client() { Stop(); }
 
 void Client::Start() {
+  const TlsOptions tls = impl_->options.tls ? *impl_->options.tls : TlsOptions::ForProcess();
+  if (tls.enabled) {
+    try {
+      impl_->tls_context = std::make_shared<const TlsContext>(tls, TlsContext::Role::kClient);
+      const std::string warning = impl_->tls_context->ExpiryWarning(std::chrono::hours(24 * 7));
+      if (!warning.empty()) spdlog::warn("{}: {}", impl_->options.name, warning);
+    } catch (const std::exception& e) {
+      impl_->tls_error = std::string("TLS: ") + e.what();
+    }
+  }
   asio::post(impl_->strand, [impl = impl_] { impl->Connect(); });
 }
 
@@ -528,7 +615,15 @@ void Client::SendCall(std::uint64_t id, const std::string& method, std::string f
         arm = when < impl_->deadline_armed;
         impl_->pending.emplace(id, std::move(p));
       }
-      if (!impl_->writing) {  // (a queued frame always has a writer)
+      if (impl_->tls_context) {
+        // TLS: written from here when the stream is idle, else by the strand.
+        if (!impl_->writing && impl_->tls && impl_->tls->TryDirectWrite(frame)) {
+          impl_->sent_since_heartbeat = true;
+        } else if (impl_->QueueLocked(std::move(frame))) {
+          asio::post(impl_->strand,
+                     [impl = impl_, gen = impl_->live_generation] { impl->WriteNext(gen); });
+        }
+      } else if (!impl_->writing) {  // (a queued frame always has a writer)
         impl_->SendDirectLocked(std::move(frame));
       } else {
         impl_->out.push_back(std::move(frame));  // the writer in flight takes it next

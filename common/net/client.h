@@ -9,6 +9,8 @@
 //    Hand messages to another thread (a render loop) with a Mailbox (common/net/mailbox.h).
 //  - Sends HELLO (protocol version, token) first and a HEARTBEAT when idle, so the server's
 //    idle timeout only closes peers that are really gone.
+//  - With TLS (ClientOptions::tls), a TLS 1.3 handshake with this process's certificate
+//    comes before HELLO; a refusal (by either side) is the reason the connection reports.
 // Thread-safe: every method may be called from any thread. Callbacks run on the io_context
 // given to the constructor, which the owner runs (on one thread or several).
 #pragma once
@@ -26,6 +28,7 @@
 #include <thread>
 
 #include "common/net/status.h"
+#include "common/net/tls.h"
 
 namespace igms::net {
 
@@ -39,6 +42,9 @@ struct ClientOptions {
   std::chrono::milliseconds max_backoff{5000};
   std::size_t max_frame_bytes = 4u << 20;
   bool reconnect = true;
+  // nullopt: the process's lab settings (TlsOptions::ForProcess: plain unless lab.tls: on).
+  // With TLS the server's certificate must be the lab authority's and name `host`.
+  std::optional<TlsOptions> tls;
 };
 
 enum class ConnectionState { kConnecting, kConnected, kDisconnected };

@@ -1,5 +1,7 @@
 #include "common/net/server.h"
 
+#include <openssl/crypto.h>
+#include <openssl/sha.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -7,12 +9,16 @@
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/read.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/write.hpp>
+#include <ctime>
 #include <future>
 #include <stdexcept>
 
 #include "common/base/clock.h"
+#include "common/config/process_options.h"
 #include "common/net/framing.h"
 #include "common/net/session.h"
 #include "common/version/version.h"
@@ -24,7 +30,7 @@ using asio::ip::tcp;
 
 struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
   Impl(asio::io_context& io, const ServerOptions& o)
-      : io(io), options(o), strand(asio::make_strand(io)), acceptor(strand) {}
+      : io(io), options(o), strand(asio::make_strand(io)), acceptor(strand), limiter(o.failures) {}
 
   asio::io_context& io;
   ServerOptions options;
@@ -39,6 +45,65 @@ struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
   bool stopped = false;
   std::atomic<bool> acceptor_closed{false};
 
+  // TLS: the context new sessions take (replaced by ReloadTls), the table and the limiter.
+  TlsOptions tls_options;
+  std::shared_ptr<const TlsContext> tls;  // guarded by mutex; null: plain TCP
+  Authorisation authorisation = Authorisation::Default();
+  FailureLimiter limiter;
+  std::unique_ptr<asio::signal_set> sighup;
+  std::unique_ptr<asio::steady_timer> expiry_timer;
+
+  void WarnIfExpiring(const TlsContext& context) {
+    const std::string warning = context.ExpiryWarning(std::chrono::hours(24 * 7));
+    if (!warning.empty()) spdlog::warn("{}: {}", options.name, warning);
+  }
+
+  bool Reload() {
+    try {
+      auto context = std::make_shared<const TlsContext>(tls_options, TlsContext::Role::kServer);
+      WarnIfExpiring(*context);
+      std::lock_guard lock(mutex);
+      tls = std::move(context);
+    } catch (const std::exception& e) {
+      spdlog::error("{}: keeping the certificate in use: {}", options.name, e.what());
+      return false;
+    }
+    spdlog::info("{}: certificate files read again; new connections use them", options.name);
+    return true;
+  }
+
+  void WaitForSighup() {
+    sighup->async_wait([self = shared_from_this()](const boost::system::error_code& ec, int) {
+      if (ec) return;
+      spdlog::info("{}: SIGHUP: reading the certificate files again", self->options.name);
+      self->Reload();
+      self->WaitForSighup();
+    });
+  }
+
+  // A server runs for weeks: the week's notice of expiry is checked twice a day too.
+  void CheckExpiryLater() {
+    expiry_timer->expires_after(std::chrono::hours(12));
+    expiry_timer->async_wait([self = shared_from_this()](const boost::system::error_code& ec) {
+      if (ec) return;
+      if (auto context = self->Tls()) self->WarnIfExpiring(*context);
+      self->CheckExpiryLater();
+    });
+  }
+
+  std::shared_ptr<const TlsContext> Tls() {
+    std::lock_guard lock(mutex);
+    return tls;
+  }
+  // A failed handshake or token from `address`; logged once per burst.
+  void Failed(const std::string& address, const std::string& peer, const std::string& why) {
+    if (limiter.Fail(address)) {
+      spdlog::warn("{}: refused {}: {}", options.name, peer, why);
+    } else {
+      spdlog::debug("{}: refused {}: {}", options.name, peer, why);
+    }
+  }
+
   void Accept() {
     acceptor.async_accept(
         asio::make_strand(io),
@@ -47,7 +112,21 @@ struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
           if (ec) {
             // Out of file descriptors and the like: log, keep serving the others.
             spdlog::warn("{}: accept failed: {}", self->options.name, ec.message());
-          } else {
+          } else if (boost::system::error_code e; true) {
+            const auto remote = socket.remote_endpoint(e);
+            bool announce = false;
+            int failures = 0;
+            if (!e && self->limiter.Blocked(remote.address().to_string(), &announce, &failures)) {
+              // Too many failed handshakes or tokens from there: not even a handshake.
+              if (announce) {
+                spdlog::warn("{}: {} failed {} times in a row: refusing its connections for {} s",
+                             self->options.name, remote.address().to_string(), failures,
+                             self->options.failures.block.count() / 1000.0);
+              }
+              socket.close(e);
+              self->Accept();
+              return;
+            }
             auto session = std::make_shared<Session>(std::move(socket), self);
             {
               std::lock_guard lock(self->mutex);
@@ -110,9 +189,37 @@ void Server::Start() {
                              std::to_string(options_.port) + ": " + ec.message());
   }
   port_ = acceptor.local_endpoint().port();
-  spdlog::info("{}: listening on {}:{}", options_.name, options_.bind_address, port_);
+  impl_->tls_options = options_.tls ? *options_.tls : TlsOptions::ForProcess();
+  if (options_.authorisation) {
+    impl_->authorisation = *options_.authorisation;
+  } else {
+    for (const auto& [pattern, names] : config::ProcessSecurity().permissions)
+      impl_->authorisation.Set(pattern, names);
+  }
+  if (impl_->tls_options.enabled) {
+    // A server whose certificate cannot be read does not start (rather than serve in clear).
+    auto context =
+        std::make_shared<const TlsContext>(impl_->tls_options, TlsContext::Role::kServer);
+    impl_->WarnIfExpiring(*context);
+    {
+      std::lock_guard lock(impl_->mutex);
+      impl_->tls = std::move(context);
+    }
+    if (options_.reload_on_sighup) {
+      impl_->sighup = std::make_unique<asio::signal_set>(impl_->io, SIGHUP);
+      impl_->WaitForSighup();
+    }
+    impl_->expiry_timer = std::make_unique<asio::steady_timer>(impl_->strand);
+    impl_->CheckExpiryLater();
+  }
+  spdlog::info("{}: listening on {}:{}{}", options_.name, options_.bind_address, port_,
+               impl_->tls_options.enabled ? " (TLS 1.3, mutual certificates)" : "");
   impl_->Accept();
 }
+
+bool Server::tls() const { return impl_->Tls() != nullptr; }
+
+bool Server::ReloadTls() { return impl_->tls_options.enabled && impl_->Reload(); }
 
 void Server::Stop() {
   std::set<std::shared_ptr<Session>> sessions;
@@ -121,6 +228,14 @@ void Server::Stop() {
     if (impl_->stopped) return;
     impl_->stopped = true;
     sessions.swap(impl_->sessions);
+  }
+  if (impl_->sighup || impl_->expiry_timer) {
+    // On the loop's thread: neither a signal set nor a timer is thread-safe.
+    asio::post(impl_->strand, [impl = impl_] {
+      boost::system::error_code ignored;
+      if (impl->sighup) impl->sighup->cancel(ignored);
+      if (impl->expiry_timer) impl->expiry_timer->cancel();
+    });
   }
   // The port must be free when Stop returns to a caller outside the io_context (a test
   // restarting a server binds it again at once), so the close runs on the acceptor's
@@ -153,6 +268,19 @@ std::size_t Server::session_count() const {
 
 // ---------------------------------------------------------------------------------------
 // Session
+
+namespace {
+
+// Constant time whatever the two hold: digests of equal length compared with CRYPTO_memcmp,
+// so neither the position of the first wrong byte nor the token's length shows in the time.
+bool TokensEqual(const std::string& presented, const std::string& expected) {
+  unsigned char a[SHA256_DIGEST_LENGTH], b[SHA256_DIGEST_LENGTH];
+  SHA256(reinterpret_cast<const unsigned char*>(presented.data()), presented.size(), a);
+  SHA256(reinterpret_cast<const unsigned char*>(expected.data()), expected.size(), b);
+  return CRYPTO_memcmp(a, b, sizeof a) == 0;
+}
+
+}  // namespace
 
 namespace detail {
 
@@ -188,15 +316,49 @@ Session::Session(tcp::socket socket, std::shared_ptr<Server::Impl> server)
       authenticated_(server_->options.token.empty()) {
   boost::system::error_code ec;
   const auto remote = socket_.remote_endpoint(ec);
-  peer_ = ec ? "unknown peer" : remote.address().to_string() + ":" + std::to_string(remote.port());
+  address_ = ec ? "unknown" : remote.address().to_string();
+  peer_ = ec ? "unknown peer" : address_ + ":" + std::to_string(remote.port());
   socket_.set_option(tcp::no_delay(true), ec);
+  if (auto context = server_->Tls()) tls_ = std::make_shared<TlsStream>(socket_, context, "");
 }
 
 void Session::Start() {
   asio::dispatch(socket_.get_executor(), [self = shared_from_this()] {
-    self->ArmIdleTimer();
-    self->ReadMore();
+    self->ArmIdleTimer();  // also bounds a handshake that never ends
+    if (!self->tls_) {
+      self->ReadMore();
+      return;
+    }
+    self->tls_->AsyncHandshake([self](const std::string& error) { self->OnHandshake(error); });
   });
+}
+
+void Session::OnHandshake(const std::string& error) {
+  if (!error.empty()) {
+    server_->Failed(address_, peer_, error);
+    if (tls_->engine().peer_spoke_plaintext()) {
+      // A plain IGMS client: tell it in its own words, then close.
+      auto frame = std::make_shared<std::string>(EncodeFrame([&] {
+        igms::Envelope e = detail::MakeEnvelope(igms::Envelope::ERROR, 0, "");
+        e.mutable_error()->set_code(igms::UNAUTHENTICATED);
+        e.mutable_error()->set_message(server_->options.name +
+                                       " requires TLS (lab.tls: on) and this client spoke plain "
+                                       "TCP: give it the lab's lab.tls and certificates");
+        return e;
+      }()));
+      asio::async_write(socket_, asio::buffer(*frame),
+                        [self = shared_from_this(), frame](boost::system::error_code, std::size_t) {
+                          self->Close("rejected");
+                        });
+      return;
+    }
+    Close("rejected");
+    return;
+  }
+  peer_name_ = tls_->PeerName();
+  peer_ += " (" + peer_name_ + ")";
+  spdlog::debug("{}: {} authenticated by its certificate", server_->options.name, peer_);
+  ReadMore();
 }
 
 void Session::ArmIdleTimer() {
@@ -223,31 +385,63 @@ void Session::ReadMore() {
   in_.shrink_if_idle(1u << 20);
   const std::size_t need = std::max<std::size_t>(BytesStillNeeded(in_.pending()), 4096);
   char* at = in_.prepare(need);
-  socket_.async_read_some(
-      asio::buffer(at, in_.room()),
-      [self = shared_from_this()](boost::system::error_code ec, std::size_t n) {
-        if (ec) {
-          self->Close(ec == asio::error::eof ? "peer closed the connection" : ec.message());
-          return;
-        }
-        self->in_.commit(n);
-        self->last_activity_ = std::chrono::steady_clock::now();
-        for (;;) {
-          DecodeResult r = DecodeFrame(self->in_.pending(), self->server_->options.max_frame_bytes);
-          if (r.status == DecodeStatus::kNeedMore) break;
-          if (r.status == DecodeStatus::kError) {
-            self->Close("bad frame: " + r.error);
-            return;
-          }
-          self->OnFrame(r.frame);
-          self->in_.consume(r.consumed);
-          {
-            std::lock_guard lock(self->mutex_);
-            if (self->closed_) return;
-          }
-        }
-        self->ReadMore();
-      });
+  if (tls_) {
+    tls_->AsyncReadSome(at, in_.room(),
+                        [self = shared_from_this()](const std::string& error, std::size_t n) {
+                          self->OnRead(error == "eof" ? "peer closed the connection" : error, n);
+                        });
+    return;
+  }
+  socket_.async_read_some(asio::buffer(at, in_.room()),
+                          [self = shared_from_this()](boost::system::error_code ec, std::size_t n) {
+                            self->OnRead(!ec                      ? ""
+                                         : ec == asio::error::eof ? "peer closed the connection"
+                                                                  : ec.message(),
+                                         n);
+                          });
+}
+
+bool Session::LooksLikeTls() const {
+  // A TLS ClientHello record: type 22, version 3.x. No IGMS frame starts so (its second
+  // byte would be a protobuf tag of field 0).
+  const auto p = in_.pending();
+  return p.size() >= 2 && static_cast<unsigned char>(p[0]) == 0x16 && p[1] == 0x03;
+}
+
+void Session::OnRead(const std::string& error, std::size_t n) {
+  if (!error.empty()) {
+    Close(error);
+    return;
+  }
+  in_.commit(n);
+  last_activity_ = std::chrono::steady_clock::now();
+  if (first_read_ && !tls_) {
+    first_read_ = false;
+    if (LooksLikeTls()) {
+      server_->Failed(address_, peer_, "a TLS client, and this server speaks plain TCP");
+      SendError(0, "", igms::UNAUTHENTICATED,
+                server_->options.name +
+                    " speaks plain TCP (lab.tls: off) and this client "
+                    "tried TLS",
+                true);
+      return;
+    }
+  }
+  for (;;) {
+    DecodeResult r = DecodeFrame(in_.pending(), server_->options.max_frame_bytes);
+    if (r.status == DecodeStatus::kNeedMore) break;
+    if (r.status == DecodeStatus::kError) {
+      Close("bad frame: " + r.error);
+      return;
+    }
+    OnFrame(r.frame);
+    in_.consume(r.consumed);
+    {
+      std::lock_guard lock(mutex_);
+      if (closed_) return;
+    }
+  }
+  ReadMore();
 }
 
 void Session::OnFrame(std::string_view frame) {
@@ -275,8 +469,8 @@ void Session::Dispatch(igms::Envelope& e, std::string_view payload) {
                 true);
       return;
     }
-    if (!options.token.empty() && e.token() != options.token) {
-      spdlog::warn("{}: {} presented a wrong token", options.name, peer_);
+    if (!options.token.empty() && !TokensEqual(e.token(), options.token)) {
+      server_->Failed(address_, peer_, "a wrong token");
       SendError(id, "", igms::UNAUTHENTICATED, "the lab token is missing or wrong", true);
       return;
     }
@@ -294,6 +488,7 @@ void Session::Dispatch(igms::Envelope& e, std::string_view payload) {
     case igms::Envelope::HEARTBEAT:
       return;
     case igms::Envelope::REQUEST: {
+      if (!Permitted(id, e.method())) return;
       auto it = server_->methods.find(e.method());
       if (it == server_->methods.end()) {
         SendError(id, e.method(), igms::UNKNOWN_METHOD,
@@ -309,6 +504,7 @@ void Session::Dispatch(igms::Envelope& e, std::string_view payload) {
       return;
     }
     case igms::Envelope::SUBSCRIBE: {
+      if (!Permitted(id, e.method())) return;
       auto it = server_->streams.find(e.method());
       if (it == server_->streams.end()) {
         SendError(id, e.method(), igms::UNKNOWN_METHOD,
@@ -343,6 +539,20 @@ void Session::Dispatch(igms::Envelope& e, std::string_view payload) {
       SendError(id, e.method(), igms::BAD_REQUEST,
                 "a client may not send " + igms::Envelope::Kind_Name(e.kind()), false);
   }
+}
+
+bool Session::Permitted(std::uint64_t id, const std::string& method) {
+  // Judged by the certificate's name; a plain connection has none, and is not judged.
+  if (!tls_ || method == "igms.Server.Ping") return true;
+  const auto& table = server_->authorisation;
+  if (table.Allowed(method, peer_name_)) return true;
+  spdlog::warn("{}: refused {} to {}: only {} may call it", server_->options.name, method, peer_,
+               table.WhoMay(method));
+  SendError(id, method, igms::PERMISSION_DENIED,
+            "the certificate '" + peer_name_ + "' may not call " + method + " on " +
+                server_->options.name + " (only " + table.WhoMay(method) + ")",
+            false);
+  return false;
 }
 
 void Session::SendError(std::uint64_t id, const std::string& method, igms::ErrorCode code,
@@ -401,6 +611,10 @@ bool Session::Send(std::string frame, std::uint64_t latest_only_key) {
 }
 
 void Session::WriteNext() {
+  if (tls_) {
+    WriteNextTls();
+    return;
+  }
   auto current = std::make_shared<std::string>();
   {
     std::lock_guard lock(mutex_);
@@ -429,6 +643,38 @@ void Session::WriteNext() {
       });
 }
 
+void Session::WriteNextTls() {
+  // Everything queued is encrypted now and goes to the socket in one write.
+  std::deque<Outgoing> batch;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    if (queue_.empty()) {
+      writing_ = false;
+      if (close_after_write_) {
+        asio::post(socket_.get_executor(),
+                   [self = shared_from_this()] { self->Close("rejected"); });
+      }
+      return;
+    }
+    batch.swap(queue_);
+    queued_bytes_ = 0;
+  }
+  for (const auto& out : batch) {
+    if (!tls_->Encrypt(out.bytes.data(), out.bytes.size())) {
+      Close("TLS: " + tls_->engine().error());
+      return;
+    }
+  }
+  tls_->Flush([self = shared_from_this()](const std::string& error) {
+    if (!error.empty()) {
+      self->Close(error);
+      return;
+    }
+    self->WriteNext();
+  });
+}
+
 bool Session::SubscriptionOpen(std::uint64_t id) {
   std::lock_guard lock(mutex_);
   return !closed_ && subscriptions_.count(id) > 0;
@@ -453,6 +699,7 @@ void Session::Close(const std::string& reason) {
     }
     boost::system::error_code ignored;
     self->idle_timer_.cancel();
+    if (self->tls_) self->tls_->Shutdown();
     self->socket_.shutdown(tcp::socket::shutdown_both, ignored);
     self->socket_.close(ignored);
     self->server_->Forget(self);

@@ -16,6 +16,13 @@
 // HELLO before anything else; otherwise it gets UNAUTHENTICATED and is disconnected.
 // Sessions idle (nothing received) longer than idle_timeout are closed; clients send
 // heartbeats. Stop() closes the acceptor and every session.
+//
+// With TLS (ServerOptions::tls, by default the lab's lab.tls), every session starts with a
+// TLS 1.3 handshake that needs a client certificate of the lab's authority; each request is
+// then checked against the authorisation table by the certificate's name, and a refused one
+// answers PERMISSION_DENIED. Failed handshakes and tokens are rate-limited per address.
+// ReloadTls() (and SIGHUP) re-reads the certificate files for new sessions; sessions up keep
+// theirs. The token is compared in constant time. docs/security.md.
 #pragma once
 
 #include <google/protobuf/message_lite.h>
@@ -27,11 +34,15 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
 
+#include "common/net/authorisation.h"
+#include "common/net/failure_limiter.h"
 #include "common/net/status.h"
+#include "common/net/tls.h"
 
 namespace igms::net {
 
@@ -43,6 +54,12 @@ struct ServerOptions {
   std::size_t max_write_queue_bytes = 64u << 20;
   std::chrono::milliseconds idle_timeout{30000};
   std::string token;  // empty: no authentication
+  // nullopt: the process's lab settings (TlsOptions::ForProcess: plain unless lab.tls: on).
+  std::optional<TlsOptions> tls;
+  // nullopt: the built-in table with the lab's lab.permissions over it.
+  std::optional<Authorisation> authorisation;
+  FailureLimiter::Options failures;
+  bool reload_on_sighup = true;  // with TLS
 };
 
 class Session;
@@ -154,6 +171,10 @@ class Server {
   void Stop();
   std::uint16_t port() const { return port_; }
   std::size_t session_count() const;
+  bool tls() const;
+  // Re-reads the certificate files; new sessions use them, sessions up keep theirs. False
+  // (the old ones stay) when they cannot be read; the log says why.
+  bool ReloadTls();
   const ServerOptions& options() const { return options_; }
 
   // Used by sessions.

@@ -12,6 +12,7 @@
 
 #include "common/net/read_buffer.h"
 #include "common/net/server.h"
+#include "common/net/tls.h"
 
 namespace igms::net {
 
@@ -35,11 +36,16 @@ class Session : public std::enable_shared_from_this<Session> {
     std::uint64_t stream_id = 0;  // non-zero for a latest-only stream frame
   };
   void ReadMore();
+  void OnRead(const std::string& error, std::size_t n);
+  void OnHandshake(const std::string& error);
+  bool LooksLikeTls() const;
   void OnFrame(std::string_view frame);
   void Dispatch(igms::Envelope& envelope, std::string_view payload);
   void SendError(std::uint64_t id, const std::string& method, igms::ErrorCode code,
                  const std::string& message, bool close_after);
   void WriteNext();
+  void WriteNextTls();
+  bool Permitted(std::uint64_t id, const std::string& method);
   void ArmIdleTimer();
 
   boost::asio::ip::tcp::socket socket_;
@@ -47,6 +53,10 @@ class Session : public std::enable_shared_from_this<Session> {
   boost::asio::steady_timer idle_timer_;
   std::chrono::steady_clock::time_point last_activity_ = std::chrono::steady_clock::now();
   std::string peer_;
+  std::string address_;  // the peer's address alone, for the failure limiter
+  std::shared_ptr<TlsStream> tls_;
+  std::string peer_name_;  // the CN of the peer's certificate, with TLS
+  bool first_read_ = true;
   ReadBuffer in_;
   bool authenticated_ = false;
   bool close_after_write_ = false;

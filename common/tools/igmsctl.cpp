@@ -22,6 +22,7 @@
 #include "common/base/clock.h"
 #include "common/config/exit_codes.h"
 #include "common/config/lab_config.h"
+#include "common/config/process_options.h"
 #include "common/log/log.h"
 #include "common/net/client.h"
 #include "common/stats/percentile.h"
@@ -134,6 +135,10 @@ int IgmsctlMain(int argc, char** argv) {
       "config", po::value<std::string>(), "lab configuration: take host, port and token from it")(
       "to", po::value<std::string>(), "with --config: the process to talk to (its name)")(
       "token", po::value<std::string>(), "the lab token, when the lab has one")(
+      "as", po::value<std::string>()->default_value("igmsctl"),
+      "with TLS: the certificate to present, by name (NAME.crt in the lab's folder)")(
+      "certs", po::value<std::string>(),
+      "TLS with the certificates of this folder (else the lab file's lab.tls and lab.certs)")(
       "timeout", po::value<int>()->default_value(5000), "per-request timeout, ms")(
       "count,n", po::value<long>()->default_value(0), "subscribe: stop after N messages")(
       "duration", po::value<double>()->default_value(0), "subscribe: stop after S seconds")(
@@ -220,10 +225,16 @@ int IgmsctlMain(int argc, char** argv) {
   co.reconnect = command == "subscribe";
   co.max_frame_bytes = vm["max-frame"].as<std::size_t>();
   co.host = vm["host"].as<std::string>();
+  const std::string as = vm["as"].as<std::string>();
+  co.tls = net::TlsOptions{};  // plain unless the lab file or --certs says TLS
+  if (vm.count("certs")) co.tls = net::TlsOptions::FromFolder(vm["certs"].as<std::string>(), as);
   try {
     if (vm.count("config")) {
       const auto config = config::LabConfig::Load(vm["config"].as<std::string>());
       co.token = config.Get<std::string>("lab.token", "");
+      const config::LabSecurity security = config::SecurityOf(config, as);
+      if (security.tls && !vm.count("certs"))
+        co.tls = net::TlsOptions::FromFolder(security.certs_dir, as);
       if (!vm.count("to")) {
         std::cerr << "igmsctl: --config needs --to NAME (one of the lab's processes)\n";
         return kExitUsage;

@@ -88,6 +88,7 @@ std::optional<Component> ComponentOf(const std::string& path) {
       {"common/log", Layer::kFoundation},
       {"common/config", Layer::kFoundation},
       {"common/net", Layer::kFoundation},
+      {"common/certs", Layer::kFoundation},
       {"common/process", Layer::kFoundation},
       {"common/geometry", Layer::kFoundation},
       {"igms", Layer::kMessages},  // generated from proto/igms/*.proto

@@ -1,0 +1,240 @@
+// TLS against plain TCP, both through the network library, in the same run and in
+// alternating blocks (docs/security.md):
+//  - round trip of a small request (p50, p99),
+//  - throughput of 500 KB requests with 8 in flight,
+//  - a live 1280x1024 8-bit stream published at 60 frames/s (latest only): frames received,
+//  - connection time (TCP connect, and with TLS the handshake with both certificates).
+// Goals: round trip within 1.3x of plain, throughput at least 80% of plain, 60 frames/s.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+// After <utility>: Boost 1.74's awaitable.hpp uses std::exchange without including it.
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <boost/asio.hpp>
+#include <filesystem>
+
+#include "common/certs/certs.h"
+#include "common/config/process_options.h"
+#include "common/net/client.h"
+#include "common/net/server.h"
+#include "common/stats/percentile.h"
+
+namespace asio = boost::asio;
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::string g_certs;  // the bench's own lab authority and certificates
+
+igms::net::TlsOptions Tls(bool on, const std::string& name) {
+  return on ? igms::net::TlsOptions::FromFolder(g_certs, name) : igms::net::TlsOptions{};
+}
+
+// A server and a client, each on its own io thread, plain or TLS.
+class Pair {
+ public:
+  explicit Pair(bool tls)
+      : tls_(tls),
+        server_work_(asio::make_work_guard(server_io_)),
+        client_work_(asio::make_work_guard(client_io_)),
+        server_(server_io_, [tls] {
+          igms::net::ServerOptions so;
+          so.name = "video";
+          so.max_frame_bytes = 16u << 20;
+          so.tls = Tls(tls, "video");
+          return so;
+        }()) {
+    server_.Handle<igms::Envelope, igms::Envelope>("bench.Reply",
+                                                   [](const igms::Envelope&, igms::Envelope& resp) {
+                                                     resp.set_method("ok");
+                                                     return igms::net::Status::Ok();
+                                                   });
+    server_.HandleStream<igms::Envelope, igms::Envelope>(
+        "bench.Live",
+        [this](const igms::Envelope&, std::shared_ptr<igms::net::Publisher<igms::Envelope>> p) {
+          std::lock_guard lock(mutex_);
+          publisher_ = std::move(p);
+          return igms::net::Status::Ok();
+        },
+        /*latest_only=*/true);
+    server_.Start();
+    server_thread_ = std::thread([this] { server_io_.run(); });
+    client_thread_ = std::thread([this] { client_io_.run(); });
+    client_ = Connect();
+  }
+  ~Pair() {
+    stop_ = true;
+    if (publisher_thread_.joinable()) publisher_thread_.join();
+    client_->Stop();
+    server_.Stop();
+    server_work_.reset();
+    client_work_.reset();
+    server_io_.stop();
+    client_io_.stop();
+    server_thread_.join();
+    client_thread_.join();
+  }
+  std::unique_ptr<igms::net::Client> Connect() {
+    igms::net::ClientOptions co;
+    co.port = server_.port();
+    co.max_frame_bytes = 16u << 20;
+    co.tls = Tls(tls_, "control");
+    auto c = std::make_unique<igms::net::Client>(client_io_, co);
+    c->Start();
+    if (!c->WaitConnected(5s)) {
+      std::cerr << "bench: cannot connect\n";
+      std::exit(1);
+    }
+    return c;
+  }
+  igms::net::Client& client() { return *client_; }
+
+  // Frames of a 1280x1024 camera published at `fps` for `seconds`; frames received.
+  double LiveFps(int fps, double seconds) {
+    std::atomic<int> received{0};
+    igms::Envelope req;
+    const auto id = client_->Subscribe<igms::Envelope>("bench.Live", req,
+                                                       [&](const igms::Envelope&) { ++received; });
+    while (true) {
+      std::lock_guard lock(mutex_);
+      if (publisher_) break;
+    }
+    igms::Envelope frame;
+    frame.set_payload(std::string(1280 * 1024, 'p'));
+    const auto start = Clock::now();
+    const auto period = std::chrono::nanoseconds(1000000000 / fps);
+    int sent = 0;
+    for (auto next = start; Clock::now() - start < std::chrono::duration<double>(seconds);
+         next += period) {
+      std::this_thread::sleep_until(next);
+      std::lock_guard lock(mutex_);
+      publisher_->Send(frame);
+      ++sent;
+    }
+    std::this_thread::sleep_for(100ms);  // the last frame's way
+    client_->Unsubscribe(id);
+    const double s = std::chrono::duration<double>(Clock::now() - start).count() - 0.1;
+    return received.load() / s;
+  }
+
+ private:
+  bool tls_;
+  asio::io_context server_io_, client_io_;
+  asio::executor_work_guard<asio::io_context::executor_type> server_work_, client_work_;
+  igms::net::Server server_;
+  std::unique_ptr<igms::net::Client> client_;
+  std::thread server_thread_, client_thread_, publisher_thread_;
+  std::mutex mutex_;
+  std::shared_ptr<igms::net::Publisher<igms::Envelope>> publisher_;
+  std::atomic<bool> stop_{false};
+};
+
+std::vector<double> RoundTrips(Pair& pair, int n) {
+  igms::Envelope req;
+  req.set_payload("ping");
+  std::vector<double> us;
+  for (int i = 0; i < n + 20; ++i) {
+    const auto t0 = Clock::now();
+    auto r = pair.client().CallSync<igms::Envelope>("bench.Reply", req, 5s);
+    if (!r.ok()) {
+      std::cerr << "bench: " << r.status.ToString() << "\n";
+      std::exit(1);
+    }
+    if (i >= 20) us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+  }
+  return us;
+}
+
+double PipelinedMBps(Pair& pair, std::size_t size, int n, int window) {
+  igms::Envelope req;
+  req.set_payload(std::string(size, 'q'));
+  std::mutex m;
+  std::condition_variable cv;
+  int in_flight = 0, done = 0;
+  const auto t0 = Clock::now();
+  for (int i = 0; i < n; ++i) {
+    {
+      std::unique_lock lock(m);
+      cv.wait(lock, [&] { return in_flight < window; });
+      ++in_flight;
+    }
+    pair.client().Call<igms::Envelope>("bench.Reply", req, 10s,
+                                       [&](igms::net::Result<igms::Envelope> r) {
+                                         if (!r.ok()) {
+                                           std::cerr << "bench: " << r.status.ToString() << "\n";
+                                           std::exit(1);
+                                         }
+                                         std::lock_guard lock(m);
+                                         --in_flight;
+                                         ++done;
+                                         cv.notify_all();
+                                       });
+  }
+  std::unique_lock lock(m);
+  cv.wait(lock, [&] { return done == n; });
+  return size * double(n) / std::chrono::duration<double>(Clock::now() - t0).count() / 1e6;
+}
+
+std::vector<double> ConnectTimes(Pair& pair, int n) {
+  std::vector<double> ms;
+  for (int i = 0; i < n; ++i) {
+    const auto t0 = Clock::now();
+    auto c = pair.Connect();
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    c->Stop();
+  }
+  return ms;
+}
+
+}  // namespace
+
+int main() {
+  igms::config::TuneAllocator();
+  spdlog::set_level(spdlog::level::warn);
+  const std::string dir = "/tmp/igms-bench-tls-" + std::to_string(::getpid());
+  igms::certs::InitFolder(dir, 30);
+  igms::certs::IssueOptions o;
+  o.hosts = {"127.0.0.1"};
+  igms::certs::IssueToFolder(dir, "video", o);
+  igms::certs::IssueToFolder(dir, "control", o);
+  g_certs = dir;
+
+  std::vector<double> rtt[2], mbps[2], fps[2], connect[2];
+  const int blocks = 3;
+  for (int b = 0; b < blocks; ++b) {
+    for (int tls = 0; tls < 2; ++tls) {
+      Pair pair(tls == 1);
+      auto r = RoundTrips(pair, 2000);
+      rtt[tls].insert(rtt[tls].end(), r.begin(), r.end());
+      mbps[tls].push_back(PipelinedMBps(pair, 500 * 1000, 200, 8));
+      fps[tls].push_back(pair.LiveFps(60, 1.0));
+      auto c = ConnectTimes(pair, 20);
+      connect[tls].insert(connect[tls].end(), c.begin(), c.end());
+    }
+  }
+  std::filesystem::remove_all(dir);
+  using igms::stats::Median;
+  using igms::stats::Percentile;
+  std::printf("%-34s %12s %12s %8s\n", "", "plain", "TLS 1.3", "TLS/plain");
+  auto row = [](const char* what, double plain, double tls) {
+    std::printf("%-34s %12.1f %12.1f %8.2f\n", what, plain, tls, tls / plain);
+  };
+  row("round trip p50, us", Median(rtt[0]), Median(rtt[1]));
+  row("round trip p99, us", Percentile(rtt[0], 0.99), Percentile(rtt[1], 0.99));
+  row("500 KB x 8 in flight, MB/s", Median(mbps[0]), Median(mbps[1]));
+  row("live 1280x1024 at 60/s, frames/s", Median(fps[0]), Median(fps[1]));
+  row("connect (+ handshake), ms", Median(connect[0]), Median(connect[1]));
+  return 0;
+}
