@@ -56,7 +56,8 @@ struct LiveVideo::Impl : std::enable_shared_from_this<Impl> {
 
   void GetOverlay() {
     client->Call<video::GetOverlayResponse>(
-        "VideoService.GetOverlay", video::GetOverlayRequest(), std::chrono::milliseconds(2000),
+        "igms.video.VideoService.GetOverlay", video::GetOverlayRequest(),
+        std::chrono::milliseconds(2000),
         [self = shared_from_this()](net::Result<video::GetOverlayResponse> r) {
           if (!r.ok()) return;
           std::lock_guard lock(self->mutex);
@@ -96,7 +97,7 @@ std::unique_ptr<LiveVideo> LiveVideo::Start(LiveVideoOptions options) {
   request.set_fps(impl->options.fps);
   request.set_encoding(video::RAW);
   impl->client->Subscribe<video::LiveFrame>(
-      "VideoService.Live", request,
+      "igms.video.VideoService.Live", request,
       [weak](const video::LiveFrame& f) {
         if (auto self = weak.lock()) self->OnFrame(f);
       },
@@ -150,7 +151,7 @@ void LiveVideo::MoveOffset(int du, int dv) {
   }
   boost::asio::post(impl_->io, [self = impl_, request] {
     self->client->Call<video::SetOverlayResponse>(
-        "VideoService.SetOverlay", request, std::chrono::milliseconds(2000),
+        "igms.video.VideoService.SetOverlay", request, std::chrono::milliseconds(2000),
         [self](net::Result<video::SetOverlayResponse> r) {
           if (!r.ok()) {
             spdlog::warn("VideoService.SetOverlay: {}", r.status.ToString());
