@@ -12,6 +12,7 @@
 #include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <filesystem>
 #include <thread>
 #include <utility>
 
@@ -150,7 +151,13 @@ int main(int argc, char** argv) {
     }
     igms::control::ScreenshotQueue shots;
     if (window) {
-      player_options.screenshot = [&shots](const std::string& file) { return shots.Request(file); };
+      // A script's screenshots land beside it (a relative name is the script's folder's).
+      const std::filesystem::path folder =
+          script ? std::filesystem::path(script->source).parent_path() : std::filesystem::path();
+      player_options.screenshot = [&shots, folder](const std::string& file) {
+        const std::filesystem::path path(file);
+        return shots.Request(path.is_absolute() ? file : (folder / path).string());
+      };
     }
     auto app =
         igms::control::ControlApp::Make(std::move(*options), *calibration, std::move(*database));

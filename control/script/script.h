@@ -16,8 +16,9 @@
 //   - fault: {device: joystick, garbage_bytes: 40}
 //   - wait_for: {mode: model_building, timeout: 20}   # or marks: N, models: N,
 //                                                     # peer_up: NAME, peer_down: NAME
-//   - screenshot: overlay.png                # the window's next frame as a PNG file (offscreen
-//                                            # without a display; skipped with --no-window)
+//   - screenshot: overlay.png                # the window's next frame as a PNG file beside the
+//                                            # script (offscreen without a display; skipped
+//                                            # with --no-window)
 #pragma once
 
 #include <Eigen/Core>

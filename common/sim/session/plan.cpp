@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cmath>
 
 #include "common/sim/capture/sim_capture.h"
@@ -76,7 +77,7 @@ std::string PlanScript(const std::vector<PlannedObject>& plan, const std::string
                        const PlanOptions& options) {
   std::string s = fmt::format(
       "# A modelling session planned by igms-plan for {} (mark seed {}).\n"
-      "# Play it with: igms-control --config LAB --script THIS_FILE (docs/scripts.md)\n",
+      "# Play it with: igms-control --config LAB --script THIS_FILE (docs/control.md)\n",
       origin, options.mark_seed);
   for (const PlannedObject& p : plan) {
     s += fmt::format("\n# {} ({})\n", p.name, p.box ? "box" : "cylinder");
@@ -91,6 +92,13 @@ std::string PlanScript(const std::vector<PlannedObject>& plan, const std::string
       s += "- trigger\n";
     }
     s += fmt::format("- say: {}\n", p.box ? "box" : "cylinder");
+    if (options.screenshots) {
+      std::string file = p.name;  // a file name whatever the object is called
+      for (char& c : file) {
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-') c = '_';
+      }
+      s += fmt::format("- screenshot: overlay-{:02d}-{}.png\n", p.index, file);
+    }
     s += "- button: unfreeze\n";
   }
   return s;
