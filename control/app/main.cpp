@@ -146,6 +146,8 @@ int main(int argc, char** argv) {
         live_options.address = it->second;
         live_options.token = options->token;
         live_options.client_name = process->name + "-window";
+        // Offscreen the video is only looked at for screenshots: a few frames a second do.
+        if (offscreen) live_options.fps = 5;
         live = igms::control::LiveVideo::Start(live_options);
       }
     }

@@ -31,6 +31,8 @@ struct LiveVideo::Impl : std::enable_shared_from_this<Impl> {
   LiveStats stats;
   std::deque<int64_t> arrivals;  // monotonic, the last second
   video::OverlaySettings overlay;
+  uint64_t grab_id = 0;  // the grab asked for, and when it has come, its pair
+  std::optional<StereoFrame> grab;
 
   void OnFrame(const video::LiveFrame& f) {
     StereoFrame frame;
@@ -161,6 +163,47 @@ void LiveVideo::MoveOffset(int du, int dv) {
           self->overlay = r.value.settings();
         });
   });
+}
+
+void LiveVideo::FetchGrab(uint64_t frame_id) {
+  {
+    std::lock_guard lock(impl_->mutex);
+    if (impl_->grab_id == frame_id) return;
+    impl_->grab_id = frame_id;
+    impl_->grab.reset();
+  }
+  video::GetImagesRequest request;
+  request.set_frame_id(frame_id);
+  request.set_side(video::BOTH);
+  request.set_encoding(video::RAW);
+  boost::asio::post(impl_->io, [self = impl_, request] {
+    self->client->Call<video::GetImagesResponse>(
+        "igms.video.VideoService.GetImages", request, std::chrono::milliseconds(5000),
+        [self, id = request.frame_id()](net::Result<video::GetImagesResponse> r) {
+          if (!r.ok()) {
+            spdlog::warn("the grabbed pair {}: {}", id, r.status.ToString());
+            std::lock_guard lock(self->mutex);
+            if (self->grab_id == id) self->grab_id = 0;  // asked again on the next frame
+            return;
+          }
+          StereoFrame frame;
+          frame.left = wire::DecodeProtoImage(r.value.left());
+          frame.right = wire::DecodeProtoImage(r.value.right());
+          if (frame.left.empty() || frame.right.empty()) return;
+          frame.sequence = kGrabSequence + id;
+          frame.capture_unix_ns = r.value.left_capture_unix_ns();
+          frame.joints.assign(r.value.pose().joints_rad().begin(),
+                              r.value.pose().joints_rad().end());
+          std::lock_guard lock(self->mutex);
+          if (self->grab_id == id) self->grab = std::move(frame);
+        });
+  });
+}
+
+std::optional<StereoFrame> LiveVideo::Grabbed(uint64_t frame_id) const {
+  std::lock_guard lock(impl_->mutex);
+  if (impl_->grab_id != frame_id) return std::nullopt;
+  return impl_->grab;
 }
 
 }  // namespace igms::control

@@ -52,6 +52,12 @@ class LiveVideo {
   video::OverlaySettings overlay() const;
   // Moves the video's offset by (du, dv) pixels and stores it on the server.
   void MoveOffset(int du, int dv);
+  // The grabbed pair of a frozen session (VideoService.GetImages of `frame_id`): FetchGrab
+  // asks for it once; Grabbed has it when it has arrived. Its sequence is kGrabSequence +
+  // frame id, apart from the live sequences.
+  void FetchGrab(uint64_t frame_id);
+  std::optional<StereoFrame> Grabbed(uint64_t frame_id) const;
+  static constexpr uint64_t kGrabSequence = uint64_t{1} << 62;
 
   struct Impl;
 

@@ -56,8 +56,10 @@ void RunDisplayLoop(ControlApp& app, Window& window, LiveVideo* live, Screenshot
   uint64_t shown = 0;
   int taken = 0;
   auto next = Clock::now();
+  uint64_t held_grab = 0;
   while (!stop) {
-    if (offscreen && !shots.WaitForRequest(std::chrono::milliseconds(100))) continue;
+    // Offscreen, the loop follows the video every 100 ms and draws only for a screenshot.
+    const bool draw = !offscreen || shots.WaitForRequest(std::chrono::milliseconds(100));
     const int64_t now = ControlApp::NowNs();
     const WindowInput input = window.Poll(now);
     for (const Command& c : input.commands) app.Post(c);
@@ -71,8 +73,19 @@ void RunDisplayLoop(ControlApp& app, Window& window, LiveVideo* live, Screenshot
       if (input.offset_move != Eigen::Vector2i::Zero()) {
         live->MoveOffset(input.offset_move.x(), input.offset_move.y());
       }
-      // While frozen the picture holds still: the pair of the freeze, as the grab was.
-      if (!view.frozen) {
+      if (view.frozen) {
+        // Frozen: the grabbed pair, the one the marks and the locate work on.
+        const uint64_t id = view.frozen->grab.frame_id();
+        if (id != held_grab) {
+          if (auto grab = live->Grabbed(id)) {
+            window.SetFrame(std::move(*grab));
+            held_grab = id;
+          } else {
+            live->FetchGrab(id);
+          }
+        }
+      } else {
+        held_grab = 0;
         if (auto frame = live->Newer(shown)) {
           shown = frame->sequence;
           window.SetFrame(std::move(*frame));
@@ -82,6 +95,7 @@ void RunDisplayLoop(ControlApp& app, Window& window, LiveVideo* live, Screenshot
     } else {
       window.SetVideo(true, {});
     }
+    if (!draw) continue;
     std::optional<std::string> path = shots.Next();
     const bool requested = path.has_value();
     if (!path && input.screenshot) {

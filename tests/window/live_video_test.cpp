@@ -46,6 +46,19 @@ TEST(LiveVideo, FramesOverTheDefaultLimitArriveAndALostServerIsReported) {
     return live->overlay().u_offset_px() == 3 && live->overlay().v_offset_px() == -2;
   }));
 
+  // A frozen session's pair: the grab itself, fetched by its frame id.
+  igms::testing::TestClient client(port);
+  auto grab = client->CallSync<video::GrabResponse>("igms.video.VideoService.Grab",
+                                                    video::GrabRequest(), std::chrono::seconds(5));
+  ASSERT_TRUE(grab.ok()) << grab.status.ToString();
+  live->FetchGrab(grab.value.frame_id());
+  std::optional<StereoFrame> grabbed;
+  ASSERT_TRUE(igms::testing::WaitFor("the grabbed pair", [&] {
+    return (grabbed = live->Grabbed(grab.value.frame_id())).has_value();
+  }));
+  EXPECT_EQ(grabbed->left.cols, 1282);
+  EXPECT_EQ(grabbed->sequence, LiveVideo::kGrabSequence + grab.value.frame_id());
+
   server.reset();  // the video server goes away
   ASSERT_TRUE(igms::testing::WaitFor("the video reported lost", [&] { return live->lost(); }));
   EXPECT_TRUE(live->Newer(0)) << "the last frame stays";
