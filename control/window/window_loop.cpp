@@ -57,6 +57,7 @@ void RunDisplayLoop(ControlApp& app, Window& window, LiveVideo* live, Screenshot
   int taken = 0;
   auto next = Clock::now();
   uint64_t held_grab = 0;
+  auto next_stats = Clock::now() + std::chrono::seconds(5);
   while (!stop) {
     // Offscreen, the loop follows the video every 100 ms and draws only for a screenshot.
     const bool draw = !offscreen || shots.WaitForRequest(std::chrono::milliseconds(100));
@@ -92,6 +93,16 @@ void RunDisplayLoop(ControlApp& app, Window& window, LiveVideo* live, Screenshot
         }
       }
       window.SetVideo(live->lost(), live->overlay());
+      // The live video's rate and latency into the window, for the log (docs/window.md).
+      if (Clock::now() >= next_stats) {
+        next_stats = Clock::now() + std::chrono::seconds(30);
+        const LiveStats st = live->stats();
+        if (st.frames > 0) {
+          spdlog::info(
+              "live video: {:.0f} frames/s, capture to receipt {:.1f} ms, {} of {} skipped",
+              st.rate_fps, st.latency_ms, st.skipped, st.frames + st.skipped);
+        }
+      }
     } else {
       window.SetVideo(true, {});
     }
