@@ -18,13 +18,15 @@ void Line(const Eigen::Vector3d& a, const Eigen::Vector3d& b, Mesh* mesh) {
   mesh->lines.push_back(b.cast<float>());
 }
 
-void AppendBox(const DrawModel& m, Mesh* mesh) {
+Eigen::Vector3d BoxCorner(const DrawModel& m, int i) {
   const Eigen::Vector3d h = 0.5 * m.size;
-  auto corner = [&](int i) {
-    const Eigen::Vector3d local((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(),
-                                (i & 4) ? h.z() : -h.z());
-    return Eigen::Vector3d(m.center + m.rotation * local);
-  };
+  const Eigen::Vector3d local((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(),
+                              (i & 4) ? h.z() : -h.z());
+  return m.center + m.rotation * local;
+}
+
+void AppendBox(const DrawModel& m, Mesh* mesh) {
+  auto corner = [&](int i) { return BoxCorner(m, i); };
   // Each face: the axis it is normal to, its sign, and its corners in order around it.
   for (int axis = 0; axis < 3; ++axis) {
     for (int sign = 0; sign < 2; ++sign) {
@@ -81,6 +83,36 @@ void AppendCylinder(const DrawModel& m, const Eigen::Vector3d& eye, int segments
 }
 
 }  // namespace
+
+bool TexturedFace(const DrawModel& m, std::vector<Eigen::Vector3f>* triangles) {
+  if (m.kind != DrawModel::Kind::kBox || m.texture.empty() || m.texture_P.isZero()) return false;
+  const Eigen::Vector3d eye =
+      geometry::ProjectiveCamera(m.texture_P, {1, 1}).Center();  // the size plays no part
+  if (!eye.allFinite()) return false;
+  double best = -1;
+  int best_axis = 0, best_sign = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int sign = 0; sign < 2; ++sign) {
+      const Eigen::Vector3d n = m.rotation.col(axis) * (sign ? 1.0 : -1.0);
+      const Eigen::Vector3d face = m.center + 0.5 * m.size[axis] * n;
+      const double facing = n.dot((eye - face).normalized());
+      if (facing > best) {
+        best = facing;
+        best_axis = axis;
+        best_sign = sign;
+      }
+    }
+  }
+  if (best <= 0) return false;
+  const int bit = 1 << best_axis, a1 = 1 << ((best_axis + 1) % 3), a2 = 1 << ((best_axis + 2) % 3);
+  const int base = best_sign ? bit : 0;
+  const Eigen::Vector3d c0 = BoxCorner(m, base), c1 = BoxCorner(m, base | a1),
+                        c2 = BoxCorner(m, base | a1 | a2), c3 = BoxCorner(m, base | a2);
+  for (const Eigen::Vector3d* p : {&c0, &c1, &c2, &c0, &c2, &c3}) {
+    triangles->push_back(p->cast<float>());
+  }
+  return true;
+}
 
 void AppendModel(const DrawModel& model, const Eigen::Vector3d& eye_center, int segments,
                  Mesh* mesh) {

@@ -48,6 +48,12 @@ struct DrawModel {
   double radius = 0.5;
   double height = 1.0;
   Eigen::Vector3f color{0.2f, 0.9f, 0.3f};  // linear RGB in [0, 1]
+  // A box's texture patch: `texture` (8-bit grey or BGR) holds the pixels `texture_rect` of
+  // an image taken by the camera `texture_P`; it goes on the face that camera saw most
+  // squarely, mapped through texture_P, and the other faces stay flat. Empty: none.
+  cv::Mat texture;
+  cv::Rect texture_rect;
+  geometry::Matrix34 texture_P = geometry::Matrix34::Zero();
 };
 
 enum class HudLevel { kInfo, kWarning, kError };
@@ -91,5 +97,8 @@ struct Mesh {
 // `eye_center`: a box's 12 edges; a cylinder's two caps and its two silhouette generators.
 void AppendModel(const DrawModel& model, const Eigen::Vector3d& eye_center, int segments,
                  Mesh* mesh);
+// The two triangles of the box face its texture camera saw most squarely (facing it), for
+// the texture patch; false when the model has no texture or is not a box.
+bool TexturedFace(const DrawModel& model, std::vector<Eigen::Vector3f>* triangles);
 
 }  // namespace igms::control::render

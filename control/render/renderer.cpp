@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -85,6 +86,33 @@ out vec4 color;
 void main() {
   if (max(color_v.r, max(color_v.g, color_v.b)) * 255.0 <= key_level) discard;
   color = vec4(color_v, alpha);
+})";
+
+// A box's texture patch, projected from the camera that took it.
+constexpr const char* kTexturedVs = R"(#version 330 core
+layout(location = 0) in vec3 position;
+uniform mat4 mvp;
+out vec3 world;
+void main() {
+  gl_Position = mvp * vec4(position, 1.0);
+  world = position;
+})";
+
+constexpr const char* kTexturedFs = R"(#version 330 core
+in vec3 world;
+uniform sampler2D patch;
+uniform mat4x3 texture_P;
+uniform vec4 rect;  // u0, v0, width, height of the patch in its image
+uniform float key_level;
+uniform float alpha;
+out vec4 color;
+void main() {
+  vec3 p = texture_P * vec4(world, 1.0);
+  vec2 tc = (p.xy / p.z - rect.xy + 0.5) / rect.zw;
+  if (p.z <= 0.0 || any(lessThan(tc, vec2(0.0))) || any(greaterThan(tc, vec2(1.0)))) discard;
+  vec3 c = texture(patch, tc).rgb;
+  if (max(c.r, max(c.g, c.b)) * 255.0 <= key_level) discard;
+  color = vec4(c, alpha);
 })";
 
 constexpr const char* kHudFs = R"(#version 330 core
@@ -217,7 +245,9 @@ cv::Mat RenderHudImage(const DrawList& list, int width, int height) {
 }
 
 struct Renderer::Impl {
-  GLuint video_program = 0, model_program = 0, hud_program = 0;
+  GLuint video_program = 0, model_program = 0, hud_program = 0, textured_program = 0;
+  // Box texture patches by the address of their pixels, kept while they are drawn.
+  std::map<const void*, GLuint> patches;
   GLuint empty_vao = 0, model_vao = 0, model_vbo = 0;
   GLuint video_texture[2] = {0, 0};
   const void* video_data[2] = {nullptr, nullptr};
@@ -231,6 +261,8 @@ struct Renderer::Impl {
     glDeleteProgram(video_program);
     glDeleteProgram(model_program);
     glDeleteProgram(hud_program);
+    glDeleteProgram(textured_program);
+    for (auto& [data, texture] : patches) glDeleteTextures(1, &texture);
     glDeleteVertexArrays(1, &empty_vao);
     glDeleteVertexArrays(1, &model_vao);
     glDeleteBuffers(1, &model_vbo);
@@ -328,6 +360,7 @@ struct Renderer::Impl {
       glDepthFunc(GL_LESS);
       glUniform1i(U(model_program, "shaded"), list.lit ? 1 : 0);
       glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles.size()));
+      DrawPatches(list, mvp);
       glDisable(GL_DEPTH_TEST);
     }
     if (!lines.empty()) {
@@ -340,6 +373,51 @@ struct Renderer::Impl {
                    static_cast<GLsizei>(lines.size() - model_lines));
     }
     glDisable(GL_BLEND);
+  }
+
+  // Over the flat face, at the same depth (GL_LEQUAL), the texture patch of each box.
+  void DrawPatches(const DrawList& list, const Eigen::Matrix4f& mvp) {
+    std::map<const void*, GLuint> used;
+    std::vector<Eigen::Vector3f> face;
+    for (const DrawModel& model : list.models) {
+      face.clear();
+      if (!TexturedFace(model, &face)) continue;
+      const void* key = model.texture.data;
+      GLuint texture = 0;
+      if (auto u = used.find(key); u != used.end()) {
+        texture = u->second;
+      } else if (auto it = patches.find(key); it != patches.end()) {
+        texture = it->second;
+        patches.erase(it);
+      } else {
+        glGenTextures(1, &texture);
+        Upload(texture, model.texture);
+      }
+      used[key] = texture;
+      std::vector<Vertex> vertices;
+      for (const auto& p : face) Push(&vertices, p, Eigen::Vector3f::Zero(), model.color);
+      glUseProgram(textured_program);
+      glUniformMatrix4fv(U(textured_program, "mvp"), 1, GL_FALSE, mvp.data());
+      const Eigen::Matrix<float, 3, 4> P = model.texture_P.cast<float>();
+      glUniformMatrix4x3fv(U(textured_program, "texture_P"), 1, GL_FALSE, P.data());
+      glUniform4f(U(textured_program, "rect"), static_cast<float>(model.texture_rect.x),
+                  static_cast<float>(model.texture_rect.y),
+                  static_cast<float>(model.texture_rect.width),
+                  static_cast<float>(model.texture_rect.height));
+      glUniform1f(U(textured_program, "key_level"), static_cast<float>(list.key_level));
+      glUniform1f(U(textured_program, "alpha"), list.graphics_alpha);
+      glActiveTexture(GL_TEXTURE0);
+      glBindTexture(GL_TEXTURE_2D, texture);
+      glUniform1i(U(textured_program, "patch"), 0);
+      glBufferData(GL_ARRAY_BUFFER, vertices.size() * sizeof(Vertex), vertices.data(),
+                   GL_STREAM_DRAW);
+      glDepthFunc(GL_LEQUAL);
+      glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
+      glDepthFunc(GL_LESS);
+    }
+    for (auto& [data, texture] : patches) glDeleteTextures(1, &texture);  // no longer drawn
+    patches = std::move(used);
+    glUseProgram(model_program);
   }
 
   void DrawHud(const DrawList& list, const Viewport& vp) {
@@ -372,6 +450,9 @@ Result<std::unique_ptr<Renderer>> Renderer::Make() {
   auto model = Link(kModelVs, kModelFs, "model");
   if (!model.ok()) return ErrorMessage{model.error()};
   impl->model_program = *model;
+  auto textured = Link(kTexturedVs, kTexturedFs, "texture patch");
+  if (!textured.ok()) return ErrorMessage{textured.error()};
+  impl->textured_program = *textured;
   auto hud = Link(kFullViewportVs, kHudFs, "hud");
   if (!hud.ok()) return ErrorMessage{hud.error()};
   impl->hud_program = *hud;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
 
 #include "common/geometry/platform.h"
 
@@ -72,6 +73,15 @@ render::HudLevel LevelOf(NoticeLevel level) {
   return render::HudLevel::kInfo;
 }
 
+cv::Mat DecodePatch(const std::string& png) {
+  const cv::Mat bytes(1, static_cast<int>(png.size()), CV_8UC1, const_cast<char*>(png.data()));
+  try {
+    return cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+    return {};
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> KeyHelp() {
@@ -84,7 +94,7 @@ std::vector<std::string> KeyHelp() {
   };
 }
 
-render::DrawModel DrawModelOf(const SessionModel& m) {
+render::DrawModel DrawModelOf(const SessionModel& m, std::map<uint64_t, cv::Mat>* textures) {
   render::DrawModel d;
   if (m.type == object::OBJECT_TYPE_CYLINDER) {
     d.kind = render::DrawModel::Kind::kCylinder;
@@ -108,6 +118,24 @@ render::DrawModel DrawModelOf(const SessionModel& m) {
   } else {  // the thesis's block: its world-axis-aligned extent
     d.center = 0.5 * (V(m.box.min()) + V(m.box.max()));
     d.size = (V(m.box.max()) - V(m.box.min())).cwiseAbs();
+  }
+  if (!m.box.texture_png().empty() && !m.left_P_at_grab.isZero()) {
+    cv::Mat patch;
+    if (textures) {
+      auto [it, added] = textures->try_emplace(m.id);
+      if (added) it->second = DecodePatch(m.box.texture_png());
+      patch = it->second;
+    } else {
+      patch = DecodePatch(m.box.texture_png());
+    }
+    const cv::Rect rect(m.box.texture_u0(), m.box.texture_v0(),
+                        m.box.texture_u1() - m.box.texture_u0() + 1,
+                        m.box.texture_v1() - m.box.texture_v0() + 1);
+    if (!patch.empty() && rect.width > 0 && rect.height > 0) {
+      d.texture = patch;
+      d.texture_rect = rect;
+      d.texture_P = m.left_P_at_grab;
+    }
   }
   return d;
 }
@@ -133,7 +161,7 @@ render::DrawList ViewFromSession(const SessionView& view,
     }
   }
   for (const SessionModel& m : view.models) {
-    if (!m.removed) list.models.push_back(DrawModelOf(m));
+    if (!m.removed) list.models.push_back(DrawModelOf(m, extras.textures));
   }
   list.wireframe = view.wireframe;
   if (view.frozen) {

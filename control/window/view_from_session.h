@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -30,6 +31,8 @@ struct ViewExtras {
   Eigen::Vector2i video_offset = Eigen::Vector2i::Zero();
   bool show_help = false;
   std::string stereo;  // the stereo mode's name, for the heads-up line
+  // Boxes' texture patches decoded once, by model id (null: decoded on every call).
+  std::map<uint64_t, cv::Mat>* textures = nullptr;
 };
 
 // The keys' help (the window's key map), one line each.
@@ -44,7 +47,9 @@ render::DrawList ViewFromSession(const SessionView& view,
                                  const calibration::StereoCalibration& calibration,
                                  const ViewExtras& extras);
 
-// One session model as the renderer draws it.
-render::DrawModel DrawModelOf(const SessionModel& model);
+// One session model as the renderer draws it; a box's texture patch (decoded from its PNG,
+// or from `textures` by the model's id) where the model knows the camera of its grab.
+render::DrawModel DrawModelOf(const SessionModel& model,
+                              std::map<uint64_t, cv::Mat>* textures = nullptr);
 
 }  // namespace igms::control

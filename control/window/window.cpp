@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <deque>
+#include <map>
 
 #include "control/render/offscreen.h"
 #include "control/window/keys.h"
@@ -44,6 +45,7 @@ struct Window::Impl {
   bool quad_buffer = false;
   std::string notice;
   ViewExtras extras;
+  std::map<uint64_t, cv::Mat> textures;  // boxes' patches, decoded once
   render::DrawList last;
 
   // Events from GLFW's callbacks, taken by Poll.
@@ -119,6 +121,7 @@ Result<std::unique_ptr<Window>> Window::Open(const calibration::StereoCalibratio
   impl->options = options;
   impl->stereo = options.stereo;
   impl->extras.show_help = options.help;
+  impl->extras.textures = &impl->textures;
   if (!(options.scale > 0)) return ErrorMessage{"the window's scale must be positive"};
 
   if (options.offscreen) {

@@ -116,7 +116,8 @@ TEST_F(Render, TheSitesSolidsRegisterOnItsVideoToAFractionOfAPixel) {
   list.lit = false;
   std::vector<double> errors;
   int missing = 0;
-  for (int eye = 0; eye < 2; ++eye) {
+  // The left eye (bench_overlay measures both, and panned poses, and a lens).
+  for (int eye = 0; eye < 1; ++eye) {
     const geometry::ProjectiveCamera camera(list.eyes[eye].P, kSize);
     const cv::Mat truth = registration::TruthCoverage(scene, camera);
     const cv::Mat graphics = registration::CoverageOf(DrawEye(list, eye, 4, 4));
@@ -125,7 +126,7 @@ TEST_F(Render, TheSitesSolidsRegisterOnItsVideoToAFractionOfAPixel) {
     errors.insert(errors.end(), e.begin(), e.end());
     missing += m;
   }
-  ASSERT_GT(errors.size(), 500u);
+  ASSERT_GT(errors.size(), 300u);
   const double median = stats::Percentile(errors, 0.5), p95 = stats::Percentile(errors, 0.95);
   std::printf("registration: %zu edge crossings, median %.3f px, p95 %.3f px, %d unpaired\n",
               errors.size(), median, p95, missing);
@@ -198,6 +199,33 @@ TEST_F(Render, TheLensIsUndoneSoADotLandsOnItsIdealPixel) {
     EXPECT_GT((observed - ideal).norm(), 3.0);
     EXPECT_LT((Eigen::Vector2d(peak.x, peak.y) - ideal).norm(), 1.5) << ideal.transpose();
   }
+}
+
+TEST_F(Render, ABoxsTexturePatchGoesOnTheFaceItsCameraSaw) {
+  DrawList list = Thesis();
+  DrawModel box;
+  box.center = {21, -48, 2};
+  box.size = {4, 3, 4};
+  box.color = {1, 1, 1};
+  box.texture_P = list.eyes[0].P;
+  const geometry::ProjectiveCamera left(list.eyes[0].P, kSize);
+  // The face towards the cameras (+y); its centre's column splits the patch blue | red.
+  const auto centre = left.Project(box.center + Eigen::Vector3d(0, 1.5, 0));
+  ASSERT_TRUE(centre);
+  box.texture_rect = cv::Rect(150, 120, 250, 250);
+  box.texture = cv::Mat(250, 250, CV_8UC3, cv::Scalar(0, 0, 255));
+  const int split = static_cast<int>(std::lround(centre->x())) - 150;
+  box.texture(cv::Rect(0, 0, split, 250)).setTo(cv::Scalar(255, 0, 0));
+  list.models.push_back(box);
+  list.lit = false;
+  const cv::Mat drawn = DrawEye(list, 0);
+  const int u = static_cast<int>(std::lround(centre->x()));
+  const int v = static_cast<int>(std::lround(centre->y()));
+  EXPECT_EQ(drawn.at<cv::Vec3b>(v, u - 2), cv::Vec3b(255, 0, 0));
+  EXPECT_EQ(drawn.at<cv::Vec3b>(v, u + 2), cv::Vec3b(0, 0, 255));
+  // Without its camera the box is flat.
+  list.models[0].texture_P.setZero();
+  EXPECT_EQ(DrawEye(list, 0).at<cv::Vec3b>(v, u - 2), cv::Vec3b(255, 255, 255));
 }
 
 TEST_F(Render, StereoModesLayTheEyesOut) {
