@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
     }
     // A window where there is a display; offscreen (screenshots only) where there is none.
     const bool on_screen = want_window || (!no_window && igms::control::DisplayAvailable());
-    const bool offscreen = !on_screen && !no_window;
+    bool offscreen = !on_screen && !no_window;
     if (process->check_only) return igms::config::CheckPassed(*process);
     igms::control::ScriptPlayerOptions player_options;
     player_options.token = options->token;
@@ -129,11 +129,19 @@ int main(int argc, char** argv) {
       window_options.offscreen = offscreen;
       window_options.help = on_screen;
       auto opened = igms::control::Window::Open(*calibration, window_options);
-      if (opened.ok()) {
-        window = std::move(*opened);
-      } else if (want_window) {
+      if (!opened.ok() && want_window) {
         spdlog::critical("--window: {}", opened.error());
         return igms::kExitFailure;
+      }
+      if (!opened.ok() && !offscreen) {
+        // A display that will not take a window: draw offscreen for the screenshots.
+        spdlog::warn("no window ({}): drawing offscreen", opened.error());
+        offscreen = true;
+        window_options.offscreen = true;
+        opened = igms::control::Window::Open(*calibration, window_options);
+      }
+      if (opened.ok()) {
+        window = std::move(*opened);
       } else {
         // The session runs without its picture rather than not at all.
         spdlog::warn("no window: {}", opened.error());
