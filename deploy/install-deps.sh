@@ -25,7 +25,16 @@ PACKAGES=(
   flite
   # a sound server with a null sink: the microphone tests' capture device
   pulseaudio pulseaudio-utils
+  # real consumers of igms export's files: check_urdf (URDF), assimp info (OBJ, STL, glTF)
+  liburdfdom-tools assimp-utils
 )
+
+# Node.js and npm run Khronos' glTF validator in the export tests (npm gltf-validator, into
+# the build tree). A machine with its own Node (from NodeSource, nvm) keeps it: Debian's
+# nodejs would conflict with it.
+if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
+  PACKAGES+=(nodejs npm)
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
                         "else the operator's data folder)")(
         "wait", po::bool_switch(), "wait for required peers instead of exiting 1")(
         "script", po::value<std::string>(),
-        "play this operator script, then exit (docs/control.md)")(
+        "play this operator script, then exit (docs/scripts.md)")(
         "window", po::bool_switch(), "open the window (default: when a display is there)")(
         "no-window", po::bool_switch(), "draw nothing: no window, no offscreen screenshots")(
         "screenshots", po::value<std::string>()->default_value("."),

@@ -272,6 +272,24 @@ const std::string& InsertBoxSql() {
   return sql;
 }
 
+// BEGIN (deferred) ... COMMIT around reads, so they share one snapshot.
+class ReadTransaction {
+ public:
+  explicit ReadTransaction(Connection& c) : c_(c) { c_.Execute("BEGIN"); }
+  ~ReadTransaction() {
+    try {
+      c_.Execute("COMMIT");
+    } catch (const SqliteError&) {
+      // Nothing was written; ending a read cannot lose anything.
+    }
+  }
+  ReadTransaction(const ReadTransaction&) = delete;
+  ReadTransaction& operator=(const ReadTransaction&) = delete;
+
+ private:
+  Connection& c_;
+};
+
 ChangeKind KindFromName(const std::string& name) {
   if (name == "add") return ChangeKind::kAdd;
   if (name == "remove") return ChangeKind::kRemove;
@@ -297,8 +315,9 @@ const char* ChangeKindName(ChangeKind kind) {
 }
 
 struct GeometricDatabase::Impl {
-  Impl(const std::string& path, std::unique_ptr<FileLock> held)
-      : lock(std::move(held)), connection(path, Connection::Mode::kReadWriteCreate) {}
+  Impl(const std::string& path, std::unique_ptr<FileLock> held,
+       Connection::Mode mode = Connection::Mode::kReadWriteCreate)
+      : lock(std::move(held)), connection(path, mode) {}
 
   // Prepared once, reused: storing a model is a handful of statements.
   Statement& Prepared(const std::string& sql) {
@@ -443,6 +462,7 @@ GeometricDatabase::GeometricDatabase(std::string path, std::unique_ptr<Impl> imp
     : path_(std::move(path)), impl_(std::move(impl)), session_id_(session_id) {}
 
 GeometricDatabase::~GeometricDatabase() {
+  if (read_only()) return;
   try {
     Transaction t(impl_->connection);
     Statement& s = impl_->Prepared("UPDATE sessions SET closed_unix_ns = :now WHERE id = :id");
@@ -526,6 +546,48 @@ DatabaseResult<std::unique_ptr<GeometricDatabase>> GeometricDatabase::Open(
         new GeometricDatabase(path, std::move(impl), session));
   } catch (const SqliteError& e) {
     return FromSqlite(path, e);
+  }
+}
+
+DatabaseResult<std::unique_ptr<GeometricDatabase>> GeometricDatabase::OpenReadOnly(
+    const std::string& requested) {
+  if (requested.empty()) {
+    return Fail(DatabaseErrorCode::kStorage, "no file given for the geometric database");
+  }
+  std::error_code error;
+  const std::string path = fs::weakly_canonical(fs::absolute(requested), error).string();
+  if (error || !fs::exists(path, error)) {
+    return Fail(DatabaseErrorCode::kStorage, "no database at " + requested);
+  }
+  if (fs::is_directory(path, error)) {
+    return Fail(DatabaseErrorCode::kStorage, path + " is a folder, not a database file");
+  }
+  const bool wal_existed = fs::exists(path + "-wal", error);
+  const bool shm_existed = fs::exists(path + "-shm", error);
+  auto inspected = Inspect(path);
+  if (!inspected.ok()) {
+    RemoveSideFilesCreated(path, wal_existed, shm_existed);
+    return DatabaseError{inspected.code(), inspected.error()};
+  }
+  if (*inspected) {
+    RemoveSideFilesCreated(path, wal_existed, shm_existed);
+    return Fail(DatabaseErrorCode::kForeignSchema,
+                path + " is an empty SQLite file, not yet a geometric database");
+  }
+  try {
+    auto impl = std::make_unique<Impl>(path, nullptr, Connection::Mode::kReadOnly);
+    impl->connection.Execute("PRAGMA busy_timeout = 5000");
+    return std::unique_ptr<GeometricDatabase>(new GeometricDatabase(path, std::move(impl), 0));
+  } catch (const SqliteError& e) {
+    return FromSqlite(path, e);
+  }
+}
+
+DatabaseResult<std::int64_t> GeometricDatabase::DataVersion() {
+  try {
+    return impl_->connection.QueryInt("PRAGMA data_version");
+  } catch (const SqliteError& e) {
+    return FromSqlite(path_, e);
   }
 }
 
@@ -727,6 +789,8 @@ DatabaseResult<std::vector<StoredModel>> GeometricDatabase::ListModels() {
   try {
     std::vector<StoredModel> models;
     std::vector<std::int64_t> ids;
+    // One read transaction: a reader sees one committed state even while a session writes.
+    ReadTransaction snapshot(impl_->connection);
     Statement& q = impl_->Prepared("SELECT id FROM models WHERE present = 1 ORDER BY id");
     while (q.Step()) ids.push_back(q.Int("id"));
     q.Reset();

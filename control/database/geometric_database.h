@@ -182,6 +182,11 @@ class GeometricDatabase {
   // changing the file.
   static DatabaseResult<std::unique_ptr<GeometricDatabase>> Open(const std::string& path,
                                                                  const SessionInfo& who = {});
+  // Opens an existing `path` to read only (exports, planners, the truth table): no lock, no
+  // session recorded, nothing written, so it never stands in the operator's way; it reads
+  // the committed state while a session writes. Refuses a missing file (kStorage) and the
+  // files Open refuses, with the same codes.
+  static DatabaseResult<std::unique_ptr<GeometricDatabase>> OpenReadOnly(const std::string& path);
   ~GeometricDatabase();  // records the session's end and releases the lock
   GeometricDatabase(const GeometricDatabase&) = delete;
   GeometricDatabase& operator=(const GeometricDatabase&) = delete;
@@ -204,8 +209,13 @@ class GeometricDatabase {
   // Every session that opened the file, oldest first (this one last).
   DatabaseResult<std::vector<DatabaseSession>> Sessions();
 
+  // SQLite's PRAGMA data_version: it changes whenever another connection commits, so a
+  // reader polls it to learn that the models may have changed.
+  DatabaseResult<std::int64_t> DataVersion();
+
   const std::string& path() const { return path_; }
-  std::int64_t session_id() const { return session_id_; }
+  std::int64_t session_id() const { return session_id_; }  // 0 when read-only
+  bool read_only() const { return session_id_ == 0; }
 
   struct Impl;
 

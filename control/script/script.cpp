@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -79,12 +80,18 @@ void ParseWaitFor(const YAML::Node& v, ScriptAction* a) {
   int conditions = 0;
   if (v["mode"]) {
     a->mode = Text(v["mode"], "wait_for.mode");
+    // As the session names it ("model building"); "model_building" reads the same.
+    std::replace(a->mode.begin(), a->mode.end(), '_', ' ');
     bool known = false;
     for (Mode m : {Mode::kStarting, Mode::kVerification, Mode::kFreezing, Mode::kGrabbing,
                    Mode::kModelBuilding, Mode::kAwaitingType, Mode::kLocating, Mode::kStopped}) {
       known = known || ModeName(m) == a->mode;
     }
-    if (!known) throw BadScript{LineOf(v["mode"]), "wait_for.mode: no such mode '" + a->mode + "'"};
+    if (!known)
+      throw BadScript{LineOf(v["mode"]),
+                      "wait_for.mode: no such mode '" + a->mode +
+                          "' (known: starting, verification, freezing, grabbing, model "
+                          "building, awaiting the object type, locating, stopped)"};
     conditions++;
   }
   auto count = [&](const char* key, std::optional<int>* out) {

@@ -14,7 +14,8 @@
 //   - range                                  # viewer buttons 10
 //   - say: cylinder                          # a phrase the voice daemon hears
 //   - fault: {device: joystick, garbage_bytes: 40}
-//   - wait_for: {mode: model_building, timeout: 20}   # or marks: N, models: N,
+//   - wait_for: {mode: model_building, timeout: 20}   # (or "model building") or marks: N, models:
+//   N,
 //                                                     # peer_up: NAME, peer_down: NAME
 //   - screenshot: overlay.png                # the window's next frame as a PNG file beside the
 //                                            # script (offscreen without a display; skipped

@@ -190,6 +190,8 @@ struct ScriptPlayer::Impl {
     return true;
   }
 
+  static constexpr int kSayAttempts = 3;
+
   Result<bool> Say(const ScriptAction& a) {
     // The daemon judges a word by the grammar it was last given: wait until it follows the
     // session's mode (a fourth mark switches it to the object-type grammar).
@@ -203,14 +205,22 @@ struct ScriptPlayer::Impl {
     const SessionView before = *ready;
     devices::SimInjectRequest request;
     request.set_spoken(a.phrase);
-    auto r = Inject(Peer::kVoice, request);
-    if (!r.ok()) return ErrorMessage{r.error()};
-    const auto& heard = r->heard();
-    if (!heard.accepted()) {
-      return Fail(fmt::format("the voice daemon did not accept it: heard '{}' ({}) in state {}{}",
-                              heard.text(), devices::VoiceCommand_Name(heard.command()),
-                              devices::OperatorState_Name(heard.state()),
-                              heard.detail().empty() ? "" : ": " + heard.detail()));
+    // A recogniser may mishear; an operator not understood says it again, as often as
+    // kSayAttempts. The simulated Dragon hears every word the first time.
+    devices::SimHeard heard;
+    for (int attempt = 1;; ++attempt) {
+      auto r = Inject(Peer::kVoice, request);
+      if (!r.ok()) return ErrorMessage{r.error()};
+      heard = r->heard();
+      if (heard.accepted()) break;
+      const std::string why = fmt::format("heard '{}' ({}) in state {}{}", heard.text(),
+                                          devices::VoiceCommand_Name(heard.command()),
+                                          devices::OperatorState_Name(heard.state()),
+                                          heard.detail().empty() ? "" : ": " + heard.detail());
+      if (attempt == kSayAttempts) {
+        return Fail(fmt::format("the voice daemon did not accept it {} times: {}", attempt, why));
+      }
+      spdlog::warn("{}:{}: not understood ({}); saying it again", script->source, a.line, why);
     }
     const auto command = CommandFromVoice(heard.command());
     if (!command) return true;

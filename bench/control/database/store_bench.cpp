@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "common/stats/percentile.h"
 #include "control/database/geometric_database.h"
 #include "tests/control/database/sample_records.h"
 
@@ -25,14 +26,9 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using igms::control::GeometricDatabase;
+using igms::stats::Percentile;
 
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
-
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5)];
-}
 
 // baseline_p50 0: a row without a baseline to compare with.
 void Row(const char* what, const std::vector<double>& v, double baseline_p50) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 
@@ -57,6 +58,10 @@ Result<std::vector<PlannedObject>> PlanSession(
     PlannedObject p;
     p.index = i;
     p.name = scene.objects[i].name.empty() ? fmt::format("#{}", i) : scene.objects[i].name;
+    if (!options.only.empty() &&
+        std::find(options.only.begin(), options.only.end(), p.name) == options.only.end()) {
+      continue;
+    }
     p.box = std::holds_alternative<Box>(shape);
     p.yaw_deg = CentringPan(scene, platform, shape, options);
     const auto marks = GenerateMarks(shape, AtPan(scene, platform, p.yaw_deg).left,
@@ -70,6 +75,12 @@ Result<std::vector<PlannedObject>> PlanSession(
     p.marks = *marks;
     plan.push_back(std::move(p));
   }
+  for (const std::string& name : options.only) {
+    if (std::none_of(plan.begin(), plan.end(),
+                     [&](const PlannedObject& p) { return p.name == name; })) {
+      return ErrorMessage{"the scene has no cylinder or box named '" + name + "'"};
+    }
+  }
   return plan;
 }
 
@@ -77,7 +88,7 @@ std::string PlanScript(const std::vector<PlannedObject>& plan, const std::string
                        const PlanOptions& options) {
   std::string s = fmt::format(
       "# A modelling session planned by igms-plan for {} (mark seed {}).\n"
-      "# Play it with: igms-control --config LAB --script THIS_FILE (docs/control.md)\n",
+      "# Play it with: igms-control --config LAB --script THIS_FILE (docs/scripts.md)\n",
       origin, options.mark_seed);
   for (const PlannedObject& p : plan) {
     s += fmt::format("\n# {} ({})\n", p.name, p.box ? "box" : "cylinder");

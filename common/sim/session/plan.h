@@ -28,6 +28,7 @@ struct PlanOptions {
   // A screenshot of the overlay once each object is modelled (or not found), named
   // overlay-NN-NAME.png beside the script (igms-control's window, offscreen without a display).
   bool screenshots = true;
+  std::vector<std::string> only;  // plan just these objects (by name); empty: all
 };
 
 struct PlannedObject {

@@ -2,6 +2,7 @@
 // server renders (plan.h): every cylinder and box looked at, marked and identified.
 //
 //   igms-plan --config lab.yaml [--out session.yaml] [--mark-seed N] [--no-pan] [--no-range]
+//             [--objects NAME...]
 #include <fstream>
 #include <iostream>
 
@@ -20,7 +21,9 @@ int main(int argc, char** argv) {
         "out", po::value<std::string>(), "write the script here (default: standard output)")(
         "mark-seed", po::value<uint64_t>()->default_value(1), "seed of the operator's marks")(
         "no-pan", po::bool_switch(), "look straight ahead at every object")(
-        "no-range", po::bool_switch(), "do not take ultrasonic ranges");
+        "no-range", po::bool_switch(), "do not take ultrasonic ranges")(
+        "objects", po::value<std::vector<std::string>>()->multitoken(),
+        "plan only these objects (by name)");
     int exit_code = 0;
     auto process = igms::config::ParseProcessOptions(
         argc, argv, "plan", "igms-plan: the script of a session that models the simulated site",
@@ -43,6 +46,9 @@ int main(int argc, char** argv) {
     options.mark_seed = process->flags["mark-seed"].as<uint64_t>();
     options.pan = !process->flags["no-pan"].as<bool>();
     options.range = !process->flags["no-range"].as<bool>();
+    if (process->flags.count("objects")) {
+      options.only = process->flags["objects"].as<std::vector<std::string>>();
+    }
     auto plan = igms::site::PlanSession(*sim.scene, sim.platform, options);
     if (!plan.ok()) {
       std::cerr << "igms-plan: " << plan.error() << "\n";

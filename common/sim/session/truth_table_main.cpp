@@ -6,6 +6,7 @@
 // Exit: 0; 1 with --require-all when an object has no model; 2 bad input.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <set>
@@ -35,7 +36,9 @@ int main(int argc, char** argv) {
                         "the video server's process name: its scene is the truth")(
         "database", po::value<std::string>(), "the session's geometric database (required)")(
         "json", po::value<std::string>(), "also write the table as JSON here")(
-        "require-all", po::bool_switch(), "exit 1 when an object has no model");
+        "require-all", po::bool_switch(), "exit 1 when an object has no model")(
+        "objects", po::value<std::vector<std::string>>()->multitoken(),
+        "only these objects (by name): those the session modelled");
     int exit_code = 0;
     auto process = igms::config::ParseProcessOptions(
         argc, argv, "truth-table", "igms-truth-table: a session's models against the truth", extra,
@@ -72,6 +75,10 @@ int main(int argc, char** argv) {
       row.name = igms::site::ObjectName(scene, i);
       igms::object::LocateRequest request;
       if (!igms::site::Truth(scene.objects[i].shape, &row, &request)) continue;
+      if (process->flags.count("objects")) {
+        const auto& only = process->flags["objects"].as<std::vector<std::string>>();
+        if (std::find(only.begin(), only.end(), row.name) == only.end()) continue;
+      }
       const igms::control::StoredModel* best = nullptr;
       for (const auto& m : *models) {
         if (m.record.type != request.type() || used.count(m.id)) continue;

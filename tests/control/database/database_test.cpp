@@ -428,6 +428,35 @@ TEST(GeometricDatabase, ASecondOpenOfTheSameFileIsRefusedWhileTheFirstHoldsIt) {
   EXPECT_EQ((*again)->ListModels()->size(), 1u);
 }
 
+TEST(GeometricDatabase, AReaderOpensReadOnlyBesideTheSessionAndSeesItsCommits) {
+  igms::testing::ScratchDir dir;
+  const std::string path = dir.File("shared.db");
+  // Nothing to read: refused, and no file made.
+  auto none = GeometricDatabase::OpenReadOnly(path);
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.error().find("no database at"), std::string::npos) << none.error();
+  EXPECT_FALSE(std::filesystem::exists(path));
+
+  auto writer = OpenOrFail(path);
+  ASSERT_TRUE(writer);
+  ASSERT_TRUE(writer->AddModel(SampleCylinder()).ok());
+  auto reader = GeometricDatabase::OpenReadOnly(path);
+  ASSERT_TRUE(reader.ok()) << reader.error();
+  EXPECT_TRUE((*reader)->read_only());
+  EXPECT_EQ((*reader)->ListModels()->size(), 1u);
+  const std::int64_t before = *(*reader)->DataVersion();
+  EXPECT_EQ(*(*reader)->DataVersion(), before);  // nothing committed since
+  // The writer goes on, and the reader sees it commit.
+  ASSERT_TRUE(writer->AddModel(SampleBox()).ok());
+  EXPECT_NE(*(*reader)->DataVersion(), before);
+  EXPECT_EQ((*reader)->ListModels()->size(), 2u);
+  // A reader writes nothing: no session of its own, and a change is refused.
+  EXPECT_FALSE((*reader)->AddModel(SampleCylinder()).ok());
+  EXPECT_EQ((*reader)->Sessions()->size(), 1u);
+  reader->reset();
+  EXPECT_EQ(writer->Sessions()->size(), 1u);
+}
+
 TEST(GeometricDatabase, ANewFileIsMadeWithItsFolderInWriteAheadLogMode) {
   igms::testing::ScratchDir dir;
   const std::string path = dir.File("a/b/new.db");
