@@ -24,6 +24,8 @@ PACKAGES=(
   libeigen3-dev libopencv-dev libboost-dev libboost-system-dev libboost-program-options-dev
   libprotobuf-dev protobuf-compiler libyaml-cpp-dev libspdlog-dev
   libglfw3-dev libopenal-dev libsndfile1-dev libsqlite3-dev libssl-dev
+  # the control client's window renders offscreen without a display: EGL through Mesa
+  libegl-dev libegl-mesa0
   libpocketsphinx-dev pocketsphinx pocketsphinx-en-us sphinxtrain
   # real recorded speech (none of it a command): the recogniser's rejection test
   pocketsphinx-testdata

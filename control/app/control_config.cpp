@@ -22,6 +22,8 @@ config::Keys ControlKeys(ControlConfig* c) {
   keys.Bind("grab_timeout_ms", &c->grab_timeout_ms, "time-out of VideoService.Grab");
   keys.Bind("locate_timeout_ms", &c->locate_timeout_ms,
             "time-out of ObjectService.Locate (longer than the object server's frame fetch)");
+  keys.Bind("stereo", &c->stereo,
+            "the window's stereo output: side-by-side, anaglyph, quad-buffer, left, right or mono");
   for (Peer peer : kAllPeers) {
     const std::string name(PeerName(peer));
     keys.Bind(name, &c->peer_names[static_cast<int>(peer)],

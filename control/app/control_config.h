@@ -6,6 +6,7 @@
 //     pointer_start_depth: 36  # world units in front of the left camera
 //     pointer_speed: 6         # world units a second at full deflection
 //     video: video             # the process entry of each peer (default: its own name)
+//     stereo: side-by-side     # the window: side-by-side, anaglyph, quad-buffer, left, right
 //
 // and lab.calibration (required), lab.database, lab.token.
 #pragma once
@@ -27,7 +28,8 @@ struct ControlConfig {
   int grab_timeout_ms = 5000;
   int locate_timeout_ms = 30000;
   int steps_per_move = 0;
-  std::string peer_names[8];  // by Peer; empty: the peer's own name
+  std::string peer_names[8];            // by Peer; empty: the peer's own name
+  std::string stereo = "side-by-side";  // the window's stereo mode (control/render/stereo.h)
 };
 
 config::Keys ControlKeys(ControlConfig* config);

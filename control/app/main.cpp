@@ -3,10 +3,16 @@
 // database, tied together by the session's state machine. docs/control.md.
 //
 //   igms-control --config lab.yaml [--database FILE] [--wait] [--script FILE]
+//                [--window | --no-window] [--stereo MODE] [--screenshots DIR]
+//
+// The window (docs/window.md) opens when a display is there (or with --window); without one
+// the same drawing runs offscreen for the script's screenshots; --no-window draws nothing.
 #include <spdlog/spdlog.h>
 
+#include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <filesystem>
 #include <thread>
 #include <utility>
 
@@ -20,6 +26,9 @@
 #include "control/database/database_path.h"
 #include "control/script/script.h"
 #include "control/script/script_player.h"
+#include "control/window/live_video.h"
+#include "control/window/window.h"
+#include "control/window/window_loop.h"
 
 namespace po = boost::program_options;
 
@@ -31,7 +40,11 @@ int main(int argc, char** argv) {
                         "else the operator's data folder)")(
         "wait", po::bool_switch(), "wait for required peers instead of exiting 1")(
         "script", po::value<std::string>(),
-        "play this operator script with no display, then exit (docs/scripts.md)");
+        "play this operator script, then exit (docs/scripts.md)")(
+        "window", po::bool_switch(), "open the window (default: when a display is there)")(
+        "no-window", po::bool_switch(), "draw nothing: no window, no offscreen screenshots")(
+        "screenshots", po::value<std::string>()->default_value("."),
+        "the folder of the window's screenshots (key P)");
     igms::control::ControlConfig control_config;
     int exit_code = 0;
     auto process = igms::config::ParseProcessOptions(
@@ -79,6 +92,21 @@ int main(int argc, char** argv) {
       }
       script = std::move(*loaded);
     }
+    const auto stereo = igms::control::render::ParseStereoMode(control_config.stereo);
+    if (!stereo) {
+      spdlog::critical("{}: stereo '{}' is none of {}", process->Key("stereo"),
+                       control_config.stereo, igms::control::render::StereoModeNames());
+      return igms::kExitUsage;
+    }
+    const bool want_window = process->flags["window"].as<bool>();
+    const bool no_window = process->flags["no-window"].as<bool>();
+    if (want_window && no_window) {
+      spdlog::critical("--window and --no-window: choose one");
+      return igms::kExitUsage;
+    }
+    // A window where there is a display; offscreen (screenshots only) where there is none.
+    const bool on_screen = want_window || (!no_window && igms::control::DisplayAvailable());
+    bool offscreen = !on_screen && !no_window;
     if (process->check_only) return igms::config::CheckPassed(*process);
     igms::control::ScriptPlayerOptions player_options;
     player_options.token = options->token;
@@ -94,6 +122,53 @@ int main(int argc, char** argv) {
       return igms::kExitFailure;
     }
     spdlog::info("database {}", *path);
+    std::unique_ptr<igms::control::Window> window;
+    if (on_screen || offscreen) {
+      igms::control::WindowOptions window_options;
+      window_options.stereo = *stereo;
+      window_options.offscreen = offscreen;
+      window_options.help = on_screen;
+      auto opened = igms::control::Window::Open(*calibration, window_options);
+      if (!opened.ok() && want_window) {
+        spdlog::critical("--window: {}", opened.error());
+        return igms::kExitFailure;
+      }
+      if (!opened.ok() && !offscreen) {
+        // A display that will not take a window: draw offscreen for the screenshots.
+        spdlog::warn("no window ({}): drawing offscreen", opened.error());
+        offscreen = true;
+        window_options.offscreen = true;
+        opened = igms::control::Window::Open(*calibration, window_options);
+      }
+      if (opened.ok()) {
+        window = std::move(*opened);
+      } else {
+        // The session runs without its picture rather than not at all.
+        spdlog::warn("no window: {}", opened.error());
+      }
+    }
+    std::unique_ptr<igms::control::LiveVideo> live;
+    if (window) {
+      if (auto it = options->peers.find(igms::control::Peer::kVideo); it != options->peers.end()) {
+        igms::control::LiveVideoOptions live_options;
+        live_options.address = it->second;
+        live_options.token = options->token;
+        live_options.client_name = process->name + "-window";
+        // Offscreen the video is only looked at for screenshots: a few frames a second do.
+        if (offscreen) live_options.fps = 5;
+        live = igms::control::LiveVideo::Start(live_options);
+      }
+    }
+    igms::control::ScreenshotQueue shots;
+    if (window) {
+      // A script's screenshots land beside it (a relative name is the script's folder's).
+      const std::filesystem::path folder =
+          script ? std::filesystem::path(script->source).parent_path() : std::filesystem::path();
+      player_options.screenshot = [&shots, folder](const std::string& file) {
+        const std::filesystem::path path(file);
+        return shots.Request(path.is_absolute() ? file : (folder / path).string());
+      };
+    }
     auto app =
         igms::control::ControlApp::Make(std::move(*options), *calibration, std::move(*database));
     if (!app.ok()) {
@@ -110,14 +185,17 @@ int main(int argc, char** argv) {
     });
     std::thread signal_thread([&] { signals_io.run(); });
     (*app)->Start();
+    // The script plays on its own thread: the display loop keeps the main thread (GLFW's).
+    std::thread script_thread;
     if (script) {
-      // The script starts once the session has: every required peer answered.
-      const bool started = (*app)->board().WaitFor(
-          [](const igms::control::SessionView& v) {
-            return v.mode != igms::control::Mode::kStarting || v.exit_code;
-          },
-          std::chrono::hours(24));
-      if (started && !(*app)->board().Get().exit_code) {
+      script_thread = std::thread([&] {
+        // The script starts once the session has: every required peer answered.
+        const bool started = (*app)->board().WaitFor(
+            [](const igms::control::SessionView& v) {
+              return v.mode != igms::control::Mode::kStarting || v.exit_code;
+            },
+            std::chrono::hours(24));
+        if (!started || (*app)->board().Get().exit_code) return;
         igms::control::ScriptPlayer player(**app, player_options);
         auto played = player.Play(*script);
         if (played.ok()) {
@@ -127,12 +205,31 @@ int main(int argc, char** argv) {
           spdlog::error("script {}", played.error());
           (*app)->Stop(1);
         }
-      }
+      });
     }
+    std::atomic<bool> ended = false;
+    std::thread display_stopper;
+    if (window) {
+      // Ends the display loop when the session ends, whoever ends it.
+      display_stopper = std::thread([&] {
+        (*app)->board().WaitFor(
+            [](const igms::control::SessionView& v) { return v.exit_code.has_value(); },
+            std::chrono::hours(24 * 365));
+        ended = true;
+      });
+      igms::control::DisplayLoopOptions loop_options;
+      loop_options.screenshot_folder = process->flags["screenshots"].as<std::string>();
+      igms::control::RunDisplayLoop(**app, *window, live.get(), shots, ended, loop_options,
+                                    offscreen);
+      display_stopper.join();
+    }
+    if (script_thread.joinable()) script_thread.join();
     const int code = (*app)->Wait();
     signals.cancel();
     signals_io.stop();
     signal_thread.join();
+    live.reset();
+    window.reset();
     app->reset();  // closes the connections, then the database (recording the session's end)
     return code;
   } catch (const std::exception& e) {

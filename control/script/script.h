@@ -17,7 +17,9 @@
 //   - wait_for: {mode: model_building, timeout: 20}   # (or "model building") or marks: N, models:
 //   N,
 //                                                     # peer_up: NAME, peer_down: NAME
-//   - screenshot: overlay.png                # needs the window; logged and skipped
+//   - screenshot: overlay.png                # the window's next frame as a PNG file beside the
+//                                            # script (offscreen without a display; skipped
+//                                            # with --no-window)
 #pragma once
 
 #include <Eigen/Core>

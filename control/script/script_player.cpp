@@ -348,6 +348,11 @@ struct ScriptPlayer::Impl {
       case ActionKind::kWaitFor:
         return WaitFor(a);
       case ActionKind::kScreenshot:
+        if (options.screenshot) {
+          if (auto r = options.screenshot(a.file); !r.ok()) return Fail("screenshot: " + r.error());
+          spdlog::info("{}:{}: screenshot {}", script->source, a.line, a.file);
+          return true;
+        }
         spdlog::info("{}:{}: screenshot {} skipped: this client has no window", script->source,
                      a.line, a.file);
         return true;

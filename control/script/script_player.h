@@ -4,6 +4,7 @@
 // timeout names the script's line and what was awaited.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -21,6 +22,9 @@ struct ScriptPlayerOptions {
   // stick in proportion, but never below `min_deflection` (the session's dead band).
   double full_deflection_at = 1.0;
   double min_deflection = 0.08;
+  // screenshot: writes the window's next frame to the file (igms-control resolves a relative
+  // name against the script's folder); unset: the action is logged and skipped (no window).
+  std::function<Result<bool>(const std::string& file)> screenshot;
 };
 
 class ScriptPlayer {

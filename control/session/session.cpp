@@ -638,6 +638,7 @@ void Session::On(const LocateReply& e) {
   model.type = r.type() != object::OBJECT_TYPE_UNSPECIFIED ? r.type() : locate_request_.type();
   model.cylinder = r.cylinder();
   model.box = r.box();
+  model.left_P_at_grab = frozen_->left_P;
   models_.push_back(model);
   Provenance provenance;
   provenance.grab = frozen_->grab;

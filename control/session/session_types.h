@@ -49,6 +49,9 @@ struct SessionModel {
   object::CylinderModel cylinder;
   object::BoxModel box;
   bool removed = false;
+  // The left camera at the grab it was located in (the box's texture patch is that image's):
+  // zero when unknown (a model of a continued session).
+  Eigen::Matrix<double, 3, 4> left_P_at_grab = Eigen::Matrix<double, 3, 4>::Zero();
 };
 
 // Where a stored model came from, for the database.

@@ -3,7 +3,10 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <array>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <vector>
 
 #include "common/calibration/calibration_file.h"
@@ -44,18 +47,44 @@ std::unique_ptr<CaptureBackend> MakeSimCapture(site::Scene scene, std::string or
                            : std::string("no platform model"));
   // The renderer keeps no state; the scene is captured by value and only its cameras move.
   auto warned = std::make_shared<bool>(false);
+  // The same pose gives the same pixels (the sensor's noise is seeded), so the last pair is
+  // reused while the pose stands still: live video is not held to the ray caster's rate.
+  struct Last {
+    std::mutex mutex;
+    std::optional<std::array<double, 3>> joints;
+    cv::Mat left, right;
+  };
+  auto last = std::make_shared<Last>();
   return std::make_unique<RenderCapture>(
-      std::move(description),
-      [scene = std::move(scene), platform = std::move(platform), warned](const PoseStamp& pose) {
+      std::move(description), [scene = std::move(scene), platform = std::move(platform), warned,
+                               last](const PoseStamp& pose) {
         if (!platform && !pose.IsZero() && !*warned) {
           *warned = true;
           spdlog::warn(
               "sim: the calibration has no platform model, so the platform pose is stamped "
               "on each grab but the cameras stay at the zero pose");
         }
+        // Without a platform model the cameras never move: every pose is the same view.
+        const std::array<double, 3> key =
+            platform ? pose.joints_rad : std::array<double, 3>{0.0, 0.0, 0.0};
+        {
+          std::lock_guard lock(last->mutex);
+          if (last->joints == key) {
+            StereoImages images;
+            images.left = last->left.clone();
+            images.right = last->right.clone();
+            return CaptureResult::Ok(std::move(images));
+          }
+        }
         site::Scene posed = scene;
         posed.cameras = CamerasAtPose(scene.cameras, platform, pose);
         site::StereoImages pair = site::RenderStereo(posed);
+        {
+          std::lock_guard lock(last->mutex);
+          last->joints = key;
+          last->left = pair.left.clone();
+          last->right = pair.right.clone();
+        }
         StereoImages images;
         images.left = std::move(pair.left);
         images.right = std::move(pair.right);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include "common/sim/capture/sim_capture.h"
@@ -102,6 +103,13 @@ std::string PlanScript(const std::vector<PlannedObject>& plan, const std::string
       s += "- trigger\n";
     }
     s += fmt::format("- say: {}\n", p.box ? "box" : "cylinder");
+    if (options.screenshots) {
+      std::string file = p.name;  // a file name whatever the object is called
+      for (char& c : file) {
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-') c = '_';
+      }
+      s += fmt::format("- screenshot: overlay-{:02d}-{}.png\n", p.index, file);
+    }
     s += "- button: unfreeze\n";
   }
   return s;

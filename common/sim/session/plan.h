@@ -25,6 +25,9 @@ struct PlanOptions {
   double max_pan_deg = 20;
   bool range = true;  // range once the marks are in
   double move_timeout_s = 60;
+  // A screenshot of the overlay once each object is modelled (or not found), named
+  // overlay-NN-NAME.png beside the script (igms-control's window, offscreen without a display).
+  bool screenshots = true;
   std::vector<std::string> only;  // plan just these objects (by name); empty: all
 };
 

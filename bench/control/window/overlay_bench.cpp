@@ -1,0 +1,186 @@
+// The window's figures (docs/window.md), printed:
+//  1. Registration: the simulated site's true solids drawn by the renderer (multisampled and
+//     supersampled) against the simulated video drawn by the same renderer, at the zero pose
+//     and two panned poses of the thesis's platform, without and with a lens (radial and
+//     tangential distortion added to the simulated camera, undone by the renderer): the
+//     sub-pixel 50% crossings of the outlines along rows and columns, median and 95th
+//     percentile (the thesis saw up to 5 px, section 4.2).
+//  2. The frame time of side-by-side stereo at 1280 x 1024 per eye with 1, 100, 1,000 and
+//     10,000 models, video uploaded each frame, in this machine's software GL.
+//
+//   bench_overlay [--quick]
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <opencv2/imgproc.hpp>
+#include <random>
+
+#include "common/calibration/thesis_calibration.h"
+#include "common/geometry/platform.h"
+#include "common/sim/testbed.h"
+#include "common/stats/percentile.h"
+#include "control/render/gl.h"
+#include "control/render/offscreen.h"
+#include "control/render/renderer.h"
+#include "control/render/stereo.h"
+#include "tests/render/registration.h"
+
+namespace igms::control::render {
+namespace {
+
+namespace reg = registration;
+constexpr geometry::ImageSize kSize{512, 480};
+
+cv::Mat DrawOne(Renderer& renderer, const DrawList& list, int eye, int factor, int samples) {
+  auto target = RenderTarget::Make(kSize.width * factor, kSize.height * factor, samples);
+  (*target)->Bind();
+  renderer.Clear(kSize.width * factor, kSize.height * factor);
+  renderer.DrawEye(list, eye, {0, 0, kSize.width * factor, kSize.height * factor});
+  cv::Mat big = (*target)->Read();
+  if (factor == 1) return big;
+  cv::Mat small;
+  cv::resize(big, small, cv::Size(kSize.width, kSize.height), 0, 0, cv::INTER_AREA);
+  return small;
+}
+
+// The observed (distorted) image of an ideal one: each observed pixel reads the ideal image
+// where the lens sends it back.
+cv::Mat Distorted(const cv::Mat& ideal, const geometry::ProjectiveCamera& lensed) {
+  cv::Mat map_x(ideal.size(), CV_32F), map_y(ideal.size(), CV_32F);
+  for (int v = 0; v < ideal.rows; ++v) {
+    for (int u = 0; u < ideal.cols; ++u) {
+      const auto p = lensed.Undistort(Eigen::Vector2d(u, v));
+      map_x.at<float>(v, u) = p ? static_cast<float>(p->x()) : -1000.f;
+      map_y.at<float>(v, u) = p ? static_cast<float>(p->y()) : -1000.f;
+    }
+  }
+  cv::Mat out;
+  cv::remap(ideal, out, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+  return out;
+}
+
+void Registration(Renderer& renderer) {
+  const auto& cal = calibration::ThesisCalibration();
+  const site::Scene scene = reg::MaskScene(site::DefaultTestbedScene());
+  geometry::Lens lens;
+  lens.K << 945, 0, 323, 0, 1190, 213, 0, 0, 1;
+  lens.dist = {-0.35, 0.2, 0.002, -0.0015, 0.0};
+  const std::vector<std::vector<double>> poses = {{0, 0, 0}, {0.06, 0, 0}, {-0.05, 0.03, 0}};
+  std::printf("registration: the site's true solids over its simulated video (px)\n");
+  std::printf("  %-26s %8s %8s %8s %9s\n", "pose (pan, tilt rad)", "lens", "median", "p95",
+              "crossings");
+  for (bool with_lens : {false, true}) {
+    std::vector<double> all;
+    for (const auto& q : poses) {
+      DrawList graphics;
+      graphics.models = reg::ModelsOf(scene);
+      graphics.lit = false;
+      std::vector<double> errors;
+      for (int eye = 0; eye < 2; ++eye) {
+        const auto& c = eye == 0 ? cal.left : cal.right;
+        const geometry::Matrix34 P = geometry::CameraAtPose(c.P, *cal.platform, q);
+        for (auto* l : {&graphics}) {
+          l->eyes[eye].P = P;
+          l->eyes[eye].size = kSize;
+        }
+        const geometry::ProjectiveCamera camera(P, kSize);
+        const cv::Mat truth = reg::TruthCoverage(scene, camera);
+        cv::Mat video8;
+        const cv::Mat observed =
+            with_lens ? Distorted(truth, geometry::ProjectiveCamera(P, kSize, lens)) : truth;
+        observed.convertTo(video8, CV_8U, 255.0);
+        DrawList video;
+        video.eyes[eye].P = P;
+        video.eyes[eye].size = kSize;
+        video.eyes[eye].video = video8;
+        if (with_lens) video.eyes[eye].lens = lens;
+        const cv::Mat drawn_video = reg::CoverageOf(DrawOne(renderer, video, eye, 1, 1));
+        const cv::Mat drawn_graphics = reg::CoverageOf(DrawOne(renderer, graphics, eye, 4, 4));
+        const auto e = reg::EdgeErrors(drawn_video, drawn_graphics);
+        errors.insert(errors.end(), e.begin(), e.end());
+      }
+      all.insert(all.end(), errors.begin(), errors.end());
+      char pose[64];
+      std::snprintf(pose, sizeof(pose), "(%.2f, %.2f)", q[0], q[1]);
+      std::printf("  %-26s %8s %8.3f %8.3f %9zu\n", pose, with_lens ? "yes" : "no",
+                  stats::Percentile(errors, 0.5), stats::Percentile(errors, 0.95), errors.size());
+    }
+    std::printf("  %-26s %8s %8.3f %8.3f %9zu\n", "all poses", with_lens ? "yes" : "no",
+                stats::Percentile(all, 0.5), stats::Percentile(all, 0.95), all.size());
+  }
+}
+
+void FrameTimes(Renderer& renderer, bool quick) {
+  const auto& cal = calibration::ThesisCalibration();
+  // The thesis's cameras scaled to 1280 x 1024 (the BOOM2C's channels, section 2.1.3).
+  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
+  S(0, 0) = 1280.0 / 512;
+  S(1, 1) = 1024.0 / 480;
+  const geometry::ImageSize eye{1280, 1024};
+  DrawList list;
+  for (int e = 0; e < 2; ++e) {
+    list.eyes[e].P = S * (e == 0 ? cal.left.P : cal.right.P);
+    list.eyes[e].size = eye;
+    list.eyes[e].video = cv::Mat(1024, 1280, CV_8UC3, cv::Scalar(60, 90, 120));
+  }
+  list.hud = {{"IGMS  verification   [side-by-side]   solid"}, {"the frame-time benchmark"}};
+  const auto size = FrameSize(StereoMode::kSideBySide, eye);
+  auto target = RenderTarget::Make(size.width, size.height, 4);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> x(6, 36), y(-84, -30), s(0.3, 3);
+  std::printf(
+      "frame time, side by side at 2 x 1280 x 1024, 4x multisampling, video uploaded "
+      "every frame (%s):\n",
+      reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
+  std::printf("  %8s %10s %10s %10s\n", "models", "solid ms", "wire ms", "fps solid");
+  for (int count : {1, 100, 1000, 10000}) {
+    list.models.clear();
+    for (int i = 0; i < count; ++i) {
+      DrawModel m;
+      m.kind = i % 2 ? DrawModel::Kind::kCylinder : DrawModel::Kind::kBox;
+      m.center = {x(rng), y(rng), 2};
+      m.size = {s(rng), s(rng), s(rng)};
+      m.radius = 0.5 * s(rng);
+      m.height = 2 * s(rng);
+      list.models.push_back(m);
+    }
+    double ms[2] = {0, 0};
+    for (int wire = 0; wire < 2; ++wire) {
+      list.wireframe = wire == 1;
+      const int frames = quick ? 2 : (count >= 10000 ? 3 : count >= 1000 ? 10 : 30);
+      (*target)->Bind();
+      DrawStereo(renderer, list, StereoMode::kSideBySide, size.width, size.height);  // warm
+      glFinish();
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int f = 0; f < frames; ++f) {
+        for (auto& e : list.eyes) e.video_id = static_cast<uint64_t>(f + 1);  // new video
+        DrawStereo(renderer, list, StereoMode::kSideBySide, size.width, size.height);
+        glFinish();
+      }
+      ms[wire] =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() /
+          frames;
+    }
+    std::printf("  %8d %10.1f %10.1f %10.1f\n", count, ms[0], ms[1], 1000.0 / ms[0]);
+  }
+}
+
+}  // namespace
+}  // namespace igms::control::render
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  auto context = igms::control::render::OffscreenContext::Make();
+  if (!context.ok()) {
+    std::fprintf(stderr, "bench_overlay: %s\n", context.error().c_str());
+    return 1;
+  }
+  auto renderer = igms::control::render::Renderer::Make();
+  if (!renderer.ok()) {
+    std::fprintf(stderr, "bench_overlay: %s\n", renderer.error().c_str());
+    return 1;
+  }
+  igms::control::render::Registration(**renderer);
+  igms::control::render::FrameTimes(**renderer, quick);
+  return 0;
+}

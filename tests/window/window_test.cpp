@@ -1,0 +1,205 @@
+// The control client's window: a real GLFW window under a virtual X server (xvfb-run), and
+// the same drawing offscreen. Its screenshots are PNG files whose pixels show the models
+// where the cameras' matrices put them, the video through the black, and each stereo
+// layout; the session's view becomes the right draw list; the keys are the session's
+// commands.
+#include "control/window/window.h"
+
+#include <GLFW/glfw3.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "common/calibration/thesis_calibration.h"
+#include "control/window/keys.h"
+#include "control/window/view_from_session.h"
+#include "tests/support/child_process.h"
+
+namespace igms::control {
+namespace {
+
+const calibration::StereoCalibration& Cal() { return calibration::ThesisCalibration(); }
+
+SessionModel Cylinder(uint64_t id) {
+  SessionModel m;
+  m.id = id;
+  m.type = object::OBJECT_TYPE_CYLINDER;
+  auto* c = m.cylinder.mutable_center();
+  c->set_x(21);
+  c->set_y(-48);
+  c->set_z(3);
+  m.cylinder.mutable_axis()->set_z(1);
+  m.cylinder.set_radius(1.5);
+  m.cylinder.set_height(6);
+  return m;
+}
+
+SessionView Verification() {
+  SessionView view;
+  view.mode = Mode::kVerification;
+  for (bool& up : view.peer_up) up = true;
+  view.models.push_back(Cylinder(1));
+  return view;
+}
+
+StereoFrame GreyFrame(int level) {
+  StereoFrame f;
+  f.left = cv::Mat(480, 512, CV_8UC1, cv::Scalar(level));
+  f.right = cv::Mat(480, 512, CV_8UC1, cv::Scalar(level));
+  f.sequence = 7;
+  f.joints = {0, 0, 0};
+  return f;
+}
+
+cv::Point Pixel(const geometry::Matrix34& P, const Eigen::Vector3d& X) {
+  const auto p = geometry::ProjectiveCamera(P, {512, 480}).Project(X);
+  return {static_cast<int>(std::lround(p->x())), static_cast<int>(std::lround(p->y()))};
+}
+
+bool IsPng(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, 8);
+  return std::string(magic, 8) == std::string("\x89PNG\r\n\x1a\n", 8);
+}
+
+bool Greenish(const cv::Vec3b& bgr) { return bgr[1] > 120 && bgr[1] > bgr[2] + 60; }
+
+// Checks a side-by-side screenshot: the model in both eyes where P says, video elsewhere.
+void ExpectSideBySide(const cv::Mat& shot) {
+  ASSERT_EQ(shot.cols, 1024);
+  ASSERT_EQ(shot.rows, 480);
+  const Eigen::Vector3d centre(21, -48, 3);
+  const cv::Point left = Pixel(Cal().left.P, centre);
+  const cv::Point right = Pixel(Cal().right.P, centre) + cv::Point(512, 0);
+  EXPECT_TRUE(Greenish(shot.at<cv::Vec3b>(left))) << shot.at<cv::Vec3b>(left);
+  EXPECT_TRUE(Greenish(shot.at<cv::Vec3b>(right))) << shot.at<cv::Vec3b>(right);
+  // Far from the model and the HUD, the video's grey shows through.
+  EXPECT_EQ(shot.at<cv::Vec3b>(470, 500), cv::Vec3b(90, 90, 90));
+  EXPECT_EQ(shot.at<cv::Vec3b>(470, 1010), cv::Vec3b(90, 90, 90));
+}
+
+TEST(WindowKeys, KeysAndButtonsAreTheSessionsCommands) {
+  EXPECT_EQ(MapKey(GLFW_KEY_F, 0).command, CommandKind::kFreeze);
+  EXPECT_EQ(MapKey(GLFW_KEY_U, 0).command, CommandKind::kUnfreeze);
+  EXPECT_EQ(MapKey(GLFW_KEY_SPACE, 0).command, CommandKind::kMark);
+  EXPECT_EQ(MapKey(GLFW_KEY_C, 0).command, CommandKind::kIdentifyCylinder);
+  EXPECT_EQ(MapKey(GLFW_KEY_B, 0).command, CommandKind::kIdentifyBox);
+  EXPECT_EQ(MapKey(GLFW_KEY_W, 0).command, CommandKind::kToggleWireframe);
+  EXPECT_EQ(MapKey(GLFW_KEY_Z, 0).command, CommandKind::kUndo);
+  EXPECT_EQ(MapKey(GLFW_KEY_ESCAPE, 0).action, WindowAction::kQuit);
+  EXPECT_EQ(MapKey(GLFW_KEY_LEFT, GLFW_MOD_SHIFT).offset, Eigen::Vector2i(-10, 0));
+  EXPECT_EQ(MapKey(GLFW_KEY_Q, 0).action, WindowAction::kNone);
+  const KeyAction click = MapMouseButton(GLFW_MOUSE_BUTTON_LEFT);
+  EXPECT_EQ(click.command, CommandKind::kMark);
+  EXPECT_EQ(click.source, CommandSource::kMouse);
+  const PointerDrive d =
+      DriveFromKeys([](int key) { return key == GLFW_KEY_L || key == GLFW_KEY_PAGE_UP; }, true, 5);
+  EXPECT_EQ(d.right, 0.25);
+  EXPECT_EQ(d.forward, 0.25);
+  EXPECT_EQ(d.up, 0.0);
+}
+
+TEST(ViewFromSession, TheViewBecomesWhatIsDrawn) {
+  SessionView view = Verification();
+  view.models.push_back(Cylinder(2));
+  view.models.back().removed = true;
+  view.marks = {{1, 2, 3}};
+  view.pointer = Eigen::Vector3d(4, 5, 6);
+  view.notices.push_back({NoticeLevel::kWarning, "the ranger is lost", 1});
+  view.peer_up[static_cast<int>(Peer::kRanger)] = false;
+  ViewExtras extras;
+  extras.frame = GreyFrame(90);
+  extras.video_lost = true;
+  auto list = ViewFromSession(view, Cal(), extras);
+  EXPECT_EQ(list.models.size(), 1u) << "removed models are not drawn";
+  EXPECT_TRUE(list.marks.empty()) << "marks only while frozen";
+  EXPECT_FALSE(list.pointer);
+  EXPECT_TRUE(list.eyes[0].P.isApprox(Cal().left.P, 1e-9))
+      << "the zero pose: the calibration's matrix";
+  EXPECT_NE(list.hud[0].text.find("verification"), std::string::npos);
+  bool down = false, notice = false;
+  for (const auto& l : list.hud) {
+    down |= l.text.find("down: ranger") != std::string::npos;
+    notice |= l.text == "the ranger is lost" && l.level == render::HudLevel::kWarning;
+  }
+  EXPECT_TRUE(down);
+  EXPECT_TRUE(notice);
+  EXPECT_FALSE(list.banner.empty());
+
+  view.mode = Mode::kModelBuilding;
+  view.frozen = FrozenView{};
+  view.frozen->left_P = Cal().right.P;  // any other matrix: the grab's pose's
+  view.frozen->right_P = Cal().left.P;
+  list = ViewFromSession(view, Cal(), extras);
+  EXPECT_EQ(list.eyes[0].P, Cal().right.P) << "frozen: the grab's cameras";
+  EXPECT_EQ(list.marks.size(), 1u);
+  EXPECT_TRUE(list.pointer);
+}
+
+TEST(Window, AWindowDrawsTheSessionAndItsScreenshotIsAPng) {
+  WindowOptions options;
+  options.vsync = false;
+  auto window = Window::Open(Cal(), options);
+  ASSERT_TRUE(window.ok()) << window.error();
+  EXPECT_EQ((*window)->frame_size().width, 1024);
+  (*window)->SetFrame(GreyFrame(90));
+  igms::testing::ScratchDir dir;
+  const std::string path = dir.File("shots/window.png");
+  const auto input = (*window)->Poll(1);
+  EXPECT_TRUE(input.commands.empty());
+  EXPECT_FALSE(input.quit);
+  ASSERT_TRUE((*window)->Draw(Verification(), path).ok());
+  ASSERT_TRUE(IsPng(path));
+  ExpectSideBySide(cv::imread(path, cv::IMREAD_COLOR));
+
+  // Wireframe: the model's outline, the video inside it.
+  SessionView wire = Verification();
+  wire.wireframe = true;
+  ASSERT_TRUE((*window)->Draw(wire, path).ok());
+  const cv::Mat shot = cv::imread(path, cv::IMREAD_COLOR);
+  EXPECT_EQ(shot.at<cv::Vec3b>(Pixel(Cal().left.P, {21, -48, 3})), cv::Vec3b(90, 90, 90));
+}
+
+TEST(Window, AnaglyphAndQuadBufferWindows) {
+  WindowOptions options;
+  options.vsync = false;
+  options.stereo = render::StereoMode::kAnaglyph;
+  {
+    auto window = Window::Open(Cal(), options);
+    ASSERT_TRUE(window.ok()) << window.error();
+    EXPECT_EQ((*window)->frame_size().width, 512);
+    StereoFrame f = GreyFrame(90);
+    f.right = cv::Mat(480, 512, CV_8UC1, cv::Scalar(200));
+    (*window)->SetFrame(f);
+    igms::testing::ScratchDir dir;
+    ASSERT_TRUE((*window)->Draw(Verification(), dir.File("a.png")).ok());
+    const cv::Mat shot = cv::imread(dir.File("a.png"), cv::IMREAD_COLOR);
+    EXPECT_EQ(shot.at<cv::Vec3b>(470, 500), cv::Vec3b(200, 200, 90));  // BGR: left in red
+  }
+  // Xvfb offers no stereo visual: a clear message and side by side.
+  options.stereo = render::StereoMode::kQuadBuffer;
+  auto window = Window::Open(Cal(), options);
+  ASSERT_TRUE(window.ok()) << window.error();
+  if ((*window)->stereo() != render::StereoMode::kQuadBuffer) {
+    EXPECT_EQ((*window)->stereo(), render::StereoMode::kSideBySide);
+    EXPECT_NE((*window)->notice().find("quad-buffer"), std::string::npos);
+    EXPECT_EQ((*window)->frame_size().width, 1024);
+  }
+}
+
+TEST(Window, OffscreenItDrawsTheSameWithoutADisplay) {
+  WindowOptions options;
+  options.offscreen = true;
+  auto window = Window::Open(Cal(), options);
+  ASSERT_TRUE(window.ok()) << window.error();
+  (*window)->SetFrame(GreyFrame(90));
+  igms::testing::ScratchDir dir;
+  ASSERT_TRUE((*window)->Draw(Verification(), dir.File("off.png")).ok());
+  ASSERT_TRUE(IsPng(dir.File("off.png")));
+  ExpectSideBySide(cv::imread(dir.File("off.png"), cv::IMREAD_COLOR));
+}
+
+}  // namespace
+}  // namespace igms::control
