@@ -6,6 +6,7 @@
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <condition_variable>
+#include <future>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -103,6 +104,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
   asio::io_context io;
   std::optional<asio::executor_work_guard<asio::io_context::executor_type>> work;
   std::thread thread;
+  std::promise<void> loop_ended;  // set when io.run() returns
   asio::steady_timer tick_timer{io};
   asio::steady_timer health_timer{io};
 
@@ -709,6 +711,14 @@ ControlApp::~ControlApp() {
   Stop();
   if (impl_->thread.joinable()) {
     asio::post(impl_->io, [impl = impl_] { impl->Shutdown(); });
+    // Closing every connection ends io.run(). Should anything still hold it (a defect), the
+    // client must not hang on its way out: the loop is stopped after a grace period, which
+    // leaves nothing unsaved (every model is committed before the session hears of it).
+    auto ended = impl_->loop_ended.get_future();
+    if (ended.wait_for(std::chrono::seconds(3)) != std::future_status::ready) {
+      spdlog::warn("control client: the network loop did not end by itself; stopping it");
+      impl_->io.stop();
+    }
     impl_->thread.join();
   }
 }
@@ -725,6 +735,7 @@ void ControlApp::Start() {
       spdlog::critical("control client: {}", e.what());
       impl->Finish(1);
     }
+    impl->loop_ended.set_value();
   });
 }
 
