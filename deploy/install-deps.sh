@@ -53,6 +53,8 @@ RUNTIME_PACKAGES=(
   libopencv-core406 libopencv-imgproc406 libopencv-imgcodecs406 libopencv-calib3d406
   libopencv-videoio406
   libopenal1 libsndfile1 libsqlite3-0 libssl3
+  # the window: GLFW, OpenGL and EGL, and Mesa to draw offscreen without a GPU
+  libglfw3 libopengl0 libegl1 libegl-mesa0 libgl1-mesa-dri
   libpocketsphinx3 libsphinxbase3 pocketsphinx-en-us
   # the sound server's fallback device, and iproute2 for deploy/lab up --here
   procps iproute2

@@ -88,7 +88,7 @@ TEST(ServerPlayback, FailureAndHealthMessages) {
     count += pick ? 1 : 0;
     return pick;
   });
-  EXPECT_EQ(count, 14);  // ten failure reasons, four health messages
+  EXPECT_EQ(count, 15);  // eleven failure reasons, four health messages
 }
 
 }  // namespace
