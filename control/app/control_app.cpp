@@ -323,6 +323,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
     }
     database_ids[e.model.id] = *id;
     view.models_stored++;
+    ModelsChanged();
     Note(spdlog::level::info, "model " + std::to_string(e.model.id) + " stored in " +
                                   database->path() + " as id " + std::to_string(*id));
   }
@@ -339,7 +340,15 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
       return;
     }
     auto change = database->RemoveModel(it->second);
-    if (!change.ok()) Note(spdlog::level::err, "removing model: " + change.error());
+    if (!change.ok()) return Note(spdlog::level::err, "removing model: " + change.error());
+    ModelsChanged();
+  }
+
+  void ModelsChanged() {
+    if (!options.models_changed) return;
+    auto present = database->ListModels();
+    if (!present.ok()) return Note(spdlog::level::err, "the database: " + present.error());
+    options.models_changed(std::move(*present));
   }
 
   void Execute(const RestoreModelEffect& e) {
@@ -354,6 +363,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
       Note(spdlog::level::err, "undo in the database: " + change.error());
       return;
     }
+    ModelsChanged();
     if (change->model_id != database_ids[session_id]) {
       Note(spdlog::level::err, "undo in the database took back model id " +
                                    std::to_string(change->model_id) + ", not " +
@@ -436,6 +446,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
         Note(spdlog::level::critical, "the database: " + stored.error());
         return Finish(1);
       }
+      if (options.models_changed) options.models_changed(*stored);
       ModelsLoaded loaded;
       loaded.now_ns = NowNs();
       for (const StoredModel& s : *stored) {

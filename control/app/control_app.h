@@ -18,6 +18,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -50,6 +51,9 @@ struct ControlAppOptions {
   std::chrono::milliseconds range_timeout{3000};
   std::chrono::milliseconds tick{20};
   std::chrono::milliseconds health_period{1000};
+  // Called on the network thread with the models present after each change the database
+  // committed (and once at start): the exports. It must return quickly.
+  std::function<void(std::vector<StoredModel>)> models_changed;
 
   bool Check(std::string* error) const;
 };

@@ -24,6 +24,7 @@
 #include "control/app/control_app.h"
 #include "control/app/control_config.h"
 #include "control/database/database_path.h"
+#include "control/export/export_writer.h"
 #include "control/script/script.h"
 #include "control/script/script_player.h"
 #include "control/window/live_video.h"
@@ -168,6 +169,26 @@ int main(int argc, char** argv) {
         const std::filesystem::path path(file);
         return shots.Request(path.is_absolute() ? file : (folder / path).string());
       };
+    }
+    // The exports (processes.control.export_dir): rewritten on their own thread as the
+    // models change, and once at start; destroyed after the app, so the last change is written.
+    std::unique_ptr<igms::control::ExportWriter> exports;
+    if (const auto dir = process->Get<std::string>("export_dir", ""); !dir.empty()) {
+      igms::control::ExportOptions export_options;  // into metres
+      const double per_inch = control_config.session.world_units_per_inch;
+      export_options.world_units = {per_inch == 1 ? "in" : "world units", 0.0254 / per_inch};
+      exports = std::make_unique<igms::control::ExportWriter>(
+          process->config.ResolvePath(dir), export_options, [](bool ok, const std::string& what) {
+            if (ok) {
+              spdlog::info("exports: {}", what);
+            } else {
+              spdlog::error("{}", what);
+            }
+          });
+      options->models_changed =
+          [writer = exports.get()](std::vector<igms::control::StoredModel> models) {
+            writer->Update(std::move(models));
+          };
     }
     auto app =
         igms::control::ControlApp::Make(std::move(*options), *calibration, std::move(*database));

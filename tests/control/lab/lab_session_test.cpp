@@ -109,7 +109,8 @@ TEST(LabSession, PlannedSessionModelsEveryObjectWithItsProvenance) {
 }
 
 TEST(LabSession, KilledClientLosesNoModelAndTheNextContinuesItsDatabase) {
-  LabOnLoopback lab("    pointer_speed: 12\n");
+  // The client also keeps every export format current (export_dir, beside the lab file).
+  LabOnLoopback lab("    pointer_speed: 12\n    export_dir: exports\n");
   ASSERT_TRUE(lab.Start()) << lab.error();
   ScratchDir dir;
   const std::string db = dir.File("igms.db");
@@ -140,6 +141,21 @@ TEST(LabSession, KilledClientLosesNoModelAndTheNextContinuesItsDatabase) {
   EXPECT_TRUE((*sessions)[1].closed_unix_ns.has_value());
   EXPECT_EQ(models->back().session_id, (*sessions)[1].id);
   EXPECT_EQ(models->front().session_id, (*sessions)[0].id);
+
+  // The exports hold every model of the database, both sessions' (written as the second
+  // session started with the first's models, then as it added its own).
+  EXPECT_NE(next.Log().find("exports: " + std::to_string(models->size()) + " models in"),
+            std::string::npos)
+      << next.Log();
+  const ShellRun urdf = RunShell("cat " + lab.dir().File("exports/models.urdf"));
+  for (const auto& m : *models) {
+    EXPECT_NE(urdf.out.find("model_" + std::to_string(m.id) + "\""), std::string::npos) << urdf.out;
+  }
+  if (std::system("command -v check_urdf >/dev/null 2>&1") == 0) {
+    const ShellRun checked =
+        RunShell("check_urdf " + lab.dir().File("exports/models.urdf") + " 2>&1");
+    EXPECT_EQ(checked.status, 0) << checked.out;
+  }
 }
 
 TEST(LabSession, TheRecogniserHearsTheSpokenTypes) {
