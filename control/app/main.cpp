@@ -33,6 +33,61 @@
 
 namespace po = boost::program_options;
 
+namespace {
+
+// The window, or offscreen drawing for screenshots where no window opens; null (with a
+// warning) when neither can be had: the session runs without its picture rather than not at
+// all. An error only when --window asked for one. `offscreen` says which it became.
+igms::Result<std::unique_ptr<igms::control::Window>> OpenWindow(
+    const igms::calibration::StereoCalibration& calibration,
+    igms::control::render::StereoMode stereo, bool want_window, bool on_screen, bool* offscreen) {
+  igms::control::WindowOptions window_options;
+  window_options.stereo = stereo;
+  window_options.offscreen = *offscreen;
+  window_options.help = on_screen;
+  auto opened = igms::control::Window::Open(calibration, window_options);
+  if (!opened.ok() && want_window) return igms::ErrorMessage{opened.error()};
+  if (!opened.ok() && !*offscreen) {
+    // A display that will not take a window: draw offscreen for the screenshots.
+    spdlog::warn("no window ({}): drawing offscreen", opened.error());
+    *offscreen = true;
+    window_options.offscreen = true;
+    opened = igms::control::Window::Open(calibration, window_options);
+  }
+  if (!opened.ok()) {
+    spdlog::warn("no window: {}", opened.error());
+    return std::unique_ptr<igms::control::Window>();
+  }
+  return std::move(*opened);
+}
+
+// The exports (processes.control.export_dir): rewritten on their own thread as the models
+// change, and once at start. Null when the lab file names no folder.
+std::unique_ptr<igms::control::ExportWriter> StartExports(
+    const igms::config::ProcessOptions& process, const igms::control::ControlConfig& config,
+    igms::control::ControlAppOptions* options) {
+  const auto dir = process.Get<std::string>("export_dir", "");
+  if (dir.empty()) return nullptr;
+  igms::control::ExportOptions export_options;  // into metres
+  const double per_inch = config.session.world_units_per_inch;
+  export_options.world_units = {per_inch == 1 ? "in" : "world units", 0.0254 / per_inch};
+  auto exports = std::make_unique<igms::control::ExportWriter>(
+      process.config.ResolvePath(dir), export_options, [](bool ok, const std::string& what) {
+        if (ok) {
+          spdlog::info("exports: {}", what);
+        } else {
+          spdlog::error("{}", what);
+        }
+      });
+  options->models_changed = [writer =
+                                 exports.get()](std::vector<igms::control::StoredModel> models) {
+    writer->Update(std::move(models));
+  };
+  return exports;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   try {
     po::options_description extra("Control client options");
@@ -125,28 +180,12 @@ int main(int argc, char** argv) {
     spdlog::info("database {}", *path);
     std::unique_ptr<igms::control::Window> window;
     if (on_screen || offscreen) {
-      igms::control::WindowOptions window_options;
-      window_options.stereo = *stereo;
-      window_options.offscreen = offscreen;
-      window_options.help = on_screen;
-      auto opened = igms::control::Window::Open(*calibration, window_options);
-      if (!opened.ok() && want_window) {
+      auto opened = OpenWindow(*calibration, *stereo, want_window, on_screen, &offscreen);
+      if (!opened.ok()) {
         spdlog::critical("--window: {}", opened.error());
         return igms::kExitFailure;
       }
-      if (!opened.ok() && !offscreen) {
-        // A display that will not take a window: draw offscreen for the screenshots.
-        spdlog::warn("no window ({}): drawing offscreen", opened.error());
-        offscreen = true;
-        window_options.offscreen = true;
-        opened = igms::control::Window::Open(*calibration, window_options);
-      }
-      if (opened.ok()) {
-        window = std::move(*opened);
-      } else {
-        // The session runs without its picture rather than not at all.
-        spdlog::warn("no window: {}", opened.error());
-      }
+      window = std::move(*opened);
     }
     std::unique_ptr<igms::control::LiveVideo> live;
     if (window) {
@@ -170,26 +209,8 @@ int main(int argc, char** argv) {
         return shots.Request(path.is_absolute() ? file : (folder / path).string());
       };
     }
-    // The exports (processes.control.export_dir): rewritten on their own thread as the
-    // models change, and once at start; destroyed after the app, so the last change is written.
-    std::unique_ptr<igms::control::ExportWriter> exports;
-    if (const auto dir = process->Get<std::string>("export_dir", ""); !dir.empty()) {
-      igms::control::ExportOptions export_options;  // into metres
-      const double per_inch = control_config.session.world_units_per_inch;
-      export_options.world_units = {per_inch == 1 ? "in" : "world units", 0.0254 / per_inch};
-      exports = std::make_unique<igms::control::ExportWriter>(
-          process->config.ResolvePath(dir), export_options, [](bool ok, const std::string& what) {
-            if (ok) {
-              spdlog::info("exports: {}", what);
-            } else {
-              spdlog::error("{}", what);
-            }
-          });
-      options->models_changed =
-          [writer = exports.get()](std::vector<igms::control::StoredModel> models) {
-            writer->Update(std::move(models));
-          };
-    }
+    // Destroyed after the app, so the session's last change is written.
+    auto exports = StartExports(*process, control_config, &*options);
     auto app =
         igms::control::ControlApp::Make(std::move(*options), *calibration, std::move(*database));
     if (!app.ok()) {
