@@ -610,6 +610,17 @@ bool Session::Send(std::string frame, std::uint64_t latest_only_key) {
   return true;
 }
 
+bool Session::NothingToWriteLocked() {
+  if (closed_) return true;
+  if (!queue_.empty()) return false;
+  writing_ = false;
+  if (close_after_write_) {
+    // The error that ends this session has been written.
+    asio::post(socket_.get_executor(), [self = shared_from_this()] { self->Close("rejected"); });
+  }
+  return true;
+}
+
 void Session::WriteNext() {
   if (tls_) {
     WriteNextTls();
@@ -618,16 +629,7 @@ void Session::WriteNext() {
   auto current = std::make_shared<std::string>();
   {
     std::lock_guard lock(mutex_);
-    if (closed_) return;
-    if (queue_.empty()) {
-      writing_ = false;
-      if (close_after_write_) {
-        // The error that ends this session has been written.
-        asio::post(socket_.get_executor(),
-                   [self = shared_from_this()] { self->Close("rejected"); });
-      }
-      return;
-    }
+    if (NothingToWriteLocked()) return;
     current->swap(queue_.front().bytes);
     queued_bytes_ -= current->size();
     queue_.pop_front();
@@ -648,15 +650,7 @@ void Session::WriteNextTls() {
   std::deque<Outgoing> batch;
   {
     std::lock_guard lock(mutex_);
-    if (closed_) return;
-    if (queue_.empty()) {
-      writing_ = false;
-      if (close_after_write_) {
-        asio::post(socket_.get_executor(),
-                   [self = shared_from_this()] { self->Close("rejected"); });
-      }
-      return;
-    }
+    if (NothingToWriteLocked()) return;
     batch.swap(queue_);
     queued_bytes_ = 0;
   }

@@ -45,6 +45,9 @@ class Session : public std::enable_shared_from_this<Session> {
                  const std::string& message, bool close_after);
   void WriteNext();
   void WriteNextTls();
+  // With mutex_ held: true when there is nothing to write (closed, or the queue empty, which
+  // ends the writing and, after a rejection, closes the session).
+  bool NothingToWriteLocked();
   bool Permitted(std::uint64_t id, const std::string& method);
   void ArmIdleTimer();
 
