@@ -113,6 +113,11 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
   int sound_refusals = 0;
   video::OverlaySettings overlay;
   bool started = false;  // the StartEvent has been handled
+  // Set by Shutdown: the timers no longer re-arm. Cancelling them is not enough, as a timer
+  // that expired while the loop was busy has its handler queued already, and cancel() cannot
+  // take it back: it would run with success and arm the timer again, for ever, so io.run()
+  // never ran out of work (the exit hang of issue 20).
+  bool shutting_down = false;
   int start_checks_pending = 0;
   std::vector<PeerReport> start_reports;
   std::map<uint64_t, int64_t> locate_sent_ns;  // call -> when sent, for the round trip
@@ -660,6 +665,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
   // ---- timers ----
 
   void Tick() {
+    if (shutting_down) return;
     Handle(TickEvent{NowNs()});
     tick_timer.expires_after(options.tick);
     tick_timer.async_wait([weak = weak_from_this()](const boost::system::error_code& ec) {
@@ -669,6 +675,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
 
   // 1 Hz: each daemon's serial link, and every peer not up yet that is connected.
   void Health() {
+    if (shutting_down) return;
     for (auto& [peer, link] : links) {
       if (!link.client->connected()) continue;
       if (!link.up) {
@@ -693,6 +700,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
   }
 
   void Shutdown() {
+    shutting_down = true;
     tick_timer.cancel();
     health_timer.cancel();
     for (auto& [peer, link] : links) link.client->Stop();
@@ -722,9 +730,10 @@ ControlApp::~ControlApp() {
   Stop();
   if (impl_->thread.joinable()) {
     asio::post(impl_->io, [impl = impl_] { impl->Shutdown(); });
-    // Closing every connection ends io.run(). Should anything still hold it (a defect), the
-    // client must not hang on its way out: the loop is stopped after a grace period, which
-    // leaves nothing unsaved (every model is committed before the session hears of it).
+    // Closing every connection and ending the timers ends io.run(). Should anything still
+    // hold it (a defect), the client must not hang on its way out: the loop is stopped after
+    // a grace period, which leaves nothing unsaved (every model is committed before the
+    // session hears of it). tests/control/app checks the grace is not needed.
     auto ended = impl_->loop_ended.get_future();
     if (ended.wait_for(std::chrono::seconds(3)) != std::future_status::ready) {
       spdlog::warn("control client: the network loop did not end by itself; stopping it");
