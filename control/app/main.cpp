@@ -4,6 +4,7 @@
 //
 //   igms-control --config lab.yaml [--database FILE] [--wait] [--script FILE]
 //                [--window | --no-window] [--stereo MODE] [--screenshots DIR]
+//                [--screenshot-every SECONDS]
 //
 // The window (docs/window.md) opens when a display is there (or with --window); without one
 // the same drawing runs offscreen for the script's screenshots; --no-window draws nothing.
@@ -100,7 +101,10 @@ int main(int argc, char** argv) {
         "window", po::bool_switch(), "open the window (default: when a display is there)")(
         "no-window", po::bool_switch(), "draw nothing: no window, no offscreen screenshots")(
         "screenshots", po::value<std::string>()->default_value("."),
-        "the folder of the window's screenshots (key P)");
+        "the folder of the window's screenshots (key P, --screenshot-every)")(
+        "screenshot-every", po::value<double>()->default_value(0),
+        "a screenshot every SECONDS (igms-every-NNNN.png in --screenshots), with a window or "
+        "offscreen; 0: none");
     igms::control::ControlConfig control_config;
     int exit_code = 0;
     auto process = igms::config::ParseProcessOptions(
@@ -158,6 +162,14 @@ int main(int argc, char** argv) {
     const bool no_window = process->flags["no-window"].as<bool>();
     if (want_window && no_window) {
       spdlog::critical("--window and --no-window: choose one");
+      return igms::kExitUsage;
+    }
+    const double screenshot_every = process->flags["screenshot-every"].as<double>();
+    if (!(screenshot_every >= 0) || (screenshot_every > 0 && no_window)) {
+      spdlog::critical(
+          "--screenshot-every {}: a number of seconds (0: none), and not with "
+          "--no-window, which draws nothing",
+          screenshot_every);
       return igms::kExitUsage;
     }
     // A window where there is a display; offscreen (screenshots only) where there is none.
@@ -261,6 +273,7 @@ int main(int argc, char** argv) {
       });
       igms::control::DisplayLoopOptions loop_options;
       loop_options.screenshot_folder = process->flags["screenshots"].as<std::string>();
+      loop_options.screenshot_every_s = screenshot_every;
       igms::control::RunDisplayLoop(**app, *window, live.get(), shots, ended, loop_options,
                                     offscreen);
       display_stopper.join();

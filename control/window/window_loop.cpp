@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <thread>
 
 namespace igms::control {
@@ -58,9 +59,23 @@ void RunDisplayLoop(ControlApp& app, Window& window, LiveVideo* live, Screenshot
   auto next = Clock::now();
   uint64_t held_grab = 0;
   auto next_stats = Clock::now() + std::chrono::seconds(5);
+  const bool periodic = options.screenshot_every_s > 0;
+  const auto every = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(periodic ? options.screenshot_every_s : 1.0));
+  auto next_periodic = Clock::now() + every;
+  int periodic_taken = 0;
   while (!stop) {
     // Offscreen, the loop follows the video every 100 ms and draws only for a screenshot.
-    const bool draw = !offscreen || shots.WaitForRequest(std::chrono::milliseconds(100));
+    bool draw = true;
+    if (offscreen) {
+      std::chrono::milliseconds wait(100);
+      if (periodic) {
+        wait = std::clamp(
+            std::chrono::duration_cast<std::chrono::milliseconds>(next_periodic - Clock::now()),
+            std::chrono::milliseconds(0), wait);
+      }
+      draw = shots.WaitForRequest(wait) || (periodic && Clock::now() >= next_periodic);
+    }
     const int64_t now = ControlApp::NowNs();
     const WindowInput input = window.Poll(now);
     for (const Command& c : input.commands) app.Post(c);
@@ -112,7 +127,14 @@ void RunDisplayLoop(ControlApp& app, Window& window, LiveVideo* live, Screenshot
     if (!path && input.screenshot) {
       path = fmt::format("{}/igms-{:04d}.png", options.screenshot_folder, ++taken);
     }
+    if (!path && periodic && Clock::now() >= next_periodic) {
+      path = fmt::format("{}/igms-every-{:04d}.png", options.screenshot_folder, ++periodic_taken);
+      // A frame slower than the period takes one screenshot, not a burst to catch up.
+      next_periodic += every;
+      if (next_periodic <= Clock::now()) next_periodic = Clock::now() + every;
+    }
     auto drawn = window.Draw(view, path);
+    if (options.on_frame) options.on_frame(view, ControlApp::NowNs());
     if (requested) {
       shots.Done(drawn);
     } else if (path) {

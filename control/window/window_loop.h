@@ -8,6 +8,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <optional>
@@ -49,6 +50,14 @@ class ScreenshotQueue {
 struct DisplayLoopOptions {
   double max_fps = 60;                  // a window without vsync (Xvfb) draws no faster than this
   std::string screenshot_folder = ".";  // P's screenshots: igms-NNNN.png there
+  // --screenshot-every: a screenshot every this many seconds of the session's wall clock
+  // (igms-every-NNNN.png in screenshot_folder), whatever the frame rate; 0: none. Seconds,
+  // not frames: software GL draws from 6 to under 1 frame a second as the models grow, and
+  // an operator's record should keep its pace. Offscreen, the loop draws for them too.
+  double screenshot_every_s = 0;
+  // Called after each frame is drawn and shown, with the view drawn and when it was shown
+  // (ControlApp::NowNs): the benchmarks' probe.
+  std::function<void(const SessionView&, int64_t shown_ns)> on_frame;
 };
 
 // Runs until `stop` is set (the session ended). `live` may be null (no video peer).

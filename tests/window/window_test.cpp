@@ -8,13 +8,18 @@
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <thread>
 
 #include "common/calibration/thesis_calibration.h"
 #include "control/window/keys.h"
 #include "control/window/view_from_session.h"
+#include "control/window/window_loop.h"
 #include "tests/support/child_process.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::control {
 namespace {
@@ -200,6 +205,64 @@ TEST(Window, OffscreenItDrawsTheSameWithoutADisplay) {
   ASSERT_TRUE(IsPng(dir.File("off.png")));
   ExpectSideBySide(cv::imread(dir.File("off.png"), cv::IMREAD_COLOR));
 }
+
+// The screenshots in `dir` named igms-every-*.png.
+int PeriodicShots(const igms::testing::ScratchDir& dir) {
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.File(""))) {
+    if (e.path().filename().string().rfind("igms-every-", 0) == 0) ++n;
+  }
+  return n;
+}
+
+// --screenshot-every: igms-control's display loop, with a session (no peers: it waits for
+// them) and a real window or offscreen drawing, takes a screenshot every 0.2 s of wall clock.
+void ExpectPeriodicScreenshots(bool offscreen) {
+  ControlAppOptions app_options;
+  app_options.session.wait_for_peers = true;
+  auto app = ControlApp::Make(app_options, Cal(), nullptr);
+  ASSERT_TRUE(app.ok()) << app.error();
+  WindowOptions options;
+  options.vsync = false;
+  options.offscreen = offscreen;
+  auto window = Window::Open(Cal(), options);
+  ASSERT_TRUE(window.ok()) << window.error();
+  igms::testing::ScratchDir dir;
+  DisplayLoopOptions loop;
+  loop.screenshot_folder = dir.File("");
+  loop.screenshot_every_s = 0.2;
+  int frames = 0;
+  loop.on_frame = [&](const SessionView&, int64_t) { ++frames; };
+  (*app)->Start();
+  ScreenshotQueue shots;
+  std::atomic<bool> stop = false;
+  std::atomic<bool> three = false;
+  const auto start = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::duration third{};
+  std::thread watcher([&] {
+    three =
+        igms::testing::WaitUntil([&] { return PeriodicShots(dir) >= 3; }, std::chrono::seconds(20));
+    third = std::chrono::steady_clock::now() - start;
+    stop = true;
+  });
+  RunDisplayLoop(**app, **window, nullptr, shots, stop, loop, offscreen);
+  watcher.join();
+  ASSERT_TRUE(three) << "fewer than 3 periodic screenshots in 20 s";
+  // Three periods at least: seconds, not frames (the window draws many frames a period).
+  EXPECT_GE(third, std::chrono::milliseconds(600));
+  if (!offscreen) EXPECT_GT(frames, PeriodicShots(dir));
+  for (const char* name : {"igms-every-0001.png", "igms-every-0002.png", "igms-every-0003.png"}) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(IsPng(dir.File(name)));
+    const cv::Mat shot = cv::imread(dir.File(name), cv::IMREAD_COLOR);
+    EXPECT_EQ(shot.cols, 1024);
+    EXPECT_EQ(shot.rows, 480);
+  }
+}
+
+TEST(Window, ScreenshotEveryNSecondsFromTheDisplayLoop) { ExpectPeriodicScreenshots(false); }
+
+TEST(Window, ScreenshotEveryNSecondsOffscreen) { ExpectPeriodicScreenshots(true); }
 
 }  // namespace
 }  // namespace igms::control
