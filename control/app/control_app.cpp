@@ -461,6 +461,12 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
         m.cylinder = s.record.cylinder;
         m.box = s.record.box;
         database_ids[m.id] = s.id;
+        // The grab's pose places a box's texture patch (a record without a grab: flat).
+        const ModelProvenance& p = s.record.provenance;
+        if (p.frame_id != 0) {
+          loaded.grab_joints[m.id].assign(p.platform_pose.joints_rad().begin(),
+                                          p.platform_pose.joints_rad().end());
+        }
         loaded.models.push_back(std::move(m));
       }
       if (!loaded.models.empty()) {

@@ -732,6 +732,9 @@ void Session::Undo() {
 void Session::On(const ModelsLoaded& e) {
   for (const SessionModel& m : e.models) {
     models_.push_back(m);
+    if (auto it = e.grab_joints.find(m.id); it != e.grab_joints.end()) {
+      models_.back().left_P_at_grab = LeftCameraAt(it->second);
+    }
     last_model_id_ = std::max(last_model_id_, m.id);
   }
 }

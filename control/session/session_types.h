@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <variant>
@@ -153,6 +154,10 @@ struct PointerDriveEvent {
 struct ModelsLoaded {
   std::vector<SessionModel> models;
   int64_t now_ns = 0;
+  // Model id -> the platform's joints at the grab it was located in (the database's
+  // provenance), for the models whose grab is known: their left camera then places a box's
+  // texture patch, as for a model of this session.
+  std::map<uint64_t, std::vector<double>> grab_joints;
 };
 
 using Event = std::variant<StartEvent, PeerUpEvent, PeerDownEvent, DeviceLinkEvent, ViewerReading,

@@ -12,9 +12,12 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <thread>
 
 #include "common/calibration/thesis_calibration.h"
+#include "common/geometry/platform.h"
+#include "control/database/geometric_database.h"
 #include "control/window/keys.h"
 #include "control/window/view_from_session.h"
 #include "control/window/window_loop.h"
@@ -263,6 +266,119 @@ void ExpectPeriodicScreenshots(bool offscreen) {
 TEST(Window, ScreenshotEveryNSecondsFromTheDisplayLoop) { ExpectPeriodicScreenshots(false); }
 
 TEST(Window, ScreenshotEveryNSecondsOffscreen) { ExpectPeriodicScreenshots(true); }
+
+// A box as the locator stores it, whose texture patch is red on its pixels in the left image
+// of a grab taken with the platform panned by `pan` rad, and blue around them.
+ModelRecord TexturedBox(double pan) {
+  ModelRecord r;
+  r.type = object::OBJECT_TYPE_BOX;
+  auto set = [](object::Vec3* v, double x, double y, double z) {
+    v->set_x(x);
+    v->set_y(y);
+    v->set_z(z);
+  };
+  set(r.box.mutable_center(), 21, -48, 3);
+  set(r.box.mutable_size(), 4, 4, 4);
+  set(r.box.mutable_center_sigma(), 0.01, 0.01, 0.01);
+  set(r.box.mutable_size_sigma(), 0.01, 0.01, 0.01);
+  const std::vector<double> joints = {pan, 0, 0};
+  const auto P = geometry::CameraAtPose(Cal().left.P, *Cal().platform, joints);
+  std::vector<cv::Point> corners;
+  for (int i = 0; i < 8; ++i) {
+    corners.push_back(
+        Pixel(P, {21 + (i & 1 ? 2 : -2), -48 + (i & 2 ? 2 : -2), 3 + (i & 4 ? 2 : -2)}));
+  }
+  const cv::Rect rect = cv::boundingRect(corners) & cv::Rect(0, 0, 512, 480);
+  r.box.set_texture_u0(rect.x);
+  r.box.set_texture_v0(rect.y);
+  r.box.set_texture_u1(rect.x + rect.width - 1);
+  r.box.set_texture_v1(rect.y + rect.height - 1);
+  // Red on the box's own pixels, blue around them: a patch placed through the wrong camera
+  // shows blue on the box.
+  cv::Mat patch(rect.height, rect.width, CV_8UC3, cv::Scalar(220, 30, 30));
+  std::vector<cv::Point> hull;
+  cv::convexHull(corners, hull);
+  for (cv::Point& c : hull) c -= rect.tl();
+  cv::fillConvexPoly(patch, hull, cv::Scalar(30, 30, 220));
+  std::vector<uchar> png;
+  cv::imencode(".png", patch, png);
+  r.box.set_texture_png(std::string(png.begin(), png.end()));
+  auto& p = r.provenance;
+  p.frame_id = 9;
+  p.left_capture_unix_ns = p.right_capture_unix_ns = 1;
+  for (double j : joints) p.platform_pose.add_joints_rad(j);
+  p.marks.resize(4);
+  p.calibration_hash = "test";
+  return r;
+}
+
+// The fraction of the left eye's pixels inside the box's outline (the platform at rest) that
+// show the texture's red (or, with `blue`, its blue).
+double ColourInBox(const cv::Mat& shot, bool blue) {
+  std::vector<cv::Point> corners;
+  for (int i = 0; i < 8; ++i) {
+    corners.push_back(
+        Pixel(Cal().left.P, {21 + (i & 1 ? 2 : -2), -48 + (i & 2 ? 2 : -2), 3 + (i & 4 ? 2 : -2)}));
+  }
+  std::vector<cv::Point> hull;
+  cv::convexHull(corners, hull);
+  cv::Mat inside(480, 512, CV_8UC1, cv::Scalar(0));
+  cv::fillConvexPoly(inside, hull, cv::Scalar(255));
+  int red = 0, all = 0;
+  for (int v = 0; v < 480; ++v) {
+    for (int u = 0; u < 512; ++u) {
+      if (!inside.at<uchar>(v, u)) continue;
+      ++all;
+      const cv::Vec3b bgr = shot.at<cv::Vec3b>(v, u);
+      const int hot = blue ? 0 : 2, cold = blue ? 2 : 0;
+      if (bgr[hot] > 150 && bgr[1] < 90 && bgr[cold] < 90) ++red;
+    }
+  }
+  return all ? static_cast<double>(red) / all : 0;
+}
+
+// A continued session (igms-control --database FILE) draws the texture patch each box was
+// stored with, through the left camera of the grab it was taken from (the provenance's pose).
+TEST(Window, AContinuedSessionDrawsTheBoxTextureItStored) {
+  igms::testing::ScratchDir dir;
+  const std::string db = dir.File("igms.db");
+  {
+    auto writer = GeometricDatabase::Open(db, {"window_test", ""});
+    ASSERT_TRUE(writer.ok()) << writer.error();
+    ASSERT_TRUE((*writer)->AddModel(TexturedBox(-0.15)).ok());
+  }
+  auto opened = GeometricDatabase::Open(db, {"window_test", ""});
+  ASSERT_TRUE(opened.ok()) << opened.error();
+  ControlAppOptions app_options;
+  app_options.session.wait_for_peers = true;
+  auto app = ControlApp::Make(app_options, Cal(), std::move(*opened));
+  ASSERT_TRUE(app.ok()) << app.error();
+  (*app)->Start();
+  SessionView view;
+  ASSERT_TRUE((*app)->board().WaitFor([](const SessionView& v) { return v.models.size() == 1; },
+                                      std::chrono::seconds(10), &view));
+  app->reset();
+  ASSERT_FALSE(view.models[0].left_P_at_grab.isZero());
+
+  WindowOptions options;
+  options.offscreen = true;
+  auto window = Window::Open(Cal(), options);
+  ASSERT_TRUE(window.ok()) << window.error();
+  (*window)->SetFrame(GreyFrame(90));
+  const std::string path = dir.File("continued.png");
+  ASSERT_TRUE((*window)->Draw(view, path).ok());
+  ASSERT_TRUE(IsPng(path));
+  const cv::Mat textured_shot = cv::imread(path, cv::IMREAD_COLOR);
+  const double textured = ColourInBox(textured_shot, false);
+  const double misplaced = ColourInBox(textured_shot, true);
+  // Without the grab's camera the box would be flat: no red at all.
+  view.models[0].left_P_at_grab.setZero();
+  ASSERT_TRUE((*window)->Draw(view, path).ok());
+  const double flat = ColourInBox(cv::imread(path, cv::IMREAD_COLOR), false);
+  EXPECT_GT(textured, 0.8) << "misplaced " << misplaced << ", flat " << flat;
+  EXPECT_LT(misplaced, 0.02) << "textured " << textured;  // the grab's camera, not today's
+  EXPECT_EQ(flat, 0);
+}
 
 }  // namespace
 }  // namespace igms::control
