@@ -642,6 +642,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
         link.client->Subscribe<devices::JoystickState>(
             method, devices::SubscribeRequest(),
             [this](const devices::JoystickState& s) {
+              view.joystick_stamp_ns = s.stamp().receive_monotonic_ns();
               Handle(JoystickReading{s, NowNs()});
             },
             lost);

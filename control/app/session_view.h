@@ -35,6 +35,9 @@ struct SessionView {
   std::vector<SessionModel> models;  // removed ones included, flagged
   std::optional<FrozenView> frozen;
   double range = 0.0;
+  // The daemon's stamp (receive_monotonic_ns: CLOCK_MONOTONIC when its serial bytes came)
+  // of the newest joystick reading the session has handled: the latency figures' probe.
+  int64_t joystick_stamp_ns = 0;
   uint64_t ranges_taken = 0;  // replies to RangerService.Range, echo or not
   std::string failure_detail;
   uint64_t locates_failed = 0;

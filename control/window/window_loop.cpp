@@ -67,7 +67,7 @@ void RunDisplayLoop(ControlApp& app, Window& window, LiveVideo* live, Screenshot
   while (!stop) {
     // Offscreen, the loop follows the video every 100 ms and draws only for a screenshot.
     bool draw = true;
-    if (offscreen) {
+    if (offscreen && !options.offscreen_continuous) {
       std::chrono::milliseconds wait(100);
       if (periodic) {
         wait = std::clamp(
@@ -144,7 +144,7 @@ void RunDisplayLoop(ControlApp& app, Window& window, LiveVideo* live, Screenshot
         spdlog::warn("screenshot: {}", drawn.error());
       }
     }
-    if (!offscreen) {
+    if (!offscreen || options.offscreen_continuous) {
       next += period;
       const auto now_t = Clock::now();
       if (next > now_t) {

@@ -58,6 +58,8 @@ struct DisplayLoopOptions {
   // Called after each frame is drawn and shown, with the view drawn and when it was shown
   // (ControlApp::NowNs): the benchmarks' probe.
   std::function<void(const SessionView&, int64_t shown_ns)> on_frame;
+  // Offscreen, draw every frame (at max_fps) rather than only for screenshots: benchmarks.
+  bool offscreen_continuous = false;
 };
 
 // Runs until `stop` is set (the session ended). `live` may be null (no video peer).
