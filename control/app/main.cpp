@@ -4,12 +4,13 @@
 //
 //   igms-control --config lab.yaml [--database FILE] [--wait] [--script FILE]
 //                [--window | --no-window] [--stereo MODE] [--screenshots DIR]
-//                [--screenshot-every SECONDS]
+//                [--screenshot-every SECONDS] [--xvfb]
 //
 // The window (docs/window.md) opens when a display is there (or with --window); without one
 // the same drawing runs offscreen for the script's screenshots; --no-window draws nothing.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
@@ -29,6 +30,7 @@
 #include "control/script/script.h"
 #include "control/script/script_player.h"
 #include "control/window/live_video.h"
+#include "control/window/private_xvfb.h"
 #include "control/window/window.h"
 #include "control/window/window_loop.h"
 
@@ -36,12 +38,25 @@ namespace po = boost::program_options;
 
 namespace {
 
+// A private Xvfb large enough for the side-by-side window; DISPLAY then names it.
+igms::Result<bool> StartXvfb(const igms::calibration::StereoCalibration& calibration,
+                             std::unique_ptr<igms::control::PrivateXvfb>* xvfb) {
+  const auto size = calibration.left.image_size;
+  auto started = igms::control::PrivateXvfb::Start(std::max(1280, 2 * size.width),
+                                                   std::max(1024, size.height));
+  if (!started.ok()) return igms::ErrorMessage{started.error()};
+  *xvfb = std::move(*started);
+  spdlog::info("a private Xvfb on display {} (pid {})", (*xvfb)->display(), (*xvfb)->pid());
+  return true;
+}
+
 // The window, or offscreen drawing for screenshots where no window opens; null (with a
 // warning) when neither can be had: the session runs without its picture rather than not at
 // all. An error only when --window asked for one. `offscreen` says which it became.
 igms::Result<std::unique_ptr<igms::control::Window>> OpenWindow(
     const igms::calibration::StereoCalibration& calibration,
-    igms::control::render::StereoMode stereo, bool want_window, bool on_screen, bool* offscreen) {
+    igms::control::render::StereoMode stereo, bool want_window, bool on_screen, bool* offscreen,
+    std::unique_ptr<igms::control::PrivateXvfb>* xvfb) {
   igms::control::WindowOptions window_options;
   window_options.stereo = stereo;
   window_options.offscreen = *offscreen;
@@ -54,6 +69,19 @@ igms::Result<std::unique_ptr<igms::control::Window>> OpenWindow(
     *offscreen = true;
     window_options.offscreen = true;
     opened = igms::control::Window::Open(calibration, window_options);
+  }
+  if (!opened.ok() && !igms::control::DisplayAvailable()) {
+    // No display and no EGL: a window on a virtual X server of our own, for the screenshots.
+    spdlog::warn("no offscreen drawing ({}): starting a private Xvfb", opened.error());
+    auto started = StartXvfb(calibration, xvfb);
+    if (started.ok()) {
+      window_options.offscreen = false;
+      window_options.visible = false;
+      opened = igms::control::Window::Open(calibration, window_options);
+      // Offscreen in spirit: nobody looks at it, it draws for screenshots.
+    } else {
+      spdlog::warn("{}", started.error());
+    }
   }
   if (!opened.ok()) {
     spdlog::warn("no window: {}", opened.error());
@@ -100,6 +128,8 @@ int main(int argc, char** argv) {
         "play this operator script, then exit (docs/scripts.md)")(
         "window", po::bool_switch(), "open the window (default: when a display is there)")(
         "no-window", po::bool_switch(), "draw nothing: no window, no offscreen screenshots")(
+        "xvfb", po::bool_switch(),
+        "open the window on a private virtual X server (Xvfb) started for this session")(
         "screenshots", po::value<std::string>()->default_value("."),
         "the folder of the window's screenshots (key P, --screenshot-every)")(
         "screenshot-every", po::value<double>()->default_value(0),
@@ -172,8 +202,14 @@ int main(int argc, char** argv) {
           screenshot_every);
       return igms::kExitUsage;
     }
+    const bool want_xvfb = process->flags["xvfb"].as<bool>();
+    if (want_xvfb && no_window) {
+      spdlog::critical("--xvfb and --no-window: choose one");
+      return igms::kExitUsage;
+    }
     // A window where there is a display; offscreen (screenshots only) where there is none.
-    const bool on_screen = want_window || (!no_window && igms::control::DisplayAvailable());
+    const bool on_screen =
+        want_window || want_xvfb || (!no_window && igms::control::DisplayAvailable());
     bool offscreen = !on_screen && !no_window;
     if (process->check_only) return igms::config::CheckPassed(*process);
     igms::control::ScriptPlayerOptions player_options;
@@ -190,9 +226,18 @@ int main(int argc, char** argv) {
       return igms::kExitFailure;
     }
     spdlog::info("database {}", *path);
+    // Declared before the window, so it ends after it.
+    std::unique_ptr<igms::control::PrivateXvfb> xvfb;
+    if (want_xvfb) {
+      if (auto started = StartXvfb(*calibration, &xvfb); !started.ok()) {
+        spdlog::critical("--xvfb: {}", started.error());
+        return igms::kExitFailure;
+      }
+    }
     std::unique_ptr<igms::control::Window> window;
     if (on_screen || offscreen) {
-      auto opened = OpenWindow(*calibration, *stereo, want_window, on_screen, &offscreen);
+      auto opened =
+          OpenWindow(*calibration, *stereo, want_window || want_xvfb, on_screen, &offscreen, &xvfb);
       if (!opened.ok()) {
         spdlog::critical("--window: {}", opened.error());
         return igms::kExitFailure;
