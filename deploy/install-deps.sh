@@ -55,6 +55,8 @@ RUNTIME_PACKAGES=(
   libopenal1 libsndfile1 libsqlite3-0 libssl3
   # the window: GLFW, OpenGL and EGL, and Mesa to draw offscreen without a GPU
   libglfw3 libopengl0 libegl1 libegl-mesa0 libgl1-mesa-dri
+  # igms-control --xvfb: a virtual X server of its own where there is no display
+  xvfb
   libpocketsphinx3 libsphinxbase3 pocketsphinx-en-us
   # the sound server's fallback device, and iproute2 for deploy/lab up --here
   procps iproute2
