@@ -56,9 +56,10 @@ igms::Result<bool> StartXvfb(const igms::calibration::StereoCalibration& calibra
 igms::Result<std::unique_ptr<igms::control::Window>> OpenWindow(
     const igms::calibration::StereoCalibration& calibration,
     igms::control::render::StereoMode stereo, bool want_window, bool on_screen, bool* offscreen,
-    std::unique_ptr<igms::control::PrivateXvfb>* xvfb) {
+    std::unique_ptr<igms::control::PrivateXvfb>* xvfb, int samples) {
   igms::control::WindowOptions window_options;
   window_options.stereo = stereo;
+  window_options.samples = samples;
   window_options.offscreen = *offscreen;
   window_options.help = on_screen;
   auto opened = igms::control::Window::Open(calibration, window_options);
@@ -128,6 +129,8 @@ int main(int argc, char** argv) {
         "play this operator script, then exit (docs/scripts.md)")(
         "window", po::bool_switch(), "open the window (default: when a display is there)")(
         "no-window", po::bool_switch(), "draw nothing: no window, no offscreen screenshots")(
+        "samples", po::value<int>()->default_value(4),
+        "multisampling of the graphics' edges (1: none, the cheaper frame in software GL)")(
         "xvfb", po::bool_switch(),
         "open the window on a private virtual X server (Xvfb) started for this session")(
         "screenshots", po::value<std::string>()->default_value("."),
@@ -236,8 +239,8 @@ int main(int argc, char** argv) {
     }
     std::unique_ptr<igms::control::Window> window;
     if (on_screen || offscreen) {
-      auto opened =
-          OpenWindow(*calibration, *stereo, want_window || want_xvfb, on_screen, &offscreen, &xvfb);
+      auto opened = OpenWindow(*calibration, *stereo, want_window || want_xvfb, on_screen,
+                               &offscreen, &xvfb, process->flags["samples"].as<int>());
       if (!opened.ok()) {
         spdlog::critical("--window: {}", opened.error());
         return igms::kExitFailure;

@@ -8,7 +8,7 @@
 // joystick daemon's CLOCK_MONOTONIC when its serial bytes came: one machine, one clock).
 // Readings overtaken before any frame showed them count in no figure.
 //
-// Usage: bench_input_latency [--seconds S] [--fps F]
+// Usage: bench_input_latency [--seconds S] [--fps F] [--samples N (multisampling, default 4)]
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -51,14 +51,17 @@ int main(int argc, char** argv) {
   setenv("IGMS_BIN_DIR", IGMS_BIN_DIR_DEFAULT, 0);
   setenv("IGMS_SOURCE_DIR", IGMS_SOURCE_DIR_DEFAULT, 0);
   double seconds = 4, fps = 60;
+  int samples = 4;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--seconds" && i + 1 < argc) {
       seconds = std::atof(argv[++i]);
     } else if (a == "--fps" && i + 1 < argc) {
       fps = std::atof(argv[++i]);
+    } else if (a == "--samples" && i + 1 < argc) {
+      samples = std::atoi(argv[++i]);
     } else {
-      std::fprintf(stderr, "usage: bench_input_latency [--seconds S] [--fps F]\n");
+      std::fprintf(stderr, "usage: bench_input_latency [--seconds S] [--fps F] [--samples N]\n");
       return 2;
     }
   }
@@ -102,6 +105,7 @@ int main(int argc, char** argv) {
   }
   igms::control::WindowOptions window_options;
   window_options.offscreen = true;
+  window_options.samples = samples;
   auto window = igms::control::Window::Open(*calibration, window_options);
   if (!window.ok()) {
     std::fprintf(stderr, "bench_input_latency: %s\n", window.error().c_str());
@@ -163,8 +167,8 @@ int main(int argc, char** argv) {
   }
   std::printf(
       "device reading to frame: the joystick moving the pointer, drawn offscreen "
-      "(side by side, %d x %d per eye), at most %.0f frames/s\n",
-      calibration->left.image_size.width, calibration->left.image_size.height, fps);
+      "(side by side, %d x %d per eye, %dx multisampling), at most %.0f frames/s\n",
+      calibration->left.image_size.width, calibration->left.image_size.height, samples, fps);
   Print("reading stamp to frame shown", latency_ms);
   Print("frame interval", frame_ms);
   return 0;
