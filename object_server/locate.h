@@ -83,7 +83,7 @@ struct LocateOptions {
   bool keep_to_marks = true;
   // ... and only edges that run along its outline, within this (degrees).
   double box_edge_angle_deg = 30;
-  double max_box_size_sigma = 2.0;   // a box's size more uncertain than this: refused
+  double max_box_size_sigma = 1.5;   // a box's size more uncertain than this: refused
   bool box_inner_edges = true;       // fit a box's edges between seen faces too, not only
                                      // its silhouette
   bool cylinder_inner_edges = true;  // fit the rim of a seen end cap against the side too
