@@ -129,13 +129,30 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
 
   // 4. Starting models from the left boundary at the matched depth (3.8.1, 3.8.2), then the
   // joint fit to both images.
-  const FitOptions fit = FitSettings(opt, boundary.strongest);
-  const std::array<FitView, 2> views = {FitView{&in.left_camera, &grad_left},
-                                        FitView{&in.right_camera, &grad_right}};
+  FitOptions fit = FitSettings(opt, boundary.strongest);
+  if (in.type == SolidType::kBox) fit.max_edge_angle_deg = opt.box_edge_angle_deg;
+  std::array<FitView, 2> views = {FitView{&in.left_camera, &grad_left},
+                                  FitView{&in.right_camera, &grad_right}};
   const bool cylinder = in.type == SolidType::kCylinder;
+  if (opt.keep_to_marks && !cylinder) {
+    // A block's far side lies at most the marked region's diagonal behind its front.
+    const auto corner = [&](size_t i) {
+      return PointOnPixelRay(in.left_camera, Eigen::Vector2d(marks->hull[i].x, marks->hull[i].y),
+                             depth0);
+    };
+    double diagonal = 0;
+    for (size_t i = 0; i < marks->hull.size(); ++i)
+      for (size_t j = i + 1; j < marks->hull.size(); ++j)
+        diagonal = std::max(diagonal, (corner(i) - corner(j)).norm());
+    const double slack = 0.5 * opt.depth_tolerance;
+    auto regions = OutlineRegions(*marks, *pair, std::max(0.5 * depth0, depth0 - slack),
+                                  depth0 + slack + diagonal, opt);
+    views[0].region = std::move(regions[0]);
+    views[1].region = std::move(regions[1]);
+  }
   const std::vector<Eigen::VectorXd> starts =
       cylinder ? CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left)
-               : BoxStarts(in.left_camera, boundary.pixels, depth0);
+               : BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left);
   const Eigen::VectorXd& x0 = starts[0];
   spdlog::debug(
       "locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
@@ -175,7 +192,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   // The other type, when this one explains the images only fairly.
   if (FitScore(f) > opt.other_type_score) {
     const std::vector<Eigen::VectorXd> other_starts =
-        cylinder ? BoxStarts(in.left_camera, boundary.pixels, depth0)
+        cylinder ? BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left)
                  : CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left);
     const FitOutcome other = cylinder ? FitBox(other_starts, views, fit, opt)
                                       : FitCylinder(other_starts, views, fit, opt);
@@ -199,6 +216,14 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     res.box = BoxFromFit(f.params, f.covariance);
     if (res.box.size.minCoeff() < 1e-6)
       return fail({Failure::kFitFailed, "the fitted box has no size"});
+    // A size the images leave open (a block's depth behind a pipe resting on it, read off
+    // the pipe's far limb) would be a guess, however well the outline fits.
+    const char* axis_names[3] = {"width", "depth", "height"};
+    for (int k = 0; k < 3; ++k)
+      if (res.box.size_sigma[k] > opt.max_box_size_sigma)
+        return fail({Failure::kFitFailed, std::string("the images do not determine the box's ") +
+                                              axis_names[k] + " (" + FormatFixed(res.box.size[k]) +
+                                              " +/- " + FormatFixed(res.box.size_sigma[k]) + ")"});
     const StepResult<cv::Rect> rect = BoxTextureRect(f.params, in.left_camera, image_rect);
     if (!rect.ok()) return fail(rect.failure());
     res.box.texture_rect = *rect;

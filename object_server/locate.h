@@ -78,6 +78,12 @@ struct LocateOptions {
                                      // (of those that should show one)
   double min_contrast_share = 0.35;  // occluded: less of the outline shows a step
   double max_outside_share = 0.2;    // occluded: more of the outline is beyond the image
+  // The fit searches a box's edges only where its outline can lie: inside the marked region
+  // (and what it sees in the right image), not on a pipe resting on it.
+  bool keep_to_marks = true;
+  // ... and only edges that run along its outline, within this (degrees).
+  double box_edge_angle_deg = 30;
+  double max_box_size_sigma = 1.5;   // a box's size more uncertain than this: refused
   bool box_inner_edges = true;       // fit a box's edges between seen faces too, not only
                                      // its silhouette
   bool cylinder_inner_edges = true;  // fit the rim of a seen end cap against the side too

@@ -270,6 +270,26 @@ cv::Rect RightRegion(const DepthSearch& search, const SsdMatch& match, int pad,
   return GrowRect(search.patch + shift, pad, image);
 }
 
+std::array<std::vector<Eigen::Vector2d>, 2> OutlineRegions(const MarkedRegion& marks,
+                                                           const StereoPair& pair, double near,
+                                                           double far,
+                                                           const LocateOptions& options) {
+  std::array<std::vector<Eigen::Vector2d>, 2> regions;
+  std::vector<Eigen::Vector2d> left, right;
+  for (const auto& q : GrowPolygon(marks.hull, options.boundary_grow_px)) {
+    const Eigen::Vector2d p(q.x, q.y);
+    left.push_back(p);
+    for (const double d : {near, far}) {
+      const auto r = pair.right_camera->Project(PointOnPixelRay(*pair.left_camera, p, d));
+      if (!r) return regions;  // no right region: both searched unbounded
+      right.push_back(*r);
+    }
+  }
+  regions[0] = ConvexHull(left);
+  regions[1] = ConvexHull(right);
+  return regions;
+}
+
 cv::Mat LeftTexture(const LocateInput& in, const cv::Rect& rect) {
   return Ideal(in.left, in.left_camera)(rect).clone();
 }

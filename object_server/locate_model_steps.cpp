@@ -178,8 +178,76 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
   return starts;
 }
 
+namespace {
+
+// The boundary pixels between a block's outermost vertical edges (those whose gradient runs
+// across the world's vertical as the left camera sees it, gathered by their position across
+// it; an edge is a run at least half the longest): without a pipe resting on the block and
+// reaching past its sides. Empty when no two such edges stand apart or they span the
+// boundary anyway.
+std::vector<cv::Point> BetweenVerticalEdges(const geometry::ProjectiveCamera& left_camera,
+                                            const std::vector<cv::Point>& boundary, double depth,
+                                            const Gradients& gradients) {
+  if (boundary.size() < 8) return {};
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : boundary) mean += Eigen::Vector2d(p.x, p.y) / boundary.size();
+  const Eigen::Vector3d X = PointOnPixelRay(left_camera, mean, depth);
+  const auto a = left_camera.Project(X), b = left_camera.Project(X + Eigen::Vector3d::UnitZ());
+  if (!a || !b || (*b - *a).norm() < 1e-9) return {};
+  const Eigen::Vector2d up = (*b - *a).normalized(), across(-up.y(), up.x());
+  double lo = 1e18, hi = -1e18;
+  for (const auto& p : boundary) {
+    const double c = across.dot(Eigen::Vector2d(p.x, p.y));
+    lo = std::min(lo, c);
+    hi = std::max(hi, c);
+  }
+  const int bins = static_cast<int>(hi - lo) + 1;
+  if (bins < 6) return {};
+  std::vector<int> count(bins, 0);
+  for (const auto& p : boundary) {
+    const Eigen::Vector2d q(p.x, p.y);
+    const Eigen::Vector2d g = gradients.At(q);
+    if (std::abs(g.dot(across)) < std::cos(20 * M_PI / 180) * g.norm()) continue;
+    ++count[static_cast<int>(across.dot(q) - lo)];
+  }
+  // Runs over 3 bins: an edge blurred over neighbouring columns.
+  std::vector<int> run(bins, 0);
+  for (int i = 0; i < bins; ++i)
+    for (int j = std::max(0, i - 1); j <= std::min(bins - 1, i + 1); ++j) run[i] += count[j];
+  const int longest = *std::max_element(run.begin(), run.end());
+  if (longest < 6) return {};
+  int first = -1, last = -1;
+  for (int i = 0; i < bins; ++i)
+    if (run[i] >= longest / 2) {
+      if (first < 0) first = i;
+      last = i;
+    }
+  if (last - first < 4 || (first <= 2 && last >= bins - 3)) return {};
+  std::vector<cv::Point> out;
+  for (const auto& p : boundary) {
+    const double c = across.dot(Eigen::Vector2d(p.x, p.y)) - lo;
+    if (c >= first - 1.5 && c <= last + 1.5) out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_camera,
-                                       const std::vector<cv::Point>& boundary, double depth) {
+                                       const std::vector<cv::Point>& boundary, double depth,
+                                       const Gradients* gradients) {
+  std::vector<Eigen::VectorXd> starts = BoxStartsFrom(left_camera, boundary, depth);
+  if (gradients) {
+    const std::vector<cv::Point> inner =
+        BetweenVerticalEdges(left_camera, boundary, depth, *gradients);
+    if (inner.size() >= 8)
+      for (auto& st : BoxStartsFrom(left_camera, inner, depth)) starts.push_back(std::move(st));
+  }
+  return starts;
+}
+
+std::vector<Eigen::VectorXd> BoxStartsFrom(const geometry::ProjectiveCamera& left_camera,
+                                           const std::vector<cv::Point>& boundary, double depth) {
   const Eigen::Vector3d view_dir = left_camera.P().block<1, 3>(2, 0).transpose().normalized() *
                                    (left_camera.P().leftCols<3>().determinant() < 0 ? -1.0 : 1.0);
   int k;

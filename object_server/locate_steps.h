@@ -155,6 +155,15 @@ std::optional<Eigen::Vector3d> TriangulateMatch(const StereoPair& pair, const De
 cv::Rect RightRegion(const DepthSearch& search, const SsdMatch& match, int pad,
                      const cv::Rect& image);
 
+// Where the object's outline can lie, per view (FitView::region): in the left image the
+// marked region grown by boundary_grow_px, as the marks bound the object snugly (3.8); in
+// the right image what the rays through that region's corners meet between left-camera
+// depths near and far. Empty regions (no bound) when a point does not project.
+std::array<std::vector<Eigen::Vector2d>, 2> OutlineRegions(const MarkedRegion& marks,
+                                                           const StereoPair& pair, double near,
+                                                           double far,
+                                                           const LocateOptions& options);
+
 // 4. Starting models. A cylinder (3.8.1) from the boundary's smallest rotated rectangle: its
 // long side the axis, its short side the diameter at the matched depth (`depth`, of the front
 // surface). Its silhouette's ends lie beyond the cap centres by up to the radius, depending
@@ -174,8 +183,15 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
 // `depth` gives the two extents across the view; the one along the view starts as their
 // mean. That depth is the least seen (a side face's strip, a sliver of the top), so two more
 // starts take 0.4 and 1.8 times it.
+// With the left image's gradients, three more starts from the boundary between the block's
+// outermost vertical edges, when those lie inside it: a block under a pipe without the
+// pipe's ends.
 std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_camera,
-                                       const std::vector<cv::Point>& boundary, double depth);
+                                       const std::vector<cv::Point>& boundary, double depth,
+                                       const Gradients* gradients = nullptr);
+// The three starts from the given boundary pixels alone.
+std::vector<Eigen::VectorXd> BoxStartsFrom(const geometry::ProjectiveCamera& left_camera,
+                                           const std::vector<cv::Point>& boundary, double depth);
 // The fit's settings from the locator's, given the boundary's strongest gradient.
 FitOptions FitSettings(const LocateOptions& options, double strongest);
 // How well a fit explains both images: the views' RMS residuals plus twice the share of

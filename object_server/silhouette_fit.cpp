@@ -211,17 +211,40 @@ double SearchRange(int outer, double search_px) {
                       : std::max(1.5, 0.4 * search_px);
 }
 
+// How far along the normal from p (at most `range`) the search may go and stay inside the
+// region; below -range when even the innermost point is outside.
+static double OuterLimit(const std::vector<Eigen::Vector2d>& region, const Eigen::Vector2d& p,
+                         const Eigen::Vector2d& n, double range) {
+  if (region.empty()) return range;
+  for (double t = range; t >= -range; t -= 0.5)
+    if (SignedDistance(region, p + t * n) <= 0) return t;
+  return -range - 1;
+}
+
 std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int view,
-                                                const Gradients& gradients, double range,
+                                                const FitView& fv, double range,
                                                 const FitOptions& options, int* sampled) {
   const OutlineSamples samples = SampleOutline(outline);
   *sampled = static_cast<int>(samples.points.size());
   std::vector<Measurement> ms;
   for (size_t i = 0; i < samples.points.size(); ++i) {
+    // The search from -range to the region's border (EdgeAlongNormal searches either side
+    // of a centre): shifted by `mid`, half as wide as what is left.
+    const double limit = OuterLimit(fv.region, samples.points[i], samples.normals[i], range);
+    if (limit < 1 - range) continue;
+    const double mid = 0.5 * (limit - range), half = 0.5 * (limit + range);
     double s;
-    if (!EdgeAlongNormal(gradients, samples.points[i], samples.normals[i], range,
-                         options.min_gradient, &s))
+    if (!EdgeAlongNormal(*fv.gradients, samples.points[i] + mid * samples.normals[i],
+                         samples.normals[i], half, options.min_gradient, &s))
       continue;
+    s += mid;
+    // An edge running across the outline (a pipe's limb over a block's top) is not its edge.
+    if (options.max_edge_angle_deg < 90) {
+      const Eigen::Vector2d g = fv.gradients->At(samples.points[i] + s * samples.normals[i]);
+      if (std::abs(g.dot(samples.normals[i])) <
+          std::cos(options.max_edge_angle_deg * M_PI / 180) * g.norm())
+        continue;
+    }
     // Where the outline turns fast (a thin pipe's ends) the blur moves the edge most.
     const double k =
         std::min(samples.curvature[i], 1.0 / std::max(1e-9, 1.5 * options.edge_blur_px));
@@ -229,6 +252,13 @@ std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int 
     ms.push_back({view, samples.points[i] + s * samples.normals[i], samples.segment[i]});
   }
   return ms;
+}
+
+std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int view,
+                                                const Gradients& gradients, double range,
+                                                const FitOptions& options, int* sampled) {
+  return MeasureSilhouetteEdges(outline, view, FitView(nullptr, &gradients), range, options,
+                                sampled);
 }
 
 void MeasureInnerEdges(const std::vector<InnerEdge>& edges, const ViewOutline& o, int view,
@@ -497,7 +527,7 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
     ms.clear();
     for (int v = 0; v < 2; ++v) {
       const std::vector<Measurement> silhouette =
-          MeasureSilhouetteEdges(o[v], v, *views[v].gradients, range, options, &out.sampled[v]);
+          MeasureSilhouetteEdges(o[v], v, views[v], range, options, &out.sampled[v]);
       ms.insert(ms.end(), silhouette.begin(), silhouette.end());
       if (inner)
         MeasureInnerEdges(inner(x, views[v].camera->Center()), o[v], v, views[v], range,

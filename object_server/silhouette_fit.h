@@ -16,6 +16,7 @@
 #include <array>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/geometry/camera.h"
@@ -40,8 +41,16 @@ using InnerEdgesFn =
     std::function<std::vector<InnerEdge>(const Eigen::VectorXd& x, const Eigen::Vector3d& centre)>;
 
 struct FitView {
+  FitView() = default;
+  FitView(const geometry::ProjectiveCamera* c, const Gradients* g,
+          std::vector<Eigen::Vector2d> r = {})
+      : camera(c), gradients(g), region(std::move(r)) {}
   const geometry::ProjectiveCamera* camera = nullptr;
   const Gradients* gradients = nullptr;
+  // Where the object's outline can lie in this view (a convex polygon, counter-clockwise in
+  // u-v; empty: anywhere). The search for the outline's edge stops at its border: an edge
+  // beyond it is a neighbour's (a pipe resting on a block), however much outermost.
+  std::vector<Eigen::Vector2d> region;
 };
 
 struct FitOptions {
@@ -53,6 +62,9 @@ struct FitOptions {
   int outer_iterations = 5;
   int first_outer = 0;  // continuing an earlier fit: its passes already made
   int inner_iterations = 6;
+  // An edge whose gradient turns from the outline's normal by more than this (degrees) is
+  // not measured; 90: any.
+  double max_edge_angle_deg = 90;
   double huber_px = 0.5;
   double outlier_px = 2.0;  // measurements farther than this after a pass are dropped
   // The covariance: edge points one pixel apart do not err independently (blur, the same

@@ -57,7 +57,12 @@ double SearchRange(int outer, double search_px);
 // normal within `range` (EdgeAlongNormal). A blurred curved edge's gradient peak lies inside
 // the true outline by about blur^2 * curvature / 2 (a disc of radius R: sigma^2 / 2R), so each
 // measurement is moved back out by that much (options.edge_blur_px). `sampled` gets the
-// number of samples.
+// number of samples. The search stops at the view's region (FitView::region), and an edge
+// turning from the outline by more than options.max_edge_angle_deg is left out.
+std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int view,
+                                                const FitView& fit_view, double range,
+                                                const FitOptions& options, int* sampled);
+// The same with no region.
 std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int view,
                                                 const Gradients& gradients, double range,
                                                 const FitOptions& options, int* sampled);

@@ -105,14 +105,15 @@ int main(int argc, char** argv) {
           if (verbose)
             std::printf(
                 "%-18s %-11s %-7s d=%5.1f vis=%.2f %s r=%+.3f h=%+.3f pos=%.3f "
-                "size=(%+.2f %+.2f %+.2f) %s\n",
+                "size=(%+.2f %+.2f %+.2f) sd=(%.2f %.2f %.2f) %s\n",
                 e.scene_name.c_str(), e.object_name.c_str(), e.kind.c_str(), e.distance, e.visible,
                 e.wrong            ? "WRONG"
                 : e.result.found   ? "found"
                 : e.visible < 0.95 ? "refus"
                                    : "MISS ",
                 e.radius_signed, e.height_signed, e.position_error, e.size_signed.x(),
-                e.size_signed.y(), e.size_signed.z(),
+                e.size_signed.y(), e.size_signed.z(), e.result.box.size_sigma.x(),
+                e.result.box.size_sigma.y(), e.result.box.size_sigma.z(),
                 e.result.found ? ""
                                : (std::string(igms::object::FailureName(e.result.reason)) + ": " +
                                   e.result.detail)
