@@ -100,7 +100,7 @@ class Pair {
     co.tls = Tls(tls_, "control");
     auto c = std::make_unique<igms::net::Client>(client_io_, co);
     c->Start();
-    if (!c->WaitConnected(5s)) {
+    if (!c->WaitConnected(60s)) {  // long: under valgrind on a busy machine
       std::cerr << "bench: cannot connect\n";
       std::exit(1);
     }
