@@ -26,6 +26,7 @@
 #include <openssl/evp.h>
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <boost/asio.hpp>
@@ -202,22 +203,31 @@ double CpuSeconds() {
   return s(u.ru_utime) + s(u.ru_stime);
 }
 
-// AES-128-GCM (TLS's first choice) sealing 16 KB records on one core, MB/s.
+// This thread's processor time, in seconds: what AES-GCM costs whatever else the cores do.
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return t.tv_sec + t.tv_nsec / 1e9;
+}
+
+// AES-128-GCM (TLS's first choice) sealing 16 KB records, MB per second of processor time.
 double AesGcmMBps() {
   const unsigned char key[16] = {1}, iv[12] = {2};
   std::vector<unsigned char> in(16384, 'v'), out(16384 + 16);
   EVP_CIPHER_CTX* ctx = EVP_CIPHER_CTX_new();
   EVP_EncryptInit_ex(ctx, EVP_aes_128_gcm(), nullptr, key, iv);
   std::size_t bytes = 0;
-  const auto t0 = Clock::now();
-  while (Clock::now() - t0 < 300ms) {
-    int n = 0;
-    EVP_EncryptInit_ex(ctx, nullptr, nullptr, nullptr, iv);
-    EVP_EncryptUpdate(ctx, out.data(), &n, in.data(), static_cast<int>(in.size()));
-    EVP_EncryptFinal_ex(ctx, out.data() + n, &n);
-    bytes += in.size();
+  const double t0 = ThreadCpuSeconds();
+  while (ThreadCpuSeconds() - t0 < 0.3) {
+    for (int i = 0; i < 16; ++i) {
+      int n = 0;
+      EVP_EncryptInit_ex(ctx, nullptr, nullptr, nullptr, iv);
+      EVP_EncryptUpdate(ctx, out.data(), &n, in.data(), static_cast<int>(in.size()));
+      EVP_EncryptFinal_ex(ctx, out.data() + n, &n);
+      bytes += in.size();
+    }
   }
-  const double s = std::chrono::duration<double>(Clock::now() - t0).count();
+  const double s = ThreadCpuSeconds() - t0;
   EVP_CIPHER_CTX_free(ctx);
   return bytes / s / 1e6;
 }
@@ -303,7 +313,7 @@ int main(int argc, char** argv) {
     // Every byte encrypted once and decrypted once (about as fast), on top of plain's cost.
     const double aes = AesGcmMBps();
     const double plain_ms = Median(cpu_ms_per_mb[0]);
-    std::printf("%-34s %12.1f\n", "AES-128-GCM on one core, MB/s", aes);
+    std::printf("%-34s %12.1f\n", "AES-128-GCM, MB per processor s", aes);
     std::printf("%-34s %12.2f\n", "TLS/plain at best, shared cores",
                 plain_ms / (plain_ms + 2 * 1e3 / aes));
   }
