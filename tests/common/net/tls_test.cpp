@@ -289,12 +289,13 @@ TEST(Tls, BlockedAddressIsLoggedOnceAndReleasedAfterTheBlock) {
   }
   ClientOptions wrong = good;
   wrong.token = "guess";
+  // The block starts at the third failure, so not before this.
+  const auto blocked_at = std::chrono::steady_clock::now();
   {
     Client c(io.io(), wrong);
     c.Start();
     EXPECT_FALSE(Echo(c).ok());
   }
-  const auto blocked_at = std::chrono::steady_clock::now();
   // Blocked: even the good certificate and token are cut off, three times, and logged once.
   for (int i = 0; i < 3; ++i) {
     Client g(io.io(), good);
@@ -316,7 +317,9 @@ TEST(Tls, BlockedAddressIsLoggedOnceAndReleasedAfterTheBlock) {
         return served;
       },
       3000ms));
-  EXPECT_GE(std::chrono::steady_clock::now() - blocked_at, so.failures.block);
+  const auto blocked_for = std::chrono::steady_clock::now() - blocked_at;
+  EXPECT_GE(blocked_for, so.failures.block)
+      << std::chrono::duration_cast<std::chrono::milliseconds>(blocked_for).count() << " ms";
   // Released afresh: one more failure is a new burst (logged), not a new block.
   {
     Client c(io.io(), wrong);
