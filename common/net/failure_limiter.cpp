@@ -13,7 +13,10 @@ bool FailureLimiter::Fail(const std::string& address, Clock::time_point now) {
     }
   }
   Entry& e = entries_[address];
-  if (e.failures == 0 || now - e.window_start > options_.window) {
+  // A block that has ended leaves the address afresh: its next failure starts a new burst
+  // (logged), rather than blocking it again at once.
+  const bool block_over = e.failures >= options_.max_failures && now >= e.blocked_until;
+  if (e.failures == 0 || now - e.window_start > options_.window || block_over) {
     e.window_start = now;
     e.failures = 0;
   }

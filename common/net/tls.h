@@ -1,11 +1,14 @@
 // TLS 1.3 with mutual certificates for common/net (docs/security.md).
 //
 // TlsContext holds one side's settings: the lab's authority, this process's certificate and
-// key, TLS 1.3 only, peers verified. TlsStream runs OpenSSL over memory buffers beside an
+// key, TLS 1.3 only, peers verified. TlsStream runs OpenSSL over buffers of its own beside an
 // Asio socket, on the socket's strand: ciphertext goes to the socket in one write for
 // everything queued (a burst of small frames, or a 500 KB frame's many records), rather
 // than one system call per TLS record as Asio's ssl::stream makes; reads take up to
 // 256 KB of records at once on a busy connection (one record's room on an idle one).
+// The socket reads into the engine's input buffer and OpenSSL's records are appended to its
+// output string (a BIO of our own, not OpenSSL's memory BIOs): no copy of the ciphertext
+// in between, which on a 500 KB frame cost as much as the encryption.
 #pragma once
 
 #include <utility>
@@ -81,8 +84,16 @@ class TlsEngine {
   TlsEngine& operator=(const TlsEngine&) = delete;
 
   enum class Step { kDone, kWantRead, kFailed };
-  // Ciphertext from the peer.
+  // Ciphertext from the peer (a copy; the stream reads into InputRoom instead).
   void Feed(const char* data, std::size_t n);
+  // Room for at least n bytes of ciphertext, and its size; CommitInput(k) once k came.
+  // The room stays valid until the next InputRoom (reads between take only from before it).
+  char* InputRoom(std::size_t n);
+  std::size_t InputRoomSize() const { return in_capacity_ - in_end_; }
+  void CommitInput(std::size_t n);
+  // True when a Read may give plaintext without more ciphertext: whole or partial records
+  // are here, or decrypted bytes wait. False spares a call that would only want more.
+  bool HasBufferedInput() const;
   Step Handshake();
   // Decrypts into out; >0 bytes, 0 when it needs more ciphertext, -1 at the peer's
   // close_notify, -2 on an error (error()).
@@ -91,7 +102,11 @@ class TlsEngine {
   bool Write(const char* data, std::size_t n);
   // Moves the ciphertext to send into *out (appends); true when there was some.
   bool TakeOutput(std::string* out);
-  bool HasOutput() const;
+  bool HasOutput() const { return !sink_->empty(); }
+  // Records go straight onto the end of *sink from now on (the stream's write queue, so a
+  // large frame's ciphertext is written once and the strings keep their capacity);
+  // TakeOutput(sink) then only says whether there is some.
+  void SetOutput(std::string* sink) { sink_ = sink; }
   // Queues close_notify.
   void Close();
   // The peer certificate's CN once the handshake is done ("" without one).
@@ -104,10 +119,15 @@ class TlsEngine {
  private:
   void SetError(int ret, const char* during);
 
+  struct BioAccess;  // the BIO's callbacks
+
   std::shared_ptr<const TlsContext> context_;
   SSL* ssl_ = nullptr;
-  BIO* in_ = nullptr;   // from the peer
-  BIO* out_ = nullptr;  // to the peer
+  // From the peer: [in_begin_, in_end_) not yet taken by OpenSSL. Not zero-filled.
+  std::unique_ptr<char[]> in_;
+  std::size_t in_capacity_ = 0, in_begin_ = 0, in_end_ = 0;
+  std::string out_;  // to the peer, unless SetOutput named another string
+  std::string* sink_ = &out_;
   bool first_bytes_seen_ = false;
   bool plaintext_ = false;
   std::string error_;
@@ -152,7 +172,7 @@ class TlsStream : public std::enable_shared_from_this<TlsStream> {
   // caller's thread: the lock makes the two take turns (recursive: reads flush).
   std::recursive_mutex mutex_;
   TlsEngine engine_;
-  std::vector<char> cipher_in_;
+  std::size_t read_room_;           // one record's room when idle, growing while reads fill it
   std::string pending_;             // ciphertext not yet on the socket
   std::vector<Done> pending_done_;  // completions of the writes in pending_
   std::string flight_;              // ciphertext being written

@@ -4,6 +4,8 @@
 // limiter and reloading the certificates. The certificates are made here, in a scratch
 // folder, by common/certs.
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ringbuffer_sink.h>
+#include <spdlog/spdlog.h>
 
 #include <atomic>
 #include <boost/asio/ip/tcp.hpp>
@@ -249,6 +251,86 @@ TEST(Tls, RepeatedFailuresFromOneAddressAreRefusedForAWhile) {
   good.Start();
   auto r = Echo(good);
   EXPECT_FALSE(r.ok());
+}
+
+// The limiter on real connections: failed handshakes and tokens from 127.0.0.1 past the
+// limit, then every connection from there is closed before its handshake, the log says so
+// once for the whole burst, and the address is served again once the block has passed.
+TEST(Tls, BlockedAddressIsLoggedOnceAndReleasedAfterTheBlock) {
+  auto log = std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(5000);
+  spdlog::default_logger()->sinks().push_back(log);
+  struct Unhook {
+    ~Unhook() { spdlog::default_logger()->sinks().pop_back(); }
+  } unhook;
+  auto lines = [&](const std::string& what) {
+    int n = 0;
+    for (const auto& line : log->last_formatted()) n += line.find(what) != std::string::npos;
+    return n;
+  };
+  IoThread io;
+  ServerOptions so;
+  so.token = "s3cret";
+  so.failures.max_failures = 3;
+  so.failures.window = 5000ms;
+  so.failures.block = 400ms;
+  TlsServer s(io.io(), TheLab().As("video"), so);
+  ClientOptions good = To(s, TheLab().As("control"));
+  good.token = "s3cret";
+  {
+    Client g(io.io(), good);  // served before the burst
+    g.Start();
+    ASSERT_TRUE(Echo(g).ok());
+  }
+  // Two handshakes with another authority's certificate and one wrong token.
+  for (int i = 0; i < 2; ++i) {
+    Client c(io.io(), To(s, TheLab().Foreign("control")));
+    c.Start();
+    EXPECT_FALSE(Echo(c).ok());
+  }
+  ClientOptions wrong = good;
+  wrong.token = "guess";
+  // The block starts at the third failure, so not before this.
+  const auto blocked_at = std::chrono::steady_clock::now();
+  {
+    Client c(io.io(), wrong);
+    c.Start();
+    EXPECT_FALSE(Echo(c).ok());
+  }
+  // Blocked: even the good certificate and token are cut off, three times, and logged once.
+  for (int i = 0; i < 3; ++i) {
+    Client g(io.io(), good);
+    g.Start();
+    auto r = Echo(g);
+    EXPECT_FALSE(r.ok()) << "try " << i;
+  }
+  EXPECT_EQ(lines("refusing its connections"), 1);
+  EXPECT_EQ(lines("failed 3 times"), 1);
+  EXPECT_EQ(lines("video: refused 127.0.0.1"), 1);  // the burst's first failure; the rest quietly
+  // Released once the block has passed: a good client is served again.
+  bool served = false;
+  ASSERT_TRUE(igms::testing::WaitFor(
+      "the address to be released",
+      [&] {
+        Client g(io.io(), good);
+        g.Start();
+        served = Echo(g).ok();
+        return served;
+      },
+      3000ms));
+  const auto blocked_for = std::chrono::steady_clock::now() - blocked_at;
+  EXPECT_GE(blocked_for, so.failures.block)
+      << std::chrono::duration_cast<std::chrono::milliseconds>(blocked_for).count() << " ms";
+  // Released afresh: one more failure is a new burst (logged), not a new block.
+  {
+    Client c(io.io(), wrong);
+    c.Start();
+    EXPECT_FALSE(Echo(c).ok());
+  }
+  EXPECT_EQ(lines("video: refused 127.0.0.1"), 2);
+  Client g(io.io(), good);
+  g.Start();
+  EXPECT_TRUE(Echo(g).ok());
+  EXPECT_EQ(lines("refusing its connections"), 1);
 }
 
 TEST(Tls, FailureLimiterCountsPerAddressAndForgets) {
