@@ -190,6 +190,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
     request.set_pitch_ticks(e.ticks.pitch);
     request.set_roll_ticks(e.ticks.roll);
     request.set_steps_per_move(e.steps_per_move);
+    request.set_take_control(e.take_control);
     CallPeer<devices::SetOrientationResponse>(
         Peer::kPlatform, "SetOrientation", request, options.call_timeout,
         [this, call = e.call](net::Result<devices::SetOrientationResponse> r) {
