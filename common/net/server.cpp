@@ -317,7 +317,7 @@ Caller CallerOf(const std::weak_ptr<Session>& session) {
 
 std::string Caller::Describe() const {
   std::string who = name.empty() ? "an unnamed client" : name;
-  if (!certificate.empty()) who += " (certificate " + certificate + ")";
+  if (!certificate.empty() && certificate != name) who += " (certificate " + certificate + ")";
   return who + " at " + (address.empty() ? "an unknown address" : address);
 }
 

@@ -163,6 +163,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
     view.failure_detail = session->failure_detail();
     view.platform_target = session->platform_target();
     board.Publish(view);
+    if (options.view_published) options.view_published(view, NowNs());
   }
 
   void Note(spdlog::level::level_enum level, std::string text) {
