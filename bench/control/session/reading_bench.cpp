@@ -22,6 +22,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <mutex>
@@ -53,6 +54,8 @@ using igms::testing::LabOnLoopback;
 using igms::testing::TestClient;
 
 constexpr int64_t kHoldNs = 100'000'000;  // the session's button_hold_ns (its default)
+// The session's stick_dead_band: the FlyBox's 12-bit centre reads a hair off zero.
+constexpr double kDeadBand = 0.05;
 
 // A reading as a plain subscriber saw it: its stamp and when it arrived here.
 struct Seen {
@@ -240,6 +243,13 @@ int main(int argc, char** argv) {
       ++failed;
       break;
     }
+    if (std::getenv("BENCH_DEBUG")) {
+      const auto seen = viewer_seen.Since(from);
+      std::fprintf(stderr, "rep %d: %zu viewer readings, %zu views; buttons:", rep, seen.size(),
+                   views.Since(from).size());
+      for (const Seen& s : seen) std::fprintf(stderr, " %d", s.buttons);
+      std::fprintf(stderr, "\n");
+    }
     if (auto hold = HoldCompleted(viewer_seen.Since(from), 1)) {
       for (const Published& p : views.Since(from)) {
         if (p.mode == Mode::kVerification) continue;
@@ -258,13 +268,21 @@ int main(int argc, char** argv) {
     const auto pushed = joystick_seen.Since(from);
     std::optional<Seen> first, second;
     for (const Seen& s : pushed) {
-      if (s.x == 0) continue;
+      if (std::abs(s.x) < kDeadBand) continue;
       if (!first) {
         first = s;
       } else {
         second = s;
         break;
       }
+    }
+    if (std::getenv("BENCH_DEBUG")) {
+      for (const Seen& s : pushed)
+        std::fprintf(stderr, "  joy %lu x %.3f stamp %+.2f ms arrived %+.2f\n", s.sequence, s.x,
+                     (s.stamp_ns - from) / 1e6, (s.arrived_ns - from) / 1e6);
+      for (const Published& p : views.Since(from))
+        std::fprintf(stderr, "  view %+.2f ms moved %d\n", (p.at_ns - from) / 1e6,
+                     p.pointer != before);
     }
     if (first && second && second->sequence == first->sequence + 1) {
       for (const Published& p : views.Since(from)) {
@@ -278,7 +296,7 @@ int main(int argc, char** argv) {
     const int64_t zeroed = MonotonicNs();
     WaitUntil([&] {
       for (const Seen& s : joystick_seen.Since(zeroed))
-        if (s.x == 0) return true;
+        if (std::abs(s.x) < kDeadBand) return true;
       return false;
     });
     // Unfreeze: 11 held; back in verification.
