@@ -307,7 +307,35 @@ igms::Envelope MakeEnvelope(igms::Envelope::Kind kind, std::uint64_t correlation
   return net::MakeEnvelope(kind, correlation_id, method);
 }
 
+Caller CallerOf(const std::weak_ptr<Session>& session) {
+  auto s = session.lock();
+  if (!s) return Caller{session, "", "", ""};
+  return s->Describe();
+}
+
 }  // namespace detail
+
+std::string Caller::Describe() const {
+  std::string who = name.empty() ? "an unnamed client" : name;
+  if (!certificate.empty() && certificate != name) who += " (certificate " + certificate + ")";
+  return who + " at " + (address.empty() ? "an unknown address" : address);
+}
+
+bool Caller::connected() const {
+  auto s = session.lock();
+  return s && !s->closed();
+}
+
+bool Caller::SameConnection(const Caller& other) const {
+  return !session.owner_before(other.session) && !other.session.owner_before(session);
+}
+
+Caller Session::Describe() { return Caller{weak_from_this(), client_name_, endpoint_, peer_name_}; }
+
+bool Session::closed() {
+  std::lock_guard lock(mutex_);
+  return closed_;
+}
 
 Session::Session(tcp::socket socket, std::shared_ptr<Server::Impl> server)
     : socket_(std::move(socket)),
@@ -318,6 +346,7 @@ Session::Session(tcp::socket socket, std::shared_ptr<Server::Impl> server)
   const auto remote = socket_.remote_endpoint(ec);
   address_ = ec ? "unknown" : remote.address().to_string();
   peer_ = ec ? "unknown peer" : address_ + ":" + std::to_string(remote.port());
+  endpoint_ = peer_;
   socket_.set_option(tcp::no_delay(true), ec);
   if (auto context = server_->Tls()) tls_ = std::make_shared<TlsStream>(socket_, context, "");
 }
@@ -475,6 +504,7 @@ void Session::Dispatch(igms::Envelope& e, std::string_view payload) {
       return;
     }
     authenticated_ = true;
+    client_name_ = e.header().sender();
     return;
   }
   if (!authenticated_) {
@@ -489,6 +519,7 @@ void Session::Dispatch(igms::Envelope& e, std::string_view payload) {
       return;
     case igms::Envelope::REQUEST: {
       if (!Permitted(id, e.method())) return;
+      if (client_name_.empty()) client_name_ = e.header().sender();
       auto it = server_->methods.find(e.method());
       if (it == server_->methods.end()) {
         SendError(id, e.method(), igms::UNKNOWN_METHOD,

@@ -64,6 +64,21 @@ struct ServerOptions {
 
 class Session;
 
+// Who sent a request, for the few methods that must know (the platform's one controlling
+// client): its connection, the name it gave in its HELLO, its address and, with TLS, its
+// certificate's name. Holding one does not keep the connection open.
+struct Caller {
+  std::weak_ptr<Session> session;
+  std::string name;         // the HELLO's sender ("control", "igmsctl"); may be empty
+  std::string address;      // "127.0.0.1:40312"
+  std::string certificate;  // the certificate's name, with TLS; else empty
+  // For a person: "control at 127.0.0.1:40312", "igmsctl (certificate control) at ...".
+  std::string Describe() const;
+  // False once its connection has closed (or the server has stopped).
+  bool connected() const;
+  bool SameConnection(const Caller& other) const;
+};
+
 namespace detail {
 // Queues a frame on a session from any thread; false if the session is gone. A non-zero
 // latest_only_key replaces a queued, unwritten frame with the same key.
@@ -74,6 +89,7 @@ std::string Frame(const igms::Envelope& envelope);
 bool SubscriptionOpen(const std::weak_ptr<Session>& session, std::uint64_t id);
 igms::Envelope MakeEnvelope(igms::Envelope::Kind kind, std::uint64_t correlation_id,
                             const std::string& method);
+Caller CallerOf(const std::weak_ptr<Session>& session);
 }  // namespace detail
 
 // Answers one request, once, from any thread.
@@ -148,6 +164,22 @@ class Server {
                   return;
                 }
                 fn(req, Reply<Resp>(s, id, method));
+              });
+  }
+
+  // HandleAsync for a handler that must know who is calling.
+  template <class Req, class Resp>
+  void HandleAsyncFrom(const std::string& method,
+                       std::function<void(const Caller&, const Req&, Reply<Resp>)> fn) {
+    AddMethod(method,
+              [fn, method](std::string_view payload, std::weak_ptr<Session> s, std::uint64_t id) {
+                Req req;
+                if (!req.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
+                  Reply<Resp>(s, id, method)(
+                      Status::Error(igms::BAD_REQUEST, "payload is not a " + req.GetTypeName()));
+                  return;
+                }
+                fn(detail::CallerOf(s), req, Reply<Resp>(s, id, method));
               });
   }
 

@@ -29,6 +29,9 @@ class Session : public std::enable_shared_from_this<Session> {
   void Close(const std::string& reason);
   bool SubscriptionOpen(std::uint64_t id);
   const std::string& peer() const { return peer_; }
+  // On the session's thread (a handler called from Dispatch): who this client is.
+  Caller Describe();
+  bool closed();
 
  private:
   struct Outgoing {
@@ -58,7 +61,9 @@ class Session : public std::enable_shared_from_this<Session> {
   std::string peer_;
   std::string address_;  // the peer's address alone, for the failure limiter
   std::shared_ptr<TlsStream> tls_;
-  std::string peer_name_;  // the CN of the peer's certificate, with TLS
+  std::string peer_name_;    // the CN of the peer's certificate, with TLS
+  std::string endpoint_;     // "address:port", without the certificate's name
+  std::string client_name_;  // the sender its HELLO (or its first request) named
   bool first_read_ = true;
   ReadBuffer in_;
   bool authenticated_ = false;

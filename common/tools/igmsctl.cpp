@@ -140,6 +140,8 @@ int IgmsctlMain(int argc, char** argv) {
       "certs", po::value<std::string>(),
       "TLS with the certificates of this folder (else the lab file's lab.tls and lab.certs)")(
       "timeout", po::value<int>()->default_value(5000), "per-request timeout, ms")(
+      "take-control",
+      "call: set the request's take_control (the platform obeys one client at a time)")(
       "count,n", po::value<long>()->default_value(0), "subscribe: stop after N messages")(
       "duration", po::value<double>()->default_value(0), "subscribe: stop after S seconds")(
       "quiet,q", "subscribe: print only the summary")(
@@ -218,6 +220,15 @@ int IgmsctlMain(int argc, char** argv) {
     std::cerr << "igmsctl: the request is not a " << method->input_type()->full_name() << ": "
               << s.message() << "\n";
     return kExitUsage;
+  }
+  if (vm.count("take-control")) {
+    const pb::FieldDescriptor* take = request->GetDescriptor()->FindFieldByName("take_control");
+    if (!take || take->type() != pb::FieldDescriptor::TYPE_BOOL) {
+      std::cerr << "igmsctl: --take-control: a " << method->input_type()->full_name()
+                << " has no take_control\n";
+      return kExitUsage;
+    }
+    request->GetReflection()->SetBool(request.get(), take, true);
   }
 
   net::ClientOptions co;

@@ -168,6 +168,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
     view.failure_detail = session->failure_detail();
     view.platform_target = session->platform_target();
     board.Publish(view);
+    if (options.view_published) options.view_published(view, NowNs());
   }
 
   void Note(spdlog::level::level_enum level, std::string text) {
@@ -195,6 +196,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
     request.set_pitch_ticks(e.ticks.pitch);
     request.set_roll_ticks(e.ticks.roll);
     request.set_steps_per_move(e.steps_per_move);
+    request.set_take_control(e.take_control);
     CallPeer<devices::SetOrientationResponse>(
         Peer::kPlatform, "SetOrientation", request, options.call_timeout,
         [this, call = e.call](net::Result<devices::SetOrientationResponse> r) {

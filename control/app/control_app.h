@@ -54,6 +54,10 @@ struct ControlAppOptions {
   // Called on the network thread with the models present after each change the database
   // committed (and once at start): the exports. It must return quickly.
   std::function<void(std::vector<StoredModel>)> models_changed;
+  // Called on the network thread with every view as it is published, and the client's
+  // CLOCK_MONOTONIC then: for benchmarks that time a reading to the change it causes (the
+  // board keeps only the newest view). It must return quickly.
+  std::function<void(const SessionView&, int64_t now_ns)> view_published;
 
   bool Check(std::string* error) const;
 };

@@ -125,6 +125,8 @@ int main(int argc, char** argv) {
                         "the geometric database to write or continue (default: lab.database, "
                         "else the operator's data folder)")(
         "wait", po::bool_switch(), "wait for required peers instead of exiting 1")(
+        "take-control", po::bool_switch(),
+        "take control of the platform from the client holding it (one obeyed at a time)")(
         "script", po::value<std::string>(),
         "play this operator script, then exit (docs/scripts.md)")(
         "window", po::bool_switch(), "open the window (default: when a display is there)")(
@@ -164,6 +166,7 @@ int main(int argc, char** argv) {
     }
     options->calibration_hash = igms::calibration::CalibrationHash(*calibration);
     options->session.wait_for_peers = process->flags["wait"].as<bool>();
+    options->session.take_control = process->flags["take-control"].as<bool>();
     if (std::string problem; !options->Check(&problem)) {
       spdlog::critical("{}: {}", process->Key(""), problem);
       return igms::kExitUsage;

@@ -147,7 +147,8 @@ Session::Session(const SessionOptions& options, const calibration::StereoCalibra
       calibration_(calibration),
       to_platform_(to_platform),
       buttons_(options.button_hold_ns),
-      joystick_(options.stick_dead_band) {}
+      joystick_(options.stick_dead_band),
+      take_control_(options.take_control) {}
 
 Effects Session::Handle(const Event& event) {
   out_.clear();
@@ -286,6 +287,10 @@ void Session::On(const PeerDownEvent& e) {
     orientation_call_ = 0;
     pending_.reset();
     last_sent_.reset();
+    // The daemon may still count the lost connection as the holder (a half-dead one is
+    // noticed only at its idle timeout): the reconnected session takes control back.
+    if (in_control_) take_control_ = true;
+    in_control_ = false;
   }
 }
 
@@ -357,19 +362,34 @@ void Session::CommandPlatform(const PlatformTicks& ticks, bool force) {
   if (!force && last_sent_ && *last_sent_ == ticks) return;
   orientation_call_ = NextCall();
   last_sent_ = ticks;
-  out_.push_back(SetOrientationEffect{orientation_call_, ticks, options_.steps_per_move});
+  out_.push_back(
+      SetOrientationEffect{orientation_call_, ticks, options_.steps_per_move, take_control_});
 }
 
 void Session::On(const SetOrientationReply& e) {
   if (e.call == 0 || e.call != orientation_call_) return;
   orientation_call_ = 0;
-  if (e.error) {
+  if (e.error && e.error->code == PERMISSION_DENIED) {
+    // Another client controls the platform (or this one may not command it). Keep asking
+    // with each reading, so control comes back when that client lets go; never take it
+    // unasked.
+    last_sent_.reset();
+    in_control_ = false;
+    take_control_ = false;
+    if (!controlled_elsewhere_)
+      Notice(NoticeLevel::kError, "the platform does not obey this session: " + e.error->message);
+    controlled_elsewhere_ = true;
+  } else if (e.error) {
     last_sent_.reset();  // try again with the next reading
     if (!orientation_failing_)
       Notice(NoticeLevel::kWarning, "the platform refused an orientation: " + ErrorText(*e.error));
     orientation_failing_ = true;
   } else {
     orientation_failing_ = false;
+    in_control_ = true;
+    take_control_ = false;
+    if (controlled_elsewhere_) Notice(NoticeLevel::kInfo, "the platform obeys this session again");
+    controlled_elsewhere_ = false;
   }
   if (pending_) {
     const PlatformTicks next = *pending_;

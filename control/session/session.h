@@ -160,6 +160,12 @@ class Session {
   std::optional<PlatformTicks> pending_;    // the newest wanted while one is in flight
   bool orientation_failing_ = false;
   uint64_t platform_sequence_ = 0;
+  // The platform's one controlling client: whether this session holds control (its last
+  // command was obeyed), whether the next command takes it, and whether another client
+  // holds it (the operator has been told).
+  bool in_control_ = false;
+  bool take_control_ = false;
+  bool controlled_elsewhere_ = false;
 
   // Freeze.
   int64_t freeze_started_ns_ = 0;

@@ -38,6 +38,10 @@ struct SessionOptions {
 
   // Start: with a required peer missing, wait for it (--wait) instead of exiting 1.
   bool wait_for_peers = false;
+  // The platform obeys one client at a time: take control from whichever holds it with
+  // the first command (--take-control). Without it, a platform held by another client is
+  // not commanded until that client lets go, and the operator is told who holds it.
+  bool take_control = false;
 
   // False with `error` naming the setting when one is out of range.
   bool Check(std::string* error = nullptr) const;

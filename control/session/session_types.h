@@ -171,6 +171,7 @@ struct SetOrientationEffect {  // PlatformService.SetOrientation
   uint64_t call = 0;
   PlatformTicks ticks;
   uint32_t steps_per_move = 0;
+  bool take_control = false;  // take control of the platform from the client holding it
 };
 struct GrabEffect {  // VideoService.Grab
   uint64_t call = 0;

@@ -38,7 +38,9 @@ void PlatformDaemon::StopDevice() {
 }
 
 LinkStatus PlatformDaemon::DeviceStatus() const {
-  return driver_ ? driver_->status() : LinkStatus();
+  LinkStatus status = driver_ ? driver_->status() : LinkStatus();
+  status.set_controller(control_.Holder());
+  return status;
 }
 
 bool PlatformDaemon::InjectInput(const SimInjectRequest&, SimulatedDevice&, SimInjectResponse*,
@@ -51,9 +53,9 @@ void PlatformDaemon::RegisterMethods(net::Server& server) {
   const auto unavailable = [](net::Reply<SetOrientationResponse>& reply) {
     reply(net::Status::Error(igms::UNAVAILABLE, "the platform is being replayed, not driven"));
   };
-  server.HandleAsync<SetOrientationRequest, SetOrientationResponse>(
+  server.HandleAsyncFrom<SetOrientationRequest, SetOrientationResponse>(
       "igms.devices.PlatformService.SetOrientation",
-      [this, unavailable](const SetOrientationRequest& req,
+      [this, unavailable](const net::Caller& caller, const SetOrientationRequest& req,
                           net::Reply<SetOrientationResponse> reply) {
         if (!driver_) return unavailable(reply);
         if (req.steps_per_move() > molly::kMaxStepsPerMove) {
@@ -67,18 +69,25 @@ void PlatformDaemon::RegisterMethods(net::Server& server) {
               igms::BAD_REQUEST,
               "ticks out of the protocol's range (yaw +-1048575, pitch and roll +-8191)"));
         }
+        if (auto claim = control_.Claim(caller, req.take_control()); !claim.ok()) {
+          return reply(claim);
+        }
         driver_->SetOrientation(
             {req.yaw_ticks(), req.pitch_ticks(), req.roll_ticks()}, req.steps_per_move(),
             [reply](bool ok, const std::string& message) {
               reply(ok ? net::Status::Ok() : net::Status::Error(igms::UNAVAILABLE, message));
             });
       });
-  server.HandleAsync<ResetZeroRequest, ResetZeroResponse>(
+  server.HandleAsyncFrom<ResetZeroRequest, ResetZeroResponse>(
       "igms.devices.PlatformService.ResetZero",
-      [this](const ResetZeroRequest&, net::Reply<ResetZeroResponse> reply) {
+      [this](const net::Caller& caller, const ResetZeroRequest& req,
+             net::Reply<ResetZeroResponse> reply) {
         if (!driver_)
           return reply(
               net::Status::Error(igms::UNAVAILABLE, "the platform is being replayed, not driven"));
+        if (auto claim = control_.Claim(caller, req.take_control()); !claim.ok()) {
+          return reply(claim);
+        }
         driver_->ResetZero([reply](bool ok, const std::string& message) {
           reply(ok ? net::Status::Ok() : net::Status::Error(igms::UNAVAILABLE, message));
         });

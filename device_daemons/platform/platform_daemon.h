@@ -1,10 +1,12 @@
 // igms-platformd's body: the MOLLY driver (or its simulator, or a replay) behind
 // igms.devices.PlatformService (SetOrientation and ResetZero, answered once the platform
-// acknowledges; Live; Status) and igms.devices.SimService.Inject (faults only). See
+// acknowledges, from one controlling client at a time (platform_control.h); Live; Status,
+// which names that client) and igms.devices.SimService.Inject (faults only). See
 // daemon_base.h.
 #pragma once
 
 #include "device_daemons/platform/molly_sim.h"
+#include "device_daemons/platform/platform_control.h"
 #include "device_daemons/platform/platform_driver.h"
 #include "device_daemons/serial/daemon_base.h"
 
@@ -31,6 +33,7 @@ class PlatformDaemon : public DaemonBase<PlatformState> {
   MollySimOptions sim_options_;
   double poll_hz_;
   std::unique_ptr<PlatformDriver> driver_;
+  PlatformControl control_;
 };
 
 }  // namespace igms::devices

@@ -12,9 +12,11 @@
 #include "common/calibration/calibration_file.h"
 #include "common/calibration/calibration_hash.h"
 #include "control/database/geometric_database.h"
+#include "igms/devices.pb.h"
 #include "igms/object.pb.h"
 #include "tests/support/child_process.h"
 #include "tests/support/lab_on_loopback.h"
+#include "tests/support/wait_for.h"
 
 namespace igms::testing {
 namespace {
@@ -22,6 +24,25 @@ namespace {
 using namespace std::chrono_literals;
 
 Eigen::Vector3d V(const object::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+// Another client commanding the platform: refused while a session holds control.
+net::Status MoveAsIntruder(const LabOnLoopback& lab) {
+  TestClient intruder(lab.port("platform"), "intruder");
+  devices::SetOrientationRequest set;
+  set.set_yaw_ticks(1);
+  return intruder
+      ->CallSync<devices::SetOrientationResponse>("igms.devices.PlatformService.SetOrientation",
+                                                  set, 5s)
+      .status;
+}
+
+std::string PlatformController(const LabOnLoopback& lab) {
+  TestClient reader(lab.port("platform"), "reader");
+  return reader
+      ->CallSync<devices::LinkStatus>("igms.devices.PlatformService.Status",
+                                      devices::GetStatusRequest(), 5s)
+      .value.controller();
+}
 
 // The planner's script for these objects of the simulated site.
 std::string Plan(const LabOnLoopback& lab, const std::string& objects, const std::string& out) {
@@ -121,12 +142,31 @@ TEST(LabSession, KilledClientLosesNoModelAndTheNextContinuesItsDatabase) {
     ChildProcess control("igms-control", {"--config", lab.file(), "--database", db, "--script",
                                           dir.File("first.yaml")});
     ASSERT_TRUE(control.WaitForLog("stored in", 120s)) << control.Log();
+    // The session holds the platform: another client is refused, the holder named.
+    const net::Status refused = MoveAsIntruder(lab);
+    EXPECT_EQ(refused.code, igms::PERMISSION_DENIED) << refused.ToString();
+    EXPECT_NE(refused.message.find("controlled by control at 127.0.0.1:"), std::string::npos)
+        << refused.message;
     control.Kill();
     control.Wait();
   }
+  // The killed client's connection closed with it: the next session gets control, and
+  // gets it again from a platform daemon restarted under it.
   ChildProcess next("igms-control", {"--config", lab.file(), "--database", db, "--script",
                                      dir.File("second.yaml")});
+  ASSERT_TRUE(WaitFor(
+      "the next session in control",
+      [&] { return PlatformController(lab).starts_with("control at"); }, 60s))
+      << next.Log();
+  lab.Kill("platform");
+  ASSERT_TRUE(next.WaitForLog("lost platform (127.0.0.1:", 30s)) << next.Log();
+  ASSERT_TRUE(lab.Restart("platform")) << lab.error();
+  ASSERT_TRUE(WaitFor(
+      "control of the restarted platform",
+      [&] { return PlatformController(lab).starts_with("control at"); }, 60s))
+      << next.Log();
   ASSERT_EQ(next.Wait(180s), 0) << next.Log();
+  EXPECT_EQ(next.Log().find("does not obey this session"), std::string::npos) << next.Log();
 
   auto opened = control::GeometricDatabase::Open(db, {"lab_session_test", ""});
   ASSERT_TRUE(opened.ok()) << opened.error();

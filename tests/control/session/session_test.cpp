@@ -332,6 +332,61 @@ TEST_F(SessionTest, ARefusedOrientationIsSaidOnceAndTriedAgain) {
   EXPECT_TRUE(Notices(e).empty());
 }
 
+TEST_F(SessionTest, APlatformHeldByAnotherClientIsNotTakenUnasked) {
+  Start();
+  const auto first = All<SetOrientationEffect>(Viewer(1.0));
+  ASSERT_EQ(first.size(), 1u);
+  EXPECT_FALSE(first[0].take_control);
+  const std::string held = "the platform is controlled by igmsctl at 127.0.0.1:40000; ...";
+  Effects e = Send(SetOrientationReply{first[0].call, CallError{PERMISSION_DENIED, held}, now_});
+  EXPECT_NE(Notices(e).find("does not obey this session: " + held), std::string::npos)
+      << Notices(e);
+  // Asked again with the next reading, still without taking it, and said once.
+  const auto again = All<SetOrientationEffect>(Viewer(1.5));
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_FALSE(again[0].take_control);
+  e = Send(SetOrientationReply{again[0].call, CallError{PERMISSION_DENIED, held}, now_});
+  EXPECT_TRUE(Notices(e).empty());
+  // The other let go: obeyed again, and said so.
+  const auto obeyed = All<SetOrientationEffect>(Viewer(2.0));
+  ASSERT_EQ(obeyed.size(), 1u);
+  e = Send(SetOrientationReply{obeyed[0].call, {}, now_});
+  EXPECT_NE(Notices(e).find("obeys this session again"), std::string::npos) << Notices(e);
+  // Taken by another, then the link lost: the reconnected session does not take it back.
+  const auto taken = All<SetOrientationEffect>(Viewer(2.5));
+  ASSERT_EQ(taken.size(), 1u);
+  Send(SetOrientationReply{taken[0].call, CallError{PERMISSION_DENIED, held}, now_});
+  Send(PeerDownEvent{Peer::kPlatform, "connection reset", now_});
+  const auto back = All<SetOrientationEffect>(Send(PeerUpEvent{Peer::kPlatform, now_}));
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_FALSE(back[0].take_control);
+}
+
+TEST_F(SessionTest, TakeControlAtStartAndBackAfterItsOwnConnectionWasLost) {
+  SessionOptions options;
+  options.take_control = true;
+  Make(options);
+  Start();
+  const auto first = All<SetOrientationEffect>(Viewer(1.0));
+  ASSERT_EQ(first.size(), 1u);
+  EXPECT_TRUE(first[0].take_control);
+  Send(SetOrientationReply{first[0].call, {}, now_});
+  const auto next = All<SetOrientationEffect>(Viewer(2.0));
+  ASSERT_EQ(next.size(), 1u);
+  EXPECT_FALSE(next[0].take_control);  // held now: nothing to take
+  Send(SetOrientationReply{next[0].call, {}, now_});
+  // Its connection lost while in control: the daemon may still count the dead connection
+  // as the holder, so the command after reconnecting takes control back.
+  Send(PeerDownEvent{Peer::kPlatform, "connection reset", now_});
+  const auto back = All<SetOrientationEffect>(Send(PeerUpEvent{Peer::kPlatform, now_}));
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_TRUE(back[0].take_control);
+  Send(SetOrientationReply{back[0].call, {}, now_});
+  const auto after = All<SetOrientationEffect>(Viewer(3.0));
+  ASSERT_EQ(after.size(), 1u);
+  EXPECT_FALSE(after[0].take_control);
+}
+
 // ---- freeze ----
 
 TEST_F(SessionTest, FreezeByButtonsWaitsForThePlatformToStopThenGrabs) {
