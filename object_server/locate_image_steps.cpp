@@ -253,7 +253,7 @@ std::optional<Eigen::Vector3d> TriangulateMidpoint(const geometry::ProjectiveCam
   options.pixel_sigma = 0;
   const auto t = geometry::Triangulate(left_camera.P(), right_camera.P(), left_pixel, right_pixel,
                                        geometry::TriangulationMethod::kMidpoint, options);
-  if (!t) return std::nullopt;
+  if (!t.ok()) return std::nullopt;
   return t->point;
 }
 

@@ -17,11 +17,11 @@ namespace sound = igms::sound;
 
 int Run(int argc, char** argv) {
   int exit_code = 0;
+  sound::ServerSettings settings;
   auto process = igms::config::ParseProcessOptions(
       argc, argv, "sound", "igms-sound-server: plays the lab's sounds and spoken messages",
-      sound::SoundFlags(), sound::SoundKeys(), &exit_code);
+      sound::SoundFlags(), sound::SoundKeys(&settings), &exit_code);
   if (!process) return exit_code;
-  sound::ServerSettings settings;
   if (std::string error =
           sound::ReadSettings(*process, std::filesystem::canonical("/proc/self/exe"), settings);
       !error.empty()) {

@@ -12,29 +12,31 @@ po::options_description SoundFlags() {
       "output", po::value<std::string>(), "default, null or wave")(
       "device", po::value<std::string>(), "OpenAL device name for the default output")(
       "wave-file", po::value<std::string>(), "where the wave output writes")(
-      "wave-rate", po::value<int>(), "Hz of the null and wave outputs (22050)")(
-      "period-frames", po::value<int>(), "mixing period of the null and wave outputs (256)")(
+      "wave-rate", po::value<int>(), "Hz of the null and wave outputs")(
+      "period-frames", po::value<int>(), "mixing period of the null and wave outputs")(
       "fallback", po::value<std::string>(), "none, null or wave: when no device opens")(
-      "cue-sources", po::value<int>(), "sources for cues (4)")(
-      "speech-queue", po::value<int>(), "messages that may wait (16)")("volume", po::value<float>(),
-                                                                       "master volume 0..1 (1)");
+      "cue-sources", po::value<int>(), "sources for cues")(
+      "speech-queue", po::value<int>(), "messages that may wait")("volume", po::value<float>(),
+                                                                  "master volume 0..1");
   return flags;
 }
 
-config::Keys SoundKeys() {
+config::Keys SoundKeys(ServerSettings* s) {
   using config::KeyType;
   config::Keys keys = net::ServerKeys();
+  // Read by ReadSettings: paths resolve beside the lab file, and YAML's null is a word here.
   keys.Path("bank", "the bank's manifest.yaml (default: share/igms/sounds beside the program)");
-  keys.Choice("output", {"default", "null", "wave"}, "default", "where the sound goes");
-  keys.Add("device", KeyType::kString, "", "OpenAL device name for the default output");
+  keys.Choice("output", {"default", "null", "wave"}, s->output.output, "where the sound goes");
+  keys.Bind("device", &s->output.device, "OpenAL device name for the default output", "device");
   keys.Add("wave_file", KeyType::kOutputPath, "", "where the wave output writes");
-  keys.Add("wave_rate", KeyType::kInt, "22050", "Hz of the null and wave outputs");
-  keys.Add("period_frames", KeyType::kInt, "256", "mixing period of the null and wave outputs");
-  keys.Choice("fallback", {"none", "null", "wave"}, "none",
+  keys.Bind("wave_rate", &s->output.wave_rate, "Hz of the null and wave outputs", "wave-rate");
+  keys.Bind("period_frames", &s->output.period_frames, "mixing period of the null and wave outputs",
+            "period-frames");
+  keys.Choice("fallback", {"none", "null", "wave"}, s->output.fallback,
               "used when the default device cannot be opened");
-  keys.Add("cue_sources", KeyType::kInt, "4", "sources for cues");
-  keys.Add("speech_queue", KeyType::kInt, "16", "messages that may wait");
-  keys.Add("volume", KeyType::kNumber, "1", "master volume 0..1");
+  keys.Bind("cue_sources", &s->engine.cue_sources, "sources for cues", "cue-sources");
+  keys.Bind("speech_queue", &s->speech_queue, "messages that may wait", "speech-queue");
+  keys.Bind("volume", &s->engine.master_volume, "master volume 0..1", "volume");
   return keys;
 }
 
@@ -69,20 +71,14 @@ std::string ReadSettings(const config::ProcessOptions& p, const std::filesystem:
   } else {
     s.manifest = p.flags.count("bank") ? bank : p.config.ResolvePath(bank);
   }
-  s.output.output = Mode(p, "output", "output", "default");
-  s.output.device = Setting<std::string>(p, "device", "device", "");
+  s.output.output = Mode(p, "output", "output", s.output.output);
   s.output.wave_file = Setting<std::string>(p, "wave-file", "wave_file", "");
   if (!s.output.wave_file.empty() && !p.flags.count("wave-file")) {
     s.output.wave_file = p.config.ResolvePath(s.output.wave_file);
   }
-  s.output.wave_rate = Setting<int>(p, "wave-rate", "wave_rate", 22050);
-  s.output.period_frames = Setting<int>(p, "period-frames", "period_frames", 256);
-  s.output.fallback = Mode(p, "fallback", "fallback", "none");
-  s.engine.cue_sources = Setting<int>(p, "cue-sources", "cue_sources", 4);
-  const int queue = Setting<int>(p, "speech-queue", "speech_queue", 16);
-  if (queue < 1) return "the speech queue must hold at least 1 message";
-  s.engine.speech_queue_limit = static_cast<size_t>(queue);
-  s.engine.master_volume = Setting<float>(p, "volume", "volume", 1.0f);
+  s.output.fallback = Mode(p, "fallback", "fallback", s.output.fallback);
+  if (s.speech_queue < 1) return "the speech queue must hold at least 1 message";
+  s.engine.speech_queue_limit = static_cast<size_t>(s.speech_queue);
   std::string error;
   if (!s.output.Check(&error) || !s.engine.Check(&error)) return error;
   return "";

@@ -50,9 +50,9 @@ int main(int argc, char** argv) {
         return igms::kExitUsage;
       }
     }
-    auto overlay = igms::video::LoadOverlaySettings(options.overlay_path, &error);
-    if (!overlay) {
-      spdlog::critical("{}", error);
+    auto overlay = igms::video::LoadOverlaySettings(options.overlay_path);
+    if (!overlay.ok()) {
+      spdlog::critical("{}", overlay.error());
       return igms::kExitUsage;
     }
     error.clear();

@@ -20,7 +20,7 @@ bool Overlay::Check(std::string* error) const {
   return true;
 }
 
-std::optional<Overlay> LoadOverlaySettings(const std::string& path, std::string* error) {
+Result<Overlay> LoadOverlaySettings(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return Overlay{};
   Overlay settings;
@@ -31,12 +31,10 @@ std::optional<Overlay> LoadOverlaySettings(const std::string& path, std::string*
     settings.v_offset_px = root["v_offset_px"].as<int>(settings.v_offset_px);
     settings.key_level = root["key_level"].as<int>(settings.key_level);
   } catch (const YAML::Exception& e) {
-    if (error) *error = "overlay settings file " + path + " does not parse: " + e.what();
-    return std::nullopt;
+    return ErrorMessage{"overlay settings file " + path + " does not parse: " + e.what()};
   }
   if (std::string problem; !settings.Check(&problem)) {
-    if (error) *error = "overlay settings file " + path + ": " + problem;
-    return std::nullopt;
+    return ErrorMessage{"overlay settings file " + path + ": " + problem};
   }
   return settings;
 }

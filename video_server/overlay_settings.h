@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include "common/base/result.h"
+
 namespace igms::video {
 
 struct Overlay {
@@ -23,8 +25,8 @@ struct Overlay {
 };
 
 // Reads settings from `path`. A missing file gives the defaults (first start); a file that
-// exists but does not parse or holds invalid values gives nullopt with `error` set.
-std::optional<Overlay> LoadOverlaySettings(const std::string& path, std::string* error);
+// exists but does not parse or holds invalid values is an error.
+Result<Overlay> LoadOverlaySettings(const std::string& path);
 
 // Writes settings to `path` atomically (a temporary file renamed over it), so a crash never
 // leaves half a file. False with `error` set when the folder is not writable.

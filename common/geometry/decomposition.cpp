@@ -36,8 +36,9 @@ Eigen::Matrix3d ThesisRotation(double theta, double phi, double psi) {
   return Rp * Rf * Rt;
 }
 
-std::optional<ThesisDecomposition> DecomposeThesis(const Matrix34& P, std::string* error) {
-  if (!CheckP(P, error)) return std::nullopt;
+Result<ThesisDecomposition> DecomposeThesis(const Matrix34& P) {
+  std::string error;
+  if (!CheckP(P, &error)) return ErrorMessage{error};
   const Eigen::Matrix3d M = P.leftCols<3>();
   const Eigen::Vector3d m1 = M.row(0), m2 = M.row(1), m3 = M.row(2);
   ThesisDecomposition d;
@@ -85,8 +86,9 @@ Matrix34 ComposeThesis(const ThesisDecomposition& d) {
   return C;
 }
 
-std::optional<RqDecomposition> DecomposeRq(const Matrix34& P_in, std::string* error) {
-  if (!CheckP(P_in, error)) return std::nullopt;
+Result<RqDecomposition> DecomposeRq(const Matrix34& P_in) {
+  std::string error;
+  if (!CheckP(P_in, &error)) return ErrorMessage{error};
   Matrix34 P = P_in;
   if (P.leftCols<3>().determinant() < 0) P = -P;
   const Eigen::Matrix3d M = P.leftCols<3>();

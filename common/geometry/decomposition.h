@@ -30,9 +30,9 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <optional>
 #include <string>
 
+#include "common/base/result.h"
 #include "common/geometry/camera.h"
 
 namespace igms::geometry {
@@ -49,8 +49,8 @@ struct ThesisDecomposition {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();   // R_psi R_phi R_theta
 };
 
-// nullopt with `error` when P is not finite or its left 3x3 block is singular.
-std::optional<ThesisDecomposition> DecomposeThesis(const Matrix34& P, std::string* error = nullptr);
+// An error when P is not finite or its left 3x3 block is singular.
+Result<ThesisDecomposition> DecomposeThesis(const Matrix34& P);
 
 // lambda I W from the parts (skew ignored), scaled so that C(2,3) = 1 when C(2,3) is not
 // near zero. Compose(Decompose(C)) == C for a skew-free C.
@@ -70,7 +70,7 @@ struct RqDecomposition {
   double skew() const { return K(0, 1); }
 };
 
-// nullopt with `error` when P is not finite or its left 3x3 block is singular.
-std::optional<RqDecomposition> DecomposeRq(const Matrix34& P, std::string* error = nullptr);
+// An error when P is not finite or its left 3x3 block is singular.
+Result<RqDecomposition> DecomposeRq(const Matrix34& P);
 
 }  // namespace igms::geometry

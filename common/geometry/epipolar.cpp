@@ -52,36 +52,30 @@ std::optional<Eigen::Vector2d> Epipole(const Matrix34& from, const Matrix34& to)
   return ProjectiveCamera(to, {}).Project(c);
 }
 
-std::optional<EpipolarSegment> ComputeEpipolarSegment(const ProjectiveCamera& from,
-                                                      const ProjectiveCamera& to,
-                                                      const Eigen::Vector2d& pixel,
-                                                      double depth_min, double depth_max,
-                                                      std::string* error) {
+Result<EpipolarSegment> ComputeEpipolarSegment(const ProjectiveCamera& from,
+                                               const ProjectiveCamera& to,
+                                               const Eigen::Vector2d& pixel, double depth_min,
+                                               double depth_max) {
   if (!std::isfinite(depth_min) || !std::isfinite(depth_max) || !pixel.allFinite()) {
-    Fail(error, "depth window and pixel must be finite");
-    return std::nullopt;
+    return ErrorMessage{"depth window and pixel must be finite"};
   }
   if (!(depth_min > 0) || !(depth_max >= depth_min)) {
-    Fail(error, "depth window must satisfy 0 < depth_min <= depth_max");
-    return std::nullopt;
+    return ErrorMessage{"depth window must satisfy 0 < depth_min <= depth_max"};
   }
   const auto near_world = PointAtDepth(from, pixel, depth_min);
   const auto far_world = PointAtDepth(from, pixel, depth_max);
   if (!near_world || !far_world) {
-    Fail(error, "the pixel's ray is parallel to the camera's focal plane");
-    return std::nullopt;
+    return ErrorMessage{"the pixel's ray is parallel to the camera's focal plane"};
   }
   // Depth along a line is affine in the line parameter, so checking both ends covers the
   // whole window.
   if (!(to.Depth(*near_world) > 0) || !(to.Depth(*far_world) > 0)) {
-    Fail(error, "part of the depth window lies behind the other camera");
-    return std::nullopt;
+    return ErrorMessage{"part of the depth window lies behind the other camera"};
   }
   const auto near = to.Project(*near_world);
   const auto far = to.Project(*far_world);
   if (!near || !far) {
-    Fail(error, "the depth window projects to infinity in the other camera");
-    return std::nullopt;
+    return ErrorMessage{"the depth window projects to infinity in the other camera"};
   }
   return EpipolarSegment{*near, *far, *near_world, *far_world};
 }

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include "common/base/result.h"
 #include "common/geometry/camera.h"
 
 namespace igms::geometry {
@@ -42,14 +43,13 @@ struct EpipolarSegment {
 
 // The part of pixel's epipolar line in `to` that holds the images of the points of pixel's
 // ray (in `from`) whose depth along from's optical axis lies in [depth_min, depth_max].
-// Ideal pixels. Fails (nullopt, with `error` set) when the window is empty or not finite,
+// Ideal pixels. Fails (with the reason) when the window is empty or not finite,
 // when depth_min is not positive, when the ray is parallel to from's focal plane, or when a
 // point of the window lies on or behind to's focal plane (its image would wrap through
 // infinity).
-std::optional<EpipolarSegment> ComputeEpipolarSegment(const ProjectiveCamera& from,
-                                                      const ProjectiveCamera& to,
-                                                      const Eigen::Vector2d& pixel,
-                                                      double depth_min, double depth_max,
-                                                      std::string* error = nullptr);
+Result<EpipolarSegment> ComputeEpipolarSegment(const ProjectiveCamera& from,
+                                               const ProjectiveCamera& to,
+                                               const Eigen::Vector2d& pixel, double depth_min,
+                                               double depth_max);
 
 }  // namespace igms::geometry

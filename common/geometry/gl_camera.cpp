@@ -7,18 +7,15 @@
 
 namespace igms::geometry {
 
-std::optional<GlCamera> MakeGlCamera(const Matrix34& P, ImageSize size, double near, double far,
-                                     std::string* error) {
+Result<GlCamera> MakeGlCamera(const Matrix34& P, ImageSize size, double near, double far) {
   if (size.width <= 0 || size.height <= 0) {
-    if (error) *error = "image size must be positive";
-    return std::nullopt;
+    return ErrorMessage{"image size must be positive"};
   }
   if (!(near > 0) || !(far > near) || !std::isfinite(far)) {
-    if (error) *error = "clipping planes must satisfy 0 < near < far";
-    return std::nullopt;
+    return ErrorMessage{"clipping planes must satisfy 0 < near < far"};
   }
-  const auto rq = DecomposeRq(P, error);
-  if (!rq) return std::nullopt;
+  const auto rq = DecomposeRq(P);
+  if (!rq.ok()) return ErrorMessage{rq.error()};
   const double W = size.width, H = size.height;
   GlCamera gl;
   // OpenCV's camera frame (x right, y down, z forward) to OpenGL's eye frame.

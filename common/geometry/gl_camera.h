@@ -20,6 +20,7 @@
 #include <optional>
 #include <string>
 
+#include "common/base/result.h"
 #include "common/geometry/camera.h"
 
 namespace igms::geometry {
@@ -34,10 +35,8 @@ struct GlCamera {
   Eigen::Vector2d principal_offset = Eigen::Vector2d::Zero();
 };
 
-// nullopt with `error` when P is degenerate, the size is not positive, or not
-// 0 < near < far.
-std::optional<GlCamera> MakeGlCamera(const Matrix34& P, ImageSize size, double near, double far,
-                                     std::string* error = nullptr);
+// An error when P is degenerate, the size is not positive, or not 0 < near < far.
+Result<GlCamera> MakeGlCamera(const Matrix34& P, ImageSize size, double near, double far);
 
 // Where OpenGL draws a world point with these matrices, in IGMS pixels (the inverse of the
 // viewport mapping above); nullopt behind the eye. For tests and overlays checks.

@@ -129,30 +129,26 @@ bool TriangulationOptions::Check(std::string* error) const {
   return true;
 }
 
-std::optional<Triangulation> Triangulate(const Matrix34& left, const Matrix34& right,
-                                         const Eigen::Vector2d& left_pixel,
-                                         const Eigen::Vector2d& right_pixel,
-                                         TriangulationMethod method,
-                                         const TriangulationOptions& options, std::string* error) {
-  if (!options.Check(error)) return std::nullopt;
+Result<Triangulation> Triangulate(const Matrix34& left, const Matrix34& right,
+                                  const Eigen::Vector2d& left_pixel,
+                                  const Eigen::Vector2d& right_pixel, TriangulationMethod method,
+                                  const TriangulationOptions& options) {
+  if (std::string why; !options.Check(&why)) return ErrorMessage{why};
   if (!left.allFinite() || !right.allFinite() || !left_pixel.allFinite() ||
       !right_pixel.allFinite()) {
-    Fail(error, "triangulation input is not finite");
-    return std::nullopt;
+    return ErrorMessage{"triangulation input is not finite"};
   }
   const Pixels x(left_pixel.x(), left_pixel.y(), right_pixel.x(), right_pixel.y());
   auto point = Solve(left, right, x, method, options.max_iterations);
   if (!point || !point->allFinite()) {
-    Fail(error, "the two rays are parallel: no finite intersection");
-    return std::nullopt;
+    return ErrorMessage{"the two rays are parallel: no finite intersection"};
   }
   Triangulation t;
   t.point = *point;
   t.left_depth = ProjectiveCamera(left, {}).Depth(t.point);
   t.right_depth = ProjectiveCamera(right, {}).Depth(t.point);
   if (!(t.left_depth > 0) || !(t.right_depth > 0)) {
-    Fail(error, "the triangulated point lies behind a camera");
-    return std::nullopt;
+    return ErrorMessage{"the triangulated point lies behind a camera"};
   }
   const Eigen::Vector4d r = Residuals(left, right, x, t.point);
   t.left_residual = r.head<2>();
@@ -167,8 +163,7 @@ std::optional<Triangulation> Triangulate(const Matrix34& left, const Matrix34& r
     } else {
       auto cov = PropagatedCovariance(left, right, x, method, options);
       if (!cov) {
-        Fail(error, "covariance undefined: the rays are nearly parallel");
-        return std::nullopt;
+        return ErrorMessage{"covariance undefined: the rays are nearly parallel"};
       }
       t.covariance = *cov;
     }

@@ -24,6 +24,7 @@
 #include <optional>
 #include <string>
 
+#include "common/base/result.h"
 #include "common/geometry/camera.h"
 
 namespace igms::geometry {
@@ -57,15 +58,13 @@ struct Triangulation {
 };
 
 // Triangulates the world point seen at ideal pixel `left_pixel` in `left` and `right_pixel`
-// in `right`. Fails (nullopt, `error` set) when an input is not finite, the options are bad,
+// in `right`. Fails (with the reason) when an input is not finite, the options are bad,
 // the rays are parallel (no baseline, or a point at infinity), or the point lands behind
 // either camera. Pixels far off the epipolar constraint still triangulate; their residuals
 // say how far off they were.
-std::optional<Triangulation> Triangulate(const Matrix34& left, const Matrix34& right,
-                                         const Eigen::Vector2d& left_pixel,
-                                         const Eigen::Vector2d& right_pixel,
-                                         TriangulationMethod method,
-                                         const TriangulationOptions& options = {},
-                                         std::string* error = nullptr);
+Result<Triangulation> Triangulate(const Matrix34& left, const Matrix34& right,
+                                  const Eigen::Vector2d& left_pixel,
+                                  const Eigen::Vector2d& right_pixel, TriangulationMethod method,
+                                  const TriangulationOptions& options = {});
 
 }  // namespace igms::geometry

@@ -45,7 +45,7 @@ RoundingFit ClosestWithinRounding(const ThesisCamera& camera) {
         C(2, 1) += b * kStep;
         C(2, 2) += c * kStep;
         const auto d = geometry::DecomposeThesis(C);
-        if (!d) continue;
+        if (!d.ok()) continue;
         const auto v = AsPrinted(*d);
         double cost = 0;
         // Relative mismatch, with a floor so that near-zero angles still count.

@@ -22,12 +22,11 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <utility>
-#include <variant>
 #include <vector>
 
+#include "common/base/result.h"
 #include "igms/object.pb.h"
 #include "igms/video.pb.h"
 
@@ -52,33 +51,19 @@ struct DatabaseError {
   std::string message;
 };
 
-// A value, or the error that stopped it.
+// igms::Result with the code that callers and tests switch on (a second writer refused as
+// kInUse, ...).
 template <class T>
-class [[nodiscard]] DatabaseResult {
+class [[nodiscard]] DatabaseResult : public Result<T> {
  public:
-  DatabaseResult(T value) : state_(std::in_place_index<0>, std::move(value)) {}
-  DatabaseResult(DatabaseError error) : state_(std::in_place_index<1>, std::move(error)) {}
-
-  bool ok() const { return state_.index() == 0; }
-  // The value; asking a failed result for it is a programmer error (std::logic_error).
-  T& value() & { return Checked(*this); }
-  const T& value() const& { return Checked(*this); }
-  T&& value() && { return std::move(Checked(*this)); }
-  T& operator*() & { return value(); }
-  const T& operator*() const& { return value(); }
-  T* operator->() { return &value(); }
-  const T* operator->() const { return &value(); }
-  // Empty when ok.
-  const std::string& error() const;
+  DatabaseResult(T value) : Result<T>(std::move(value)) {}
+  DatabaseResult(DatabaseError error)
+      : Result<T>(ErrorMessage{std::move(error.message)}), code_(error.code) {}
   // Meaningful only when !ok().
-  DatabaseErrorCode code() const { return ok() ? DatabaseErrorCode::kStorage : Err().code; }
+  DatabaseErrorCode code() const { return code_; }
 
  private:
-  const DatabaseError& Err() const { return std::get<1>(state_); }
-  template <class Self>
-  static auto& Checked(Self& self);
-
-  std::variant<T, DatabaseError> state_;
+  DatabaseErrorCode code_ = DatabaseErrorCode::kStorage;
 };
 
 // A server the model came through, as its Ping and --version give it.
@@ -226,18 +211,5 @@ class GeometricDatabase {
   std::unique_ptr<Impl> impl_;
   std::int64_t session_id_ = 0;
 };
-
-template <class T>
-const std::string& DatabaseResult<T>::error() const {
-  static const std::string kNone;
-  return ok() ? kNone : Err().message;
-}
-
-template <class T>
-template <class Self>
-auto& DatabaseResult<T>::Checked(Self& self) {
-  if (!self.ok()) throw std::logic_error("DatabaseResult::value() of an error: " + self.error());
-  return std::get<0>(self.state_);
-}
 
 }  // namespace igms::control

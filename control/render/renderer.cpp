@@ -308,7 +308,7 @@ struct Renderer::Impl {
 
   void DrawGraphics(const DrawList& list, const EyeView& eye, int segments) {
     auto gl = geometry::MakeGlCamera(eye.P, eye.size, list.near, list.far);
-    if (!gl) return;  // no camera (a zero P before the calibration): video alone
+    if (!gl.ok()) return;  // no camera (a zero P before the calibration): video alone
     const Eigen::Matrix4f mvp = (gl->projection * gl->view).cast<float>();
     const geometry::ProjectiveCamera camera(eye.P, eye.size);
     const Eigen::Vector3d center = camera.Center();

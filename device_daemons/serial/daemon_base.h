@@ -45,8 +45,8 @@ class DaemonBase {
       hub_.Record(std::move(writer));
     }
     if (options_.source == SourceKind::kReplay) {
-      auto recording = LoadRecording(options_.replay_file, error);
-      if (!recording) return false;
+      auto recording = LoadRecording(options_.replay_file);
+      if (!recording.ok()) return Fail(error, recording.error());
       if (recording->header.device() != device_) {
         *error = options_.replay_file + " records a " + recording->header.device() + ", not a " +
                  device_;

@@ -70,12 +70,9 @@ bool RecordingWriter::Append(const Reading& reading) {
   return pbu::SerializeDelimitedToOstream(reading, &out_) && out_.flush();
 }
 
-std::optional<Recording> LoadRecording(const std::string& path, std::string* error) {
+Result<Recording> LoadRecording(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    *error = "cannot open recording " + path;
-    return std::nullopt;
-  }
+  if (fd < 0) return ErrorMessage{"cannot open recording " + path};
   Recording rec;
   {
     google::protobuf::io::FileInputStream in(fd);
@@ -83,16 +80,15 @@ std::optional<Recording> LoadRecording(const std::string& path, std::string* err
     if (!pbu::ParseDelimitedFromZeroCopyStream(&rec.header, &in, &eof) ||
         rec.header.device().empty()) {
       ::close(fd);
-      *error = path + " is not a device recording (no header)";
-      return std::nullopt;
+      return ErrorMessage{path + " is not a device recording (no header)"};
     }
     while (true) {
       Reading reading;
       if (!pbu::ParseDelimitedFromZeroCopyStream(&reading, &in, &eof)) break;  // end or torn tail
       if (reading.device_case() == Reading::DEVICE_NOT_SET) {
         ::close(fd);
-        *error = path + ": reading " + std::to_string(rec.readings.size() + 1) + " holds no device";
-        return std::nullopt;
+        return ErrorMessage{path + ": reading " + std::to_string(rec.readings.size() + 1) +
+                            " holds no device"};
       }
       rec.readings.push_back(std::move(reading));
     }

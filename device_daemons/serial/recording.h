@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/base/result.h"
 #include "igms/devices.pb.h"
 
 namespace igms::devices {
@@ -41,7 +42,7 @@ struct Recording {
 
 // Reads a whole recording. A truncated last record is dropped with no error (a recorder
 // killed mid-write); anything else malformed is an error with a message.
-std::optional<Recording> LoadRecording(const std::string& path, std::string* error);
+Result<Recording> LoadRecording(const std::string& path);
 
 // Plays a recording on its own thread, calling on_reading for each one.
 class Replayer {

@@ -33,9 +33,9 @@ std::unique_ptr<SimulatedDevice> ViewerDaemon::MakeSimulator(std::string* error)
     }
     std::stringstream text;
     text << in.rdbuf();
-    auto path = ParseViewerPath(text.str(), error);
-    if (!path) {
-      *error = viewer_.path_file + ": " + *error;
+    auto path = ParseViewerPath(text.str());
+    if (!path.ok()) {
+      *error = viewer_.path_file + ": " + path.error();
       return nullptr;
     }
     sim->SetPath(std::move(*path));

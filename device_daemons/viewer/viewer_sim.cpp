@@ -6,8 +6,7 @@
 
 namespace igms::devices {
 
-std::optional<std::vector<ViewerKeyframe>> ParseViewerPath(const std::string& text,
-                                                           std::string* error) {
+Result<std::vector<ViewerKeyframe>> ParseViewerPath(const std::string& text) {
   std::vector<ViewerKeyframe> path;
   std::istringstream in(text);
   std::string line;
@@ -19,31 +18,28 @@ std::optional<std::vector<ViewerKeyframe>> ParseViewerPath(const std::string& te
     ViewerKeyframe k;
     if (!(fields >> k.t_s)) {
       if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-      *error = "path line " + std::to_string(number) + ": expected a time";
-      return std::nullopt;
+      return ErrorMessage{"path line " + std::to_string(number) + ": expected a time"};
     }
     boom::Pose& p = k.pose;
     if (!(fields >> p.x_m >> p.y_m >> p.z_m >> p.yaw_deg >> p.pitch_deg >> p.roll_deg)) {
-      *error = "path line " + std::to_string(number) + ": expected t x y z yaw pitch roll";
-      return std::nullopt;
+      return ErrorMessage{"path line " + std::to_string(number) +
+                          ": expected t x y z yaw pitch roll"};
     }
     int buttons = 0;
     if (fields >> buttons && (buttons < 0 || buttons > 3)) {
-      *error = "path line " + std::to_string(number) + ": buttons must be 0..3";
-      return std::nullopt;
+      return ErrorMessage{"path line " + std::to_string(number) + ": buttons must be 0..3"};
     }
     p.left = buttons & 2;
     p.right = buttons & 1;
     if (!std::isfinite(k.t_s) || (!path.empty() && k.t_s <= path.back().t_s) ||
         (path.empty() && k.t_s != 0)) {
-      *error = "path line " + std::to_string(number) + ": times must start at 0 and increase";
-      return std::nullopt;
+      return ErrorMessage{"path line " + std::to_string(number) +
+                          ": times must start at 0 and increase"};
     }
     path.push_back(k);
   }
   if (path.empty()) {
-    *error = "path has no keyframes";
-    return std::nullopt;
+    return ErrorMessage{"path has no keyframes"};
   }
   return path;
 }

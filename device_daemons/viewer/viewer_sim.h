@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/result.h"
 #include "device_daemons/serial/pty_host.h"
 #include "device_daemons/viewer/boom_protocol.h"
 #include "device_daemons/viewer/pose_tracker.h"
@@ -28,9 +29,8 @@ struct ViewerKeyframe {
   boom::Pose pose;
 };
 
-// Parses a path file's text. nullopt with a message naming the line on error.
-std::optional<std::vector<ViewerKeyframe>> ParseViewerPath(const std::string& text,
-                                                           std::string* error);
+// Parses a path file's text. An error with a message naming the line.
+Result<std::vector<ViewerKeyframe>> ParseViewerPath(const std::string& text);
 // The pose at time t_s (looping over the path's duration).
 boom::Pose PoseAt(const std::vector<ViewerKeyframe>& path, double t_s);
 

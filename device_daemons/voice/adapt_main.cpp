@@ -48,10 +48,9 @@ std::optional<std::vector<AdaptationUtterance>> ReadList(const std::string& path
       spdlog::error("{}:{}: expected a sound file, a tab and what was said", path, line_number);
       return std::nullopt;
     }
-    std::string error;
-    auto audio = LoadSoundFile(line.substr(0, tab), &error);
-    if (!audio) {
-      spdlog::error("{}:{}: {}", path, line_number, error);
+    auto audio = LoadSoundFile(line.substr(0, tab));
+    if (!audio.ok()) {
+      spdlog::error("{}:{}: {}", path, line_number, audio.error());
       return std::nullopt;
     }
     out.push_back({std::move(*audio), line.substr(tab + 1)});
@@ -116,10 +115,12 @@ std::optional<std::vector<AdaptationUtterance>> Espeak(const std::vector<std::st
     }
     voices.push_back(voice);
   }
-  std::string error;
-  auto out = SynthesizeEnrolment(voices, &error, prompts);
-  if (!out) spdlog::error("{}", error);
-  return out;
+  auto out = SynthesizeEnrolment(voices, prompts);
+  if (!out.ok()) {
+    spdlog::error("{}", out.error());
+    return std::nullopt;
+  }
+  return std::move(*out);
 }
 
 }  // namespace

@@ -102,9 +102,8 @@ std::string WriteFeatures(const std::vector<AdaptationUtterance>& utterances,
 // commands' own ("unfreeze" is not in the CMU dictionary).
 std::string WriteDictionary(const std::vector<AdaptationUtterance>& utterances,
                             const std::string& model_dir, const fs::path& path) {
-  std::string error;
-  auto entries = LoadDictionary(model_dir + "/cmudict-en-us.dict", &error);
-  if (!entries) return error;
+  auto entries = LoadDictionary(model_dir + "/cmudict-en-us.dict");
+  if (!entries.ok()) return entries.error();
   std::map<std::string, std::vector<std::string>> phones;
   for (const Pronunciation& p : *entries) phones.emplace(p.word, p.phones);
   for (const Pronunciation& p : CommandPronunciations()) phones.emplace(p.word, p.phones);

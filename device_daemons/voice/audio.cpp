@@ -10,10 +10,9 @@
 
 namespace igms::voice {
 
-std::optional<Audio> LoadSoundFile(const std::string& path, std::string* error, int target_rate) {
-  auto fail = [&](const std::string& why) -> std::optional<Audio> {
-    if (error) *error = path + ": " + why;
-    return std::nullopt;
+Result<Audio> LoadSoundFile(const std::string& path, int target_rate) {
+  auto fail = [&](const std::string& why) -> Result<Audio> {
+    return ErrorMessage{path + ": " + why};
   };
   SF_INFO info{};
   SNDFILE* file = sf_open(path.c_str(), SFM_READ, &info);

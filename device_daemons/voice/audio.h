@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "common/base/result.h"
+
 namespace igms::voice {
 
 inline constexpr int kModelSampleRate = 16000;
@@ -23,10 +25,9 @@ struct Audio {
   }
 };
 
-// Reads a sound file and returns it as mono at `target_rate` Hz. nullopt, with *error set,
-// when the file is missing, unreadable, empty or has a rate outside 1 kHz..384 kHz.
-std::optional<Audio> LoadSoundFile(const std::string& path, std::string* error,
-                                   int target_rate = kModelSampleRate);
+// Reads a sound file and returns it as mono at `target_rate` Hz. An error when the file is
+// missing, unreadable, empty or has a rate outside 1 kHz..384 kHz.
+Result<Audio> LoadSoundFile(const std::string& path, int target_rate = kModelSampleRate);
 
 // Band-limited resampling (windowed sinc, cut off at 0.45 of the lower rate). Returns the
 // input unchanged when the rates are equal; an empty vector for empty input. Rates must be

@@ -57,10 +57,9 @@ int RunFiles(Recognizer& recognizer, const std::vector<std::string>& items, bool
       recognizer.SetState(*state);
       continue;
     }
-    std::string error;
-    const auto audio = LoadSoundFile(item, &error);
-    if (!audio) {
-      spdlog::error("{}", error);
+    const auto audio = LoadSoundFile(item);
+    if (!audio.ok()) {
+      spdlog::error("{}", audio.error());
       ++failures;
       continue;
     }

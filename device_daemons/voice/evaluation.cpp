@@ -231,13 +231,11 @@ std::string EvaluationReport::Sweep(const std::vector<double>& thresholds) const
   return out.str();
 }
 
-std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
-                                         const std::vector<CorpusItem>& corpus,
-                                         std::string* error) {
+Result<EvaluationReport> Evaluate(Recognizer& recognizer, const std::vector<CorpusItem>& corpus) {
   EvaluationReport report;
   for (const CorpusItem& item : corpus) {
-    std::optional<Audio> audio = Synthesize(item.speech, error);
-    if (!audio) return std::nullopt;
+    Result<Audio> audio = Synthesize(item.speech);
+    if (!audio.ok()) return ErrorMessage{audio.error()};
     recognizer.SetState(item.state);
     ItemResult result{item, recognizer.Recognize(audio->samples), false};
     report.decode_ms.push_back(result.recognition.decode_ms);
@@ -255,46 +253,42 @@ std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
   return report;
 }
 
-std::optional<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
-    const std::vector<Voice>& voices, std::string* error, const std::vector<std::string>& prompts) {
+Result<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
+    const std::vector<Voice>& voices, const std::vector<std::string>& prompts) {
   std::vector<AdaptationUtterance> out;
   for (const Voice& voice : voices) {
     for (const std::string& prompt : prompts) {
-      auto audio = Synthesize(voice.Say(prompt), error);
-      if (!audio) return std::nullopt;
+      auto audio = Synthesize(voice.Say(prompt));
+      if (!audio.ok()) return ErrorMessage{audio.error()};
       out.push_back({std::move(*audio), prompt});
     }
   }
   return out;
 }
 
-std::optional<EvaluationReport> EvaluateEnrolled(const std::vector<Voice>& voices,
-                                                 const std::vector<std::string>& out_of_vocabulary,
-                                                 int enrolment_wpm,
-                                                 const RecognizerOptions& options,
-                                                 const std::string& work_dir, std::string* error) {
+Result<EvaluationReport> EvaluateEnrolled(const std::vector<Voice>& voices,
+                                          const std::vector<std::string>& out_of_vocabulary,
+                                          int enrolment_wpm, const RecognizerOptions& options,
+                                          const std::string& work_dir) {
   EvaluationReport all;
   for (const Voice& voice : voices) {
     Voice enrolling = voice;
     enrolling.words_per_minute = enrolment_wpm;
-    auto enrolment = SynthesizeEnrolment({enrolling}, error);
-    if (!enrolment) return std::nullopt;
+    auto enrolment = SynthesizeEnrolment({enrolling});
+    if (!enrolment.ok()) return ErrorMessage{enrolment.error()};
     AdaptationOptions adaptation;
     adaptation.model_dir = options.model_dir;
     adaptation.out_dir = (std::filesystem::path(work_dir) / ("enrolled-" + voice.name)).string();
     const AdaptationReport adapted = AdaptModel(*enrolment, adaptation);
-    if (!adapted.ok()) {
-      if (error) *error = "adapting to " + voice.name + ": " + adapted.error;
-      return std::nullopt;
-    }
+    if (!adapted.ok()) return ErrorMessage{"adapting to " + voice.name + ": " + adapted.error};
     RecognizerOptions enrolled = options;
     enrolled.model_dir = adaptation.out_dir;
-    auto recognizer = Recognizer::Create(enrolled, error);
-    std::optional<EvaluationReport> report;
-    if (recognizer)
-      report = Evaluate(*recognizer, BuildCorpus({voice}, out_of_vocabulary, 1), error);
+    std::string error;
+    auto recognizer = Recognizer::Create(enrolled, &error);
+    Result<EvaluationReport> report = ErrorMessage{error};
+    if (recognizer) report = Evaluate(*recognizer, BuildCorpus({voice}, out_of_vocabulary, 1));
     std::filesystem::remove_all(adaptation.out_dir);
-    if (!report) return std::nullopt;
+    if (!report.ok()) return report;
     all.Append(*report);
   }
   return all;

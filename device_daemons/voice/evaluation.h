@@ -89,26 +89,23 @@ struct EvaluationReport {
 };
 
 // Synthesises and decodes every item; the recogniser's state is set before each item and
-// its own prediction does not carry over. nullopt, with *error set, when espeak-ng fails.
-std::optional<EvaluationReport> Evaluate(Recognizer& recognizer,
-                                         const std::vector<CorpusItem>& corpus, std::string* error);
+// its own prediction does not carry over. An error when espeak-ng fails.
+Result<EvaluationReport> Evaluate(Recognizer& recognizer, const std::vector<CorpusItem>& corpus);
 
 // Synthetic enrolment: every prompt (by default the enrolment prompts, adaptation.h) said in
 // each of `voices`, for adapting the model to espeak-ng's speech as an operator's enrolment
-// adapts it to theirs. nullopt, with *error set, when espeak-ng fails.
-std::optional<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
-    const std::vector<Voice>& voices, std::string* error,
-    const std::vector<std::string>& prompts = EnrolmentPrompts());
+// adapts it to theirs. An error when espeak-ng fails.
+Result<std::vector<AdaptationUtterance>> SynthesizeEnrolment(
+    const std::vector<Voice>& voices, const std::vector<std::string>& prompts = EnrolmentPrompts());
 
 // Each voice as an enrolled operator: the enrolment prompts said in that voice at
 // `enrolment_wpm` adapt options.model_dir (AdaptModel, into a folder under `work_dir`), then
 // that voice's commands and out-of-vocabulary words (BuildCorpus with every word) are
 // decoded with `options` and the adapted model in place of options.model_dir. One report
-// for all the voices; nullopt, with *error set, when synthesis or adaptation fails.
-std::optional<EvaluationReport> EvaluateEnrolled(const std::vector<Voice>& voices,
-                                                 const std::vector<std::string>& out_of_vocabulary,
-                                                 int enrolment_wpm,
-                                                 const RecognizerOptions& options,
-                                                 const std::string& work_dir, std::string* error);
+// for all the voices; an error when synthesis, adaptation or the recogniser fails.
+Result<EvaluationReport> EvaluateEnrolled(const std::vector<Voice>& voices,
+                                          const std::vector<std::string>& out_of_vocabulary,
+                                          int enrolment_wpm, const RecognizerOptions& options,
+                                          const std::string& work_dir);
 
 }  // namespace igms::voice

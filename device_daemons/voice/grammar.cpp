@@ -114,13 +114,9 @@ std::string PhoneToken(std::string_view phone) {
 
 bool IsPhoneToken(std::string_view token) { return token.starts_with("ph_"); }
 
-std::optional<std::vector<Pronunciation>> LoadDictionary(const std::string& path,
-                                                         std::string* error) {
+Result<std::vector<Pronunciation>> LoadDictionary(const std::string& path) {
   std::ifstream in(path);
-  if (!in) {
-    if (error) *error = "cannot read the pronouncing dictionary " + path;
-    return std::nullopt;
-  }
+  if (!in) return ErrorMessage{"cannot read the pronouncing dictionary " + path};
   std::vector<Pronunciation> out;
   for (std::string line; std::getline(in, line);) {
     std::vector<std::string> fields = Split(line);
@@ -140,8 +136,7 @@ std::optional<std::vector<Pronunciation>> LoadDictionary(const std::string& path
     out.push_back(std::move(entry));
   }
   if (out.empty()) {
-    if (error) *error = "the pronouncing dictionary " + path + " holds no usable entry";
-    return std::nullopt;
+    return ErrorMessage{"the pronouncing dictionary " + path + " holds no usable entry"};
   }
   return out;
 }

@@ -27,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include "common/base/result.h"
 #include "device_daemons/voice/command_language.h"
 
 namespace igms::voice {
@@ -55,10 +56,9 @@ std::string PhoneToken(std::string_view phone);
 bool IsPhoneToken(std::string_view token);
 
 // Reads a CMU-format pronouncing dictionary ("word  PH1 PH2 ...", alternates written
-// "word(2)" are skipped, words with characters other than a-z are skipped). nullopt, with
-// *error set, when the file cannot be read or holds no entry.
-std::optional<std::vector<Pronunciation>> LoadDictionary(const std::string& path,
-                                                         std::string* error);
+// "word(2)" are skipped, words with characters other than a-z are skipped). An error when
+// the file cannot be read or holds no entry.
+Result<std::vector<Pronunciation>> LoadDictionary(const std::string& path);
 
 // Levenshtein distance between two phone sequences (insertions, deletions and
 // substitutions all cost 1).

@@ -113,8 +113,8 @@ struct Recognizer::Impl {
     err_set_logfp(nullptr);
     const std::string hmm = options.model_dir + "/en-us";
     const std::string dict = options.model_dir + "/cmudict-en-us.dict";
-    auto words = LoadDictionary(dict, error);
-    if (!words) return false;
+    auto words = LoadDictionary(dict);
+    if (!words.ok()) return Fail(error, words.error());
     // Beams narrower than pocketsphinx's defaults (1e-48, 7e-29, 1e-48): speech far from
     // every command then more often finds no path at all (tuned on the tuning voices).
     std::vector<std::string> args = {"-hmm",         hmm,    "-dict", dict,    "-bestpath", "no",

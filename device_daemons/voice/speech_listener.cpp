@@ -35,8 +35,11 @@ std::unique_ptr<SpeechListener> SpeechListener::Start(const SpeechListenerOption
   if (!options.Check(error)) return nullptr;
   std::unique_ptr<SpeechListener> l(new SpeechListener(options, std::move(on_reading)));
   for (const std::string& file : options.files) {
-    auto audio = LoadSoundFile(file, error);
-    if (!audio) return nullptr;
+    auto audio = LoadSoundFile(file);
+    if (!audio.ok()) {
+      Fail(error, audio.error());
+      return nullptr;
+    }
     l->file_audio_.push_back(std::move(audio->samples));
   }
   // The microphone first: a missing one is reported at once, not after the model loads.
@@ -188,9 +191,9 @@ void SpeechListener::Decode(Utterance u) {
     SpeechRequest request;
     request.text = u.say;
     request.voice = options_.voice;
-    std::string error;
-    auto audio = Synthesize(request, &error);
-    if (!audio) {
+    auto audio = Synthesize(request);
+    if (!audio.ok()) {
+      const std::string& error = audio.error();
       spdlog::error("voice: cannot speak \"{}\": {}", u.say, error);
       {
         std::lock_guard lock(mutex_);

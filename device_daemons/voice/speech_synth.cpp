@@ -93,29 +93,25 @@ bool SpeechRequest::Check(std::string* error) const {
   return true;
 }
 
-std::optional<Audio> Synthesize(const SpeechRequest& request, std::string* error) {
-  if (!request.Check(error)) return std::nullopt;
+Result<Audio> Synthesize(const SpeechRequest& request) {
+  std::string error;
+  if (!request.Check(&error)) return ErrorMessage{error};
   std::string path = (std::filesystem::temp_directory_path() / "igms-speech-XXXXXX.wav").string();
   const int fd = mkstemps(path.data(), 4);
   if (fd < 0) {
-    if (error) *error = "cannot create a temporary file for espeak-ng";
-    return std::nullopt;
+    return ErrorMessage{"cannot create a temporary file for espeak-ng"};
   }
   close(fd);
-  if (request.synthesizer == Synthesizer::kFlite && !FliteHasVoice(request.voice, path, error)) {
+  if (request.synthesizer == Synthesizer::kFlite && !FliteHasVoice(request.voice, path, &error)) {
     std::filesystem::remove(path);
-    return std::nullopt;
+    return ErrorMessage{error};
   }
   const std::string failure = RunProgram(SynthesizerCommand(request, path));
-  std::optional<Audio> audio;
-  if (failure.empty()) {
-    audio = LoadSoundFile(path, error);
-  } else if (error) {
-    *error = std::string(SynthesizerName(request.synthesizer)) + " failed for voice " +
-             request.voice + ": " + failure;
-  }
+  Result<Audio> audio = ErrorMessage{std::string(SynthesizerName(request.synthesizer)) +
+                                     " failed for voice " + request.voice + ": " + failure};
+  if (failure.empty()) audio = LoadSoundFile(path);
   std::filesystem::remove(path);
-  if (!audio) return std::nullopt;
+  if (!audio.ok()) return audio;
   const auto lead = static_cast<size_t>(request.leading_silence_s * audio->sample_rate);
   const auto trail = static_cast<size_t>(request.trailing_silence_s * audio->sample_rate);
   audio->samples.insert(audio->samples.begin(), lead, 0);

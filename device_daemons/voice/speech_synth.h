@@ -32,9 +32,9 @@ struct SpeechRequest {
 };
 
 // Runs the synthesiser (found on PATH) into a private temporary file and returns the
-// utterance as 16 kHz mono. nullopt, with *error set, when the request is invalid, the
+// utterance as 16 kHz mono. An error when the request is invalid, the
 // synthesiser is missing or fails. The text and voice are passed as arguments, never
 // through a shell.
-std::optional<Audio> Synthesize(const SpeechRequest& request, std::string* error);
+Result<Audio> Synthesize(const SpeechRequest& request);
 
 }  // namespace igms::voice

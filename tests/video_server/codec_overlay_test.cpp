@@ -69,8 +69,8 @@ class OverlayFile : public ::testing::Test {
 
 TEST_F(OverlayFile, MissingFileGivesDefaultsAndSettingsSurviveARestart) {
   std::string error;
-  auto initial = LoadOverlaySettings(path_, &error);
-  ASSERT_TRUE(initial) << error;
+  auto initial = LoadOverlaySettings(path_);
+  ASSERT_TRUE(initial.ok()) << initial.error();
   EXPECT_EQ(*initial, Overlay{});
   EXPECT_EQ(initial->key_level, 60);
   {
@@ -78,8 +78,8 @@ TEST_F(OverlayFile, MissingFileGivesDefaultsAndSettingsSurviveARestart) {
     ASSERT_TRUE(store.Set({12, -7, 90}, &error)) << error;
     EXPECT_EQ(store.Get(), (Overlay{12, -7, 90}));
   }
-  auto reloaded = LoadOverlaySettings(path_, &error);
-  ASSERT_TRUE(reloaded) << error;
+  auto reloaded = LoadOverlaySettings(path_);
+  ASSERT_TRUE(reloaded.ok()) << reloaded.error();
   EXPECT_EQ(*reloaded, (Overlay{12, -7, 90}));
 }
 
@@ -91,17 +91,18 @@ TEST_F(OverlayFile, InvalidValuesAreRefusedAndChangeNothing) {
   EXPECT_NE(error.find("key level"), std::string::npos);
   EXPECT_FALSE(store.Set({99999, 2, 3}, &error));
   EXPECT_EQ(store.Get(), (Overlay{1, 2, 3}));
-  EXPECT_EQ(*LoadOverlaySettings(path_, &error), (Overlay{1, 2, 3}));
+  EXPECT_EQ(*LoadOverlaySettings(path_), (Overlay{1, 2, 3}));
 }
 
 TEST_F(OverlayFile, CorruptFileIsAClearError) {
   std::ofstream(path_) << "u_offset_px: [not, a, number\n";
-  std::string error;
-  EXPECT_FALSE(LoadOverlaySettings(path_, &error));
-  EXPECT_NE(error.find(path_), std::string::npos) << error;
+  const auto corrupt = LoadOverlaySettings(path_);
+  EXPECT_FALSE(corrupt.ok());
+  EXPECT_NE(corrupt.error().find(path_), std::string::npos) << corrupt.error();
   std::ofstream(path_) << "key_level: 1000\n";
-  EXPECT_FALSE(LoadOverlaySettings(path_, &error));
-  EXPECT_NE(error.find("key level"), std::string::npos) << error;
+  const auto out_of_range = LoadOverlaySettings(path_);
+  EXPECT_FALSE(out_of_range.ok());
+  EXPECT_NE(out_of_range.error().find("key level"), std::string::npos) << out_of_range.error();
 }
 
 TEST_F(OverlayFile, UnwritableFolderIsAnErrorAndKeepsTheOldSettings) {

@@ -51,9 +51,9 @@ bool Run(const std::string& title, const RecognizerOptions& options,
       std::cout << recognizer->VerificationGrammarText().substr(0, 2000) << " ... ("
                 << recognizer->filler_count() << " common words)\n";
   }
-  const auto report = Evaluate(*recognizer, BuildCorpus(voices, words, per_word), &error);
-  if (!report) {
-    std::cerr << error << "\n";
+  const auto report = Evaluate(*recognizer, BuildCorpus(voices, words, per_word));
+  if (!report.ok()) {
+    std::cerr << report.error() << "\n";
     return false;
   }
   std::cout << "== " << title << " (" << recognizer->decoy_count() << " decoys)\n"
@@ -79,10 +79,9 @@ bool RunEnrolled(const RecognizerOptions& options, const std::vector<EnrolledSet
       std::filesystem::temp_directory_path() / ("bench_voice_enrolled_" + std::to_string(getpid()));
   bool ok = true;
   for (const EnrolledSet& set : sets) {
-    std::string error;
-    const auto report = EvaluateEnrolled(set.voices, set.words, 175, options, work, &error);
-    if (!report) {
-      std::cerr << error << "\n";
+    const auto report = EvaluateEnrolled(set.voices, set.words, 175, options, work);
+    if (!report.ok()) {
+      std::cerr << report.error() << "\n";
       ok = false;
       continue;
     }

@@ -203,12 +203,20 @@ int Chessboard(int argc, const char* const argv[], std::ostream& out, std::ostre
 
 // --- decompose ------------------------------------------------------------------------
 
-std::string DecompositionJson(const geometry::Matrix34& P, geometry::ImageSize size) {
+// The message of the first failed result (the graphics camera's first: it also checks the
+// image size).
+template <class... R>
+std::string FirstError(const R&... results) {
   std::string why;
-  const auto t = geometry::DecomposeThesis(P, &why);
-  const auto rq = geometry::DecomposeRq(P, &why);
-  const auto gl = geometry::MakeGlCamera(P, size, 1.0, 1000.0, &why);
-  if (!t || !rq || !gl) throw BadInput(why);
+  ((why.empty() && !results.ok() ? why = results.error() : why), ...);
+  return why;
+}
+
+std::string DecompositionJson(const geometry::Matrix34& P, geometry::ImageSize size) {
+  const auto t = geometry::DecomposeThesis(P);
+  const auto rq = geometry::DecomposeRq(P);
+  const auto gl = geometry::MakeGlCamera(P, size, 1.0, 1000.0);
+  if (!t.ok() || !rq.ok() || !gl.ok()) throw BadInput(FirstError(gl, rq, t));
   constexpr double kDeg = 180.0 / M_PI;
   return Json::Object()
       .Add("thesis", Json::Object()
@@ -242,11 +250,10 @@ std::string DecompositionJson(const geometry::Matrix34& P, geometry::ImageSize s
 
 void DecompositionText(const std::string& side, const geometry::Matrix34& P,
                        geometry::ImageSize size, std::ostream& out) {
-  std::string why;
-  const auto t = geometry::DecomposeThesis(P, &why);
-  const auto rq = geometry::DecomposeRq(P, &why);
-  const auto gl = geometry::MakeGlCamera(P, size, 1.0, 1000.0, &why);
-  if (!t || !rq || !gl) throw BadInput(side + ".P: " + why);
+  const auto t = geometry::DecomposeThesis(P);
+  const auto rq = geometry::DecomposeRq(P);
+  const auto gl = geometry::MakeGlCamera(P, size, 1.0, 1000.0);
+  if (!t.ok() || !rq.ok() || !gl.ok()) throw BadInput(side + ".P: " + FirstError(gl, rq, t));
   out << side << " camera\n"
       << "  thesis (Ganapathy): ku=" << Fixed(t->ku, 2) << " kv=" << Fixed(t->kv, 2)
       << " u0=" << Fixed(t->u0, 1) << " v0=" << Fixed(t->v0, 1) << "\n"

@@ -76,7 +76,7 @@ TEST(Chessboard, BeatsOpenCvSampleOnRealPairs) {
     const auto ul = L.Undistort({cl[i].x, cl[i].y}), ur = R.Undistort({cr[i].x, cr[i].y});
     ASSERT_TRUE(ul && ur);
     auto t = geometry::Triangulate(L.P(), R.P(), *ul, *ur, geometry::TriangulationMethod::kRefined);
-    ASSERT_TRUE(t);
+    ASSERT_TRUE(t.ok());
     EXPECT_LT(t->rms_error, 1.0);
     pts.push_back(t->point);
   }

@@ -9,7 +9,7 @@ namespace {
 TEST(ThesisDecomposition, PrintedMatricesDecomposeNearThePrintedFigures) {
   for (const auto& cam : ThesisCameras()) {
     const auto d = geometry::DecomposeThesis(cam.C);
-    ASSERT_TRUE(d);
+    ASSERT_TRUE(d.ok());
     // Straight from the two-decimal matrices: rounding of the third row limits agreement
     // (see thesis_reference.h): scales within 2%, centres within 0.5 in, angles 0.03 rad,
     // image centre within 20 px.

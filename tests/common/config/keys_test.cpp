@@ -43,6 +43,7 @@ Keys VideoLikeKeys() {
 
 std::vector<std::string> Texts(const std::vector<KeyProblem>& problems) {
   std::vector<std::string> texts;
+  texts.reserve(problems.size());
   for (const auto& p : problems) texts.push_back(p.Text());
   return texts;
 }
@@ -109,7 +110,7 @@ struct Parsed {
 };
 
 Parsed Parse(const std::string& lab_text, std::vector<std::string> args, const Keys& keys,
-             boost::program_options::options_description extra =
+             const boost::program_options::options_description& extra =
                  boost::program_options::options_description("extra")) {
   const auto dir = std::filesystem::temp_directory_path() / "igms_keys_parse_test";
   std::filesystem::create_directories(dir);
@@ -117,6 +118,7 @@ Parsed Parse(const std::string& lab_text, std::vector<std::string> args, const K
   std::ofstream(file) << lab_text;
   args.insert(args.begin(), {"prog", "--config", file});
   std::vector<char*> argv;
+  argv.reserve(args.size());
   for (auto& a : args) argv.push_back(a.data());
   Parsed parsed;
   parsed.process = ParseProcessOptions(static_cast<int>(argv.size()), argv.data(), "video", "test",

@@ -29,9 +29,8 @@ TEST(ThesisDecomposition, RecoversComposedParameters) {
     truth.lambda = 1;
     const Matrix34 C = ComposeThesis(truth);
     for (double scale : {1.0, -0.01}) {
-      std::string why;
-      const auto d = DecomposeThesis(scale * C, &why);
-      ASSERT_TRUE(d) << why;
+      const auto d = DecomposeThesis(scale * C);
+      ASSERT_TRUE(d.ok()) << d.error();
       EXPECT_NEAR(d->ku, truth.ku, 1e-6);
       EXPECT_NEAR(d->kv, truth.kv, 1e-6);
       EXPECT_NEAR(d->u0, truth.u0, 1e-7);
@@ -51,15 +50,15 @@ TEST(ThesisDecomposition, ReportsSkewAndRefusesDegenerateP) {
   K(0, 1) = 0.02 * 800;  // skew of 16 px: about 0.02 rad of non-orthogonality
   const Matrix34 C = testing::LookAt(K, {0, 0, 5}, {50, 3, 2});
   const auto d = DecomposeThesis(C);
-  ASSERT_TRUE(d);
+  ASSERT_TRUE(d.ok());
   EXPECT_NEAR(std::abs(d->skew), 0.02, 2e-3);
-  std::string why;
-  EXPECT_FALSE(DecomposeThesis(Matrix34::Zero(), &why));
-  EXPECT_FALSE(why.empty());
+  const auto zero = DecomposeThesis(Matrix34::Zero());
+  EXPECT_FALSE(zero.ok());
+  EXPECT_FALSE(zero.error().empty());
   Matrix34 nan = C;
   nan(1, 1) = NAN;
-  EXPECT_FALSE(DecomposeThesis(nan));
-  EXPECT_FALSE(DecomposeRq(nan));
+  EXPECT_FALSE(DecomposeThesis(nan).ok());
+  EXPECT_FALSE(DecomposeRq(nan).ok());
 }
 
 TEST(RqDecomposition, RecoversKRotationAndCentreAndMatchesOpenCv) {
@@ -73,7 +72,7 @@ TEST(RqDecomposition, RecoversKRotationAndCentreAndMatchesOpenCv) {
     const Eigen::Vector3d target(60 + 10 * u(rng), 10 * u(rng), 2 * u(rng));
     const Matrix34 P = (i % 2 ? -2.5 : 0.3) * testing::LookAt(K, c, target);
     const auto d = DecomposeRq(P);
-    ASSERT_TRUE(d);
+    ASSERT_TRUE(d.ok());
     EXPECT_LT((d->K - K).norm(), 1e-8);
     EXPECT_LT((d->R - testing::LookAtRotation(c, target)).norm(), 1e-10);
     EXPECT_NEAR(d->R.determinant(), 1.0, 1e-12);

@@ -60,9 +60,8 @@ TEST(Epipolar, DepthWindowSegmentBracketsTheMatch) {
     const Eigen::Vector3d X = RandomScenePoint(rng);
     const Eigen::Vector2d l = *rig.left.Project(X), r = *rig.right.Project(X);
     const double depth = rig.left.Depth(X);
-    std::string why;
-    const auto seg = ComputeEpipolarSegment(rig.left, rig.right, l, depth - 3, depth + 3, &why);
-    ASSERT_TRUE(seg) << why;
+    const auto seg = ComputeEpipolarSegment(rig.left, rig.right, l, depth - 3, depth + 3);
+    ASSERT_TRUE(seg.ok()) << seg.error();
     EXPECT_NEAR(rig.left.Depth(seg->near_world), depth - 3, 1e-9);
     EXPECT_NEAR(rig.left.Depth(seg->far_world), depth + 3, 1e-9);
     const auto line = *EpipolarLine(F, l);
@@ -75,24 +74,25 @@ TEST(Epipolar, DepthWindowSegmentBracketsTheMatch) {
     EXPECT_LT(s, 1.0);
     // A window that misses the point does not contain it.
     const auto beyond = ComputeEpipolarSegment(rig.left, rig.right, l, depth + 1, depth + 7);
-    ASSERT_TRUE(beyond);
+    ASSERT_TRUE(beyond.ok());
     EXPECT_LT((r - beyond->near).dot(beyond->far - beyond->near), 0.0);
   }
 }
 
 TEST(Epipolar, SegmentRefusesBadWindows) {
   const auto rig = ThesisLikeRig();
-  std::string why;
-  EXPECT_FALSE(ComputeEpipolarSegment(rig.left, rig.right, {256, 240}, 5, 4, &why));
-  EXPECT_FALSE(ComputeEpipolarSegment(rig.left, rig.right, {256, 240}, 0, 4, &why));
-  EXPECT_FALSE(ComputeEpipolarSegment(rig.left, rig.right, {256, 240}, NAN, 4, &why));
+  EXPECT_FALSE(ComputeEpipolarSegment(rig.left, rig.right, {256, 240}, 5, 4).ok());
+  EXPECT_FALSE(ComputeEpipolarSegment(rig.left, rig.right, {256, 240}, 0, 4).ok());
+  EXPECT_FALSE(ComputeEpipolarSegment(rig.left, rig.right, {256, 240}, NAN, 4).ok());
   // Two cameras facing each other: points near the first are behind the second.
   const Eigen::Matrix3d K = testing::Intrinsics(800, 256, 240);
   const ProjectiveCamera a(testing::LookAt(K, {0, 0, 0}, {10, 0, 0}), {512, 480});
   const ProjectiveCamera b(testing::LookAt(K, {10, 0.5, 0}, {0, 0, 0}), {512, 480});
-  EXPECT_FALSE(ComputeEpipolarSegment(a, b, {256, 240}, 5, 15, &why));
-  EXPECT_NE(why.find("behind"), std::string::npos);
-  EXPECT_TRUE(ComputeEpipolarSegment(a, b, {256, 240}, 2, 8, &why)) << why;
+  const auto behind = ComputeEpipolarSegment(a, b, {256, 240}, 5, 15);
+  EXPECT_FALSE(behind.ok());
+  EXPECT_NE(behind.error().find("behind"), std::string::npos);
+  const auto in_front = ComputeEpipolarSegment(a, b, {256, 240}, 2, 8);
+  EXPECT_TRUE(in_front.ok()) << in_front.error();
 }
 
 }  // namespace

@@ -23,7 +23,7 @@ Matrix34 ThesisRight() {
 void ExpectRegistered(const Matrix34& P, ImageSize size, double near, double far, int seed) {
   const ProjectiveCamera cam(P, size);
   const auto gl = MakeGlCamera(P, size, near, far);
-  ASSERT_TRUE(gl);
+  ASSERT_TRUE(gl.ok());
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-0.5, size.width - 0.5), v(-0.5, size.height - 0.5),
       depth(near * 1.01, far * 0.99);
@@ -67,15 +67,14 @@ TEST(GlCamera, ReportsFieldOfViewAndRefusesBadInput) {
   const auto gl =
       MakeGlCamera(testing::LookAt(testing::Intrinsics(1000, 255.5, 239.5), {0, 0, 0}, {1, 0, 0}),
                    {512, 480}, 1, 100);
-  ASSERT_TRUE(gl);
+  ASSERT_TRUE(gl.ok());
   EXPECT_NEAR(gl->fovy_degrees, 2 * std::atan(240.0 / 1000) * 180 / M_PI, 1e-9);
   EXPECT_NEAR(gl->aspect, 512.0 / 480.0, 1e-12);
   EXPECT_LT(gl->principal_offset.norm(), 1e-9);
-  std::string why;
-  EXPECT_FALSE(MakeGlCamera(ThesisLeft(), {512, 480}, 0, 100, &why));
-  EXPECT_FALSE(MakeGlCamera(ThesisLeft(), {512, 480}, 10, 5, &why));
-  EXPECT_FALSE(MakeGlCamera(ThesisLeft(), {0, 480}, 1, 5, &why));
-  EXPECT_FALSE(MakeGlCamera(Matrix34::Zero(), {512, 480}, 1, 5, &why));
+  EXPECT_FALSE(MakeGlCamera(ThesisLeft(), {512, 480}, 0, 100).ok());
+  EXPECT_FALSE(MakeGlCamera(ThesisLeft(), {512, 480}, 10, 5).ok());
+  EXPECT_FALSE(MakeGlCamera(ThesisLeft(), {0, 480}, 1, 5).ok());
+  EXPECT_FALSE(MakeGlCamera(Matrix34::Zero(), {512, 480}, 1, 5).ok());
 }
 
 }  // namespace

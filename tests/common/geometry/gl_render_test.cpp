@@ -54,7 +54,7 @@ TEST_F(GlRender, PointsLandOnTheirPixelWithinAHundredth) {
   for (int side = 0; side < 2; ++side) {
     const ProjectiveCamera cam(Thesis(side), kSize);
     const auto gl = MakeGlCamera(cam.P(), kSize, 6, 300);
-    ASSERT_TRUE(gl);
+    ASSERT_TRUE(gl.ok());
     for (int offset_u = 0; offset_u < 4; ++offset_u) {
       // Targets 4 px apart; each 0.49 or 0.51 px from its pixel centre along u and v, so the
       // correct pixel is decided by 0.01 px.

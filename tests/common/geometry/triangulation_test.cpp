@@ -21,10 +21,9 @@ TEST(Triangulation, RecoversExactPointsWithZeroResidual) {
   for (int i = 0; i < 100; ++i) {
     const Eigen::Vector3d X = RandomScenePoint(rng);
     for (auto method : kMethods) {
-      std::string why;
       auto t = Triangulate(rig.left.P(), rig.right.P(), *rig.left.Project(X), *rig.right.Project(X),
-                           method, {}, &why);
-      ASSERT_TRUE(t) << ToString(method) << ": " << why;
+                           method, {});
+      ASSERT_TRUE(t.ok()) << ToString(method) << ": " << t.error();
       EXPECT_LT((t->point - X).norm(), 1e-7) << ToString(method);
       EXPECT_LT(t->rms_error, 1e-7);
       EXPECT_NEAR(t->left_depth, rig.left.Depth(X), 1e-6);
@@ -45,7 +44,7 @@ TEST(Triangulation, RefinedHasTheSmallestReprojectionError) {
     double rms[3];
     for (int m = 0; m < 3; ++m) {
       auto t = Triangulate(rig.left.P(), rig.right.P(), l, r, kMethods[m], {.pixel_sigma = 0});
-      ASSERT_TRUE(t);
+      ASSERT_TRUE(t.ok());
       rms[m] = t->rms_error;
       sum[m] += rms[m];
       // Residuals are what the rms summarises.
@@ -71,14 +70,14 @@ TEST(Triangulation, CovarianceMatchesMonteCarlo) {
   std::normal_distribution<double> noise(0.0, sigma);
   for (auto method : kMethods) {
     auto clean = Triangulate(rig.left.P(), rig.right.P(), l0, r0, method, {.pixel_sigma = sigma});
-    ASSERT_TRUE(clean);
+    ASSERT_TRUE(clean.ok());
     const int n = 4000;
     Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
     for (int i = 0; i < n; ++i) {
       auto t =
           Triangulate(rig.left.P(), rig.right.P(), l0 + Eigen::Vector2d(noise(rng), noise(rng)),
                       r0 + Eigen::Vector2d(noise(rng), noise(rng)), method, {.pixel_sigma = 0});
-      ASSERT_TRUE(t);
+      ASSERT_TRUE(t.ok());
       const Eigen::Vector3d e = t->point - X;
       scatter += e * e.transpose();
     }
@@ -95,23 +94,22 @@ TEST(Triangulation, CovarianceMatchesMonteCarlo) {
 
 TEST(Triangulation, RefusesParallelRaysBehindCameraAndNaN) {
   const auto rig = ThesisLikeRig();
-  std::string why;
   for (auto method : kMethods) {
     // The same camera twice: every pair of rays through one centre is degenerate.
-    EXPECT_FALSE(Triangulate(rig.left.P(), rig.left.P(), {100, 100}, {100, 100}, method, {}, &why))
-        << ToString(method);
-    EXPECT_FALSE(why.empty());
+    const auto same = Triangulate(rig.left.P(), rig.left.P(), {100, 100}, {100, 100}, method, {});
+    EXPECT_FALSE(same.ok()) << ToString(method);
+    EXPECT_FALSE(same.error().empty());
     // Pixels whose rays cross behind the cameras (diverging: left pixel far left, right far right).
-    why.clear();
     const Eigen::Vector3d X(60, 0, 2);
     const Eigen::Vector2d l = *rig.left.Project(X), r = *rig.right.Project(X);
-    EXPECT_FALSE(Triangulate(rig.left.P(), rig.right.P(), l + Eigen::Vector2d(-60, 0),
-                             r + Eigen::Vector2d(60, 0), method, {}, &why))
-        << ToString(method);
-    EXPECT_NE(why.find("behind"), std::string::npos) << why;
-    EXPECT_FALSE(Triangulate(rig.left.P(), rig.right.P(), {NAN, 1}, r, method, {}, &why));
-    EXPECT_NE(why.find("finite"), std::string::npos);
-    EXPECT_FALSE(Triangulate(rig.left.P(), rig.right.P(), l, r, method, {.pixel_sigma = -1}, &why));
+    const auto behind = Triangulate(rig.left.P(), rig.right.P(), l + Eigen::Vector2d(-60, 0),
+                                    r + Eigen::Vector2d(60, 0), method, {});
+    EXPECT_FALSE(behind.ok()) << ToString(method);
+    EXPECT_NE(behind.error().find("behind"), std::string::npos) << behind.error();
+    const auto not_finite = Triangulate(rig.left.P(), rig.right.P(), {NAN, 1}, r, method, {});
+    EXPECT_FALSE(not_finite.ok());
+    EXPECT_NE(not_finite.error().find("finite"), std::string::npos);
+    EXPECT_FALSE(Triangulate(rig.left.P(), rig.right.P(), l, r, method, {.pixel_sigma = -1}).ok());
   }
 }
 
@@ -123,7 +121,7 @@ TEST(Triangulation, OffEpipolarPairsReportTheirResidual) {
   auto t =
       Triangulate(rig.left.P(), rig.right.P(), *rig.left.Project(X),
                   *rig.right.Project(X) + Eigen::Vector2d(0, 3), TriangulationMethod::kRefined);
-  ASSERT_TRUE(t);
+  ASSERT_TRUE(t.ok());
   EXPECT_NEAR(t->left_residual.norm() + t->right_residual.norm(), 3.0, 0.1);
   EXPECT_NEAR(t->left_residual.norm(), t->right_residual.norm(), 0.1);
 }

@@ -15,6 +15,7 @@
 #include "common/net/mailbox.h"
 #include "common/net/server.h"
 #include "tests/support/io_thread.h"
+#include "tests/support/wait.h"
 
 namespace igms::net {
 namespace {
@@ -218,7 +219,9 @@ TEST(Sessions, ClientThatStopsReadingDoesNotStallOthers) {
 
   Client client(io.io(), To(server));
   client.Start();
-  std::this_thread::sleep_for(300ms);  // the stuck peer's queue fills meanwhile
+  ASSERT_TRUE(client.WaitConnected(2s));
+  // Time for the stuck peer's queue to fill; the calls below must be served however full it is.
+  std::this_thread::sleep_for(300ms);
   for (int i = 0; i < 50; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
     auto r = client.CallSync<igms::Envelope>(kEcho, EchoRequest("ok"), 2s);
@@ -226,8 +229,7 @@ TEST(Sessions, ClientThatStopsReadingDoesNotStallOthers) {
     EXPECT_LT(std::chrono::steady_clock::now() - t0, 1s);
   }
   // The stuck peer is eventually disconnected: its queue passed the limit.
-  for (int i = 0; i < 100 && server.server.session_count() > 1; ++i)
-    std::this_thread::sleep_for(50ms);
+  EXPECT_TRUE(igms::testing::WaitUntil([&] { return server.server.session_count() <= 1; }, 5s));
   EXPECT_EQ(server.server.session_count(), 1u);
 }
 
@@ -244,8 +246,7 @@ TEST(Sessions, ShutdownWithClientsConnected) {
   }
   server->server.Stop();
   for (auto& c : clients) {
-    for (int i = 0; i < 100 && c->connected(); ++i) std::this_thread::sleep_for(10ms);
-    EXPECT_FALSE(c->connected());
+    EXPECT_TRUE(igms::testing::WaitUntil([&] { return !c->connected(); }, 5s));
   }
   EXPECT_EQ(server->server.session_count(), 0u);
   auto r = clients[0]->CallSync<igms::Envelope>(kEcho, EchoRequest("late"), 500ms);
@@ -264,9 +265,7 @@ TEST(Sessions, ReconnectsAndResubscribesAfterServerRestart) {
                         [&](const Msg& m) { received.Push(static_cast<int>(m.uptime_ms())); });
   client.Start();
   auto wait_for = [&](int n) {
-    for (int i = 0; i < 300 && static_cast<int>(received.size()) < n; ++i)
-      std::this_thread::sleep_for(10ms);
-    return static_cast<int>(received.size()) >= n;
+    return igms::testing::WaitUntil([&] { return static_cast<int>(received.size()) >= n; }, 5s);
   };
   ASSERT_TRUE(wait_for(5));
   server.reset();  // the server goes away
@@ -320,7 +319,7 @@ TEST(Sessions, TokenAcceptedAndRejected) {
   ASSERT_TRUE(ParseEnvelope(d.frame, &answer, &error));
   EXPECT_EQ(answer.kind(), igms::Envelope::ERROR);
   EXPECT_EQ(answer.error().code(), igms::UNAUTHENTICATED);
-  std::this_thread::sleep_for(50ms);
+  // The read blocks until the server closes the connection (or sends more, which it must not).
   raw.read_some(boost::asio::buffer(in), ec);
   EXPECT_TRUE(ec) << "the unauthenticated peer should be disconnected";
   EXPECT_TRUE(ok.CallSync<igms::Envelope>(kEcho, EchoRequest("still"), 2s).ok());
@@ -398,12 +397,13 @@ TEST(Sessions, LatestOnlyStreamKeepsNoBacklog) {
   client.Start();
   // The publisher is set on the server's io thread: read it under the lock.
   std::shared_ptr<Publisher<Msg>> published;
-  for (int i = 0; i < 300 && !published; ++i) {
-    std::this_thread::sleep_for(10ms);
-    std::lock_guard lock(m);
-    published = publisher;
-  }
-  ASSERT_TRUE(published);
+  ASSERT_TRUE(igms::testing::WaitUntil(
+      [&] {
+        std::lock_guard lock(m);
+        published = publisher;
+        return published != nullptr;
+      },
+      5s));
   // Publish a burst of 1 MiB frames far faster than they can be written.
   Msg msg;
   msg.set_program(std::string(1 << 20, 'f'));
@@ -411,7 +411,7 @@ TEST(Sessions, LatestOnlyStreamKeepsNoBacklog) {
     msg.set_uptime_ms(i);
     published->Send(msg);
   }
-  for (int i = 0; i < 300 && last != 200; ++i) std::this_thread::sleep_for(10ms);
+  EXPECT_TRUE(igms::testing::WaitUntil([&] { return last == 200; }, 5s));
   EXPECT_EQ(last.load(), 200) << "the newest frame must arrive";
   EXPECT_LT(seen.load(), 200) << "older unwritten frames are replaced, not queued";
   server.Stop();

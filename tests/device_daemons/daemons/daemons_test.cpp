@@ -129,9 +129,8 @@ TEST(JoystickDaemon, ReadingsFaultsRecordAndReplay) {
     EXPECT_NE(st.message.find("JoystickState"), std::string::npos);
     EXPECT_EQ(daemon.Stop(), 0);
   }
-  std::string error;
-  auto rec = LoadRecording(recording, &error);
-  ASSERT_TRUE(rec) << error;
+  auto rec = LoadRecording(recording);
+  ASSERT_TRUE(rec.ok()) << rec.error();
   EXPECT_EQ(rec->header.device(), "joystick");
   ASSERT_GT(rec->readings.size(), 100u);
 

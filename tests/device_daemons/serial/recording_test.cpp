@@ -28,8 +28,8 @@ TEST(Recording, RecordThenReplayReproducesValuesAndSpacing) {
   ASSERT_TRUE(writer.Open(path, "joystick", &error)) << error;
   for (int i = 0; i < 10; ++i) ASSERT_TRUE(writer.Append(Joy(i + 1, i * 20'000'000LL, i * 0.1)));
 
-  auto rec = LoadRecording(path, &error);
-  ASSERT_TRUE(rec) << error;
+  auto rec = LoadRecording(path);
+  ASSERT_TRUE(rec.ok()) << rec.error();
   EXPECT_EQ(rec->header.device(), "joystick");
   ASSERT_EQ(rec->readings.size(), 10u);
 
@@ -62,15 +62,15 @@ TEST(Recording, TornTailIsDroppedAndGarbageIsAnError) {
     writer.Append(Joy(2, 1, 0.6));
   }
   std::filesystem::resize_file(path, std::filesystem::file_size(path) - 3);
-  std::string error;
-  auto rec = LoadRecording(path, &error);
-  ASSERT_TRUE(rec) << error;
+  auto rec = LoadRecording(path);
+  ASSERT_TRUE(rec.ok()) << rec.error();
   EXPECT_EQ(rec->readings.size(), 1u);
 
   std::ofstream(path, std::ios::trunc) << "this is not a recording at all";
-  EXPECT_FALSE(LoadRecording(path, &error));
-  EXPECT_FALSE(error.empty());
-  EXPECT_FALSE(LoadRecording(path + ".missing", &error));
+  const auto not_recording = LoadRecording(path);
+  EXPECT_FALSE(not_recording.ok());
+  EXPECT_FALSE(not_recording.error().empty());
+  EXPECT_FALSE(LoadRecording(path + ".missing").ok());
   std::filesystem::remove(path);
 }
 

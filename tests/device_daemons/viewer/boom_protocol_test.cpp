@@ -82,21 +82,20 @@ TEST(BoomProtocol, ResynchronisesAfterGarbageAndTruncation) {
 }
 
 TEST(ViewerPath, ParsesInterpolatesAndLoops) {
-  std::string error;
   const auto path = ParseViewerPath(
-      "# t x y z yaw pitch roll buttons\n0 0 0 0 0 0 0\n1 0.2 0 0 90 0 0 1\n\n2 0 0 0 0 0 0\n",
-      &error);
-  ASSERT_TRUE(path) << error;
+      "# t x y z yaw pitch roll buttons\n0 0 0 0 0 0 0\n1 0.2 0 0 90 0 0 1\n\n2 0 0 0 0 0 0\n");
+  ASSERT_TRUE(path.ok()) << path.error();
   ASSERT_EQ(path->size(), 3u);
   EXPECT_NEAR(PoseAt(*path, 0.5).yaw_deg, 45, 1e-9);
   EXPECT_NEAR(PoseAt(*path, 1.5).x_m, 0.1, 1e-9);
   EXPECT_TRUE(PoseAt(*path, 1.5).right);
   EXPECT_NEAR(PoseAt(*path, 2.5).yaw_deg, 45, 1e-9);  // looped
-  EXPECT_FALSE(ParseViewerPath("0 1 2\n", &error));
-  EXPECT_NE(error.find("line 1"), std::string::npos);
-  EXPECT_FALSE(ParseViewerPath("0 0 0 0 0 0 0\n0 0 0 0 0 0 0\n", &error));
-  EXPECT_FALSE(ParseViewerPath("0 0 0 0 0 0 0 7\n", &error));
-  EXPECT_FALSE(ParseViewerPath("", &error));
+  const auto short_line = ParseViewerPath("0 1 2\n");
+  EXPECT_FALSE(short_line.ok());
+  EXPECT_NE(short_line.error().find("line 1"), std::string::npos);
+  EXPECT_FALSE(ParseViewerPath("0 0 0 0 0 0 0\n0 0 0 0 0 0 0\n").ok());
+  EXPECT_FALSE(ParseViewerPath("0 0 0 0 0 0 0 7\n").ok());
+  EXPECT_FALSE(ParseViewerPath("").ok());
 }
 
 // The simulator is a pose tracker of the site: a head pose in the site is reported relative
@@ -127,9 +126,8 @@ TEST(ViewerSim, ReportsTheHeadRelativeToItsPowerUpPose) {
   EXPECT_TRUE(p->left);
   EXPECT_FALSE(p->right);
   // A path drives it the same way: its first keyframe is at the power-up pose.
-  std::string error;
-  auto path = ParseViewerPath("0 0.5 -0.2 0.3 90 0 0\n1 0.5 -0.2 0.3 90 0 0\n", &error);
-  ASSERT_TRUE(path) << error;
+  auto path = ParseViewerPath("0 0.5 -0.2 0.3 90 0 0\n1 0.5 -0.2 0.3 90 0 0\n");
+  ASSERT_TRUE(path.ok()) << path.error();
   sim.SetPath(*path);
   p = ParseOne(sim.OnInput("P", 0).at(0), parser);
   ASSERT_TRUE(p);

@@ -75,9 +75,8 @@ TEST_F(ViewerPty, PolledAtTheRequestedRateWithTheSteadyPoseAndButtons) {
 }
 
 TEST_F(ViewerPty, StreamedPathIsFollowed) {
-  std::string error;
-  auto path = ParseViewerPath("0 0 0 0 0 0 0\n1 0 0 0 90 0 0\n2 0 0 0 0 0 0\n", &error);
-  ASSERT_TRUE(path) << error;
+  auto path = ParseViewerPath("0 0 0 0 0 0 0\n1 0 0 0 90 0 0\n2 0 0 0 0 0 0\n");
+  ASSERT_TRUE(path.ok()) << path.error();
   host_->WithDevice([&](SimulatedDevice&) { sim_->SetPath(*path); });
   IoThread io;
   Collected got;

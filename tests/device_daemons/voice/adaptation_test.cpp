@@ -44,10 +44,9 @@ class AdaptationTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
   std::vector<AdaptationUtterance> Commands(int copies) {
     std::vector<AdaptationUtterance> out;
-    std::string error;
-    auto audio = Synthesize({"freeze", "en-us", 175}, &error);
-    EXPECT_TRUE(audio) << error;
-    for (int i = 0; audio && i < copies; ++i) out.push_back({*audio, "freeze"});
+    auto audio = Synthesize({"freeze", "en-us", 175});
+    EXPECT_TRUE(audio.ok()) << audio.error();
+    for (int i = 0; audio.ok() && i < copies; ++i) out.push_back({*audio, "freeze"});
     return out;
   }
   AdaptationOptions Options() {

@@ -63,9 +63,8 @@ TEST(Audio, LoadsStereoFilesAtAnyRateAsModelRateMono) {
   for (int16_t s : mono) stereo.insert(stereo.end(), {s, s});
   sf_writef_short(f, stereo.data(), mono.size());
   sf_close(f);
-  std::string error;
-  const auto audio = LoadSoundFile(path.string(), &error);
-  ASSERT_TRUE(audio) << error;
+  const auto audio = LoadSoundFile(path.string());
+  ASSERT_TRUE(audio.ok()) << audio.error();
   EXPECT_EQ(audio->sample_rate, 16000);
   EXPECT_NEAR(audio->seconds(), 0.5, 0.01);
   EXPECT_NEAR(ZeroCrossings(audio->samples), 500, 3);
@@ -73,27 +72,27 @@ TEST(Audio, LoadsStereoFilesAtAnyRateAsModelRateMono) {
 }
 
 TEST(Audio, BadFilesAreReportedNotFatal) {
-  std::string error;
-  EXPECT_FALSE(LoadSoundFile("/nonexistent/file.wav", &error));
-  EXPECT_NE(error.find("/nonexistent/file.wav"), std::string::npos);
+  const auto missing = LoadSoundFile("/nonexistent/file.wav");
+  EXPECT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().find("/nonexistent/file.wav"), std::string::npos);
   const auto path = std::filesystem::temp_directory_path() / "igms_voice_garbage.wav";
   {
     FILE* f = fopen(path.c_str(), "wb");
     fputs("RIFF this is not a wave file at all", f);
     fclose(f);
   }
-  EXPECT_FALSE(LoadSoundFile(path.string(), &error));
-  EXPECT_FALSE(error.empty());
+  const auto garbage = LoadSoundFile(path.string());
+  EXPECT_FALSE(garbage.ok());
+  EXPECT_FALSE(garbage.error().empty());
   std::filesystem::remove(path);
 }
 
 TEST(Endpointer, CutsAStreamIntoItsUtterances) {
-  std::string error;
   std::vector<int16_t> stream(8000, 0);  // 0.5 s silence
   std::vector<size_t> spoken;
   for (const char* word : {"freeze", "remove points", "cylinder"}) {
-    const auto audio = Synthesize({word, "en-us", 175}, &error);
-    ASSERT_TRUE(audio) << error;
+    const auto audio = Synthesize({word, "en-us", 175});
+    ASSERT_TRUE(audio.ok()) << audio.error();
     spoken.push_back(audio->samples.size());
     stream.insert(stream.end(), audio->samples.begin(), audio->samples.end());
     stream.insert(stream.end(), 12000, 0);  // 0.75 s pause
@@ -120,9 +119,8 @@ TEST(Endpointer, CutsAStreamIntoItsUtterances) {
 // cut at the 5 s limit into a piece and a tail that starts mid-word. The word after the
 // pause still comes through.
 TEST(Endpointer, DropsSpeechLongerThanAnyCommand) {
-  std::string error;
-  const auto word = Synthesize({"freeze", "en-us", 175}, &error);
-  ASSERT_TRUE(word) << error;
+  const auto word = Synthesize({"freeze", "en-us", 175});
+  ASSERT_TRUE(word.ok()) << word.error();
   std::vector<int16_t> stream(8000, 0);
   for (int i = 0; i < 6 * 16000; ++i) {
     const double t = i / 16000.0;
@@ -158,32 +156,31 @@ TEST(Endpointer, SilenceAndFlushAreQuiet) {
 }
 
 TEST(SpeechSynth, RejectsBadRequests) {
-  std::string error;
-  EXPECT_FALSE(Synthesize({"", "en-us", 175}, &error));
-  EXPECT_FALSE(Synthesize({"box", "-w", 175}, &error));
-  EXPECT_FALSE(Synthesize({"box", "en-us", 10}, &error));
-  EXPECT_FALSE(error.empty());
+  EXPECT_FALSE(Synthesize({"", "en-us", 175}).ok());
+  EXPECT_FALSE(Synthesize({"box", "-w", 175}).ok());
+  const auto too_slow = Synthesize({"box", "en-us", 10});
+  EXPECT_FALSE(too_slow.ok());
+  EXPECT_FALSE(too_slow.error().empty());
   SpeechRequest flite{"box", "http://example.com/voice.flitevox", 175};
   flite.synthesizer = Synthesizer::kFlite;
-  error.clear();
-  EXPECT_FALSE(Synthesize(flite, &error));  // a voice's name only: flite would fetch a URL
-  EXPECT_NE(error.find("flite voice"), std::string::npos) << error;
+  const auto url = Synthesize(flite);  // a voice's name only: flite would fetch a URL
+  EXPECT_FALSE(url.ok());
+  EXPECT_NE(url.error().find("flite voice"), std::string::npos) << url.error();
   flite.voice = "no_such_voice";
-  error.clear();
-  EXPECT_FALSE(Synthesize(flite, &error));
-  EXPECT_NE(error.find("flite failed"), std::string::npos) << error;
+  const auto unknown = Synthesize(flite);
+  EXPECT_FALSE(unknown.ok());
+  EXPECT_NE(unknown.error().find("flite failed"), std::string::npos) << unknown.error();
 }
 
 // flite's voices at 16 kHz, its pace set through words a minute: a slower request is longer.
 TEST(SpeechSynth, FliteSpeaksAtTheRequestedPace) {
-  std::string error;
   SpeechRequest request{"remove points", "slt", 175};
   request.synthesizer = Synthesizer::kFlite;
-  const auto normal = Synthesize(request, &error);
-  ASSERT_TRUE(normal) << error;
+  const auto normal = Synthesize(request);
+  ASSERT_TRUE(normal.ok()) << normal.error();
   request.words_per_minute = 120;
-  const auto slow = Synthesize(request, &error);
-  ASSERT_TRUE(slow) << error;
+  const auto slow = Synthesize(request);
+  ASSERT_TRUE(slow.ok()) << slow.error();
   EXPECT_EQ(normal->sample_rate, 16000);
   EXPECT_GT(normal->samples.size(), 8000u);  // more than half a second of speech
   EXPECT_GT(slow->samples.size(), normal->samples.size() * 1.25);

@@ -183,24 +183,25 @@ TEST(Grammar, FillerWordsAreCommonWordsFarFromEveryCommand) {
 }
 
 TEST(Grammar, LoadDictionaryReportsProblems) {
-  std::string error;
-  EXPECT_FALSE(LoadDictionary("/nonexistent/dictionary.dict", &error));
-  EXPECT_NE(error.find("cannot read"), std::string::npos);
+  const auto missing = LoadDictionary("/nonexistent/dictionary.dict");
+  EXPECT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().find("cannot read"), std::string::npos);
   const auto path = std::filesystem::temp_directory_path() / "igms_voice_test.dict";
   {
     std::ofstream out(path);
     out << "freeze F R IY1 Z\nfreeze(2) F R IY Z\no'brien OW B R AY AH N\nbox B AA1 K S\n";
   }
-  const auto words = LoadDictionary(path.string(), &error);
-  ASSERT_TRUE(words) << error;
+  const auto words = LoadDictionary(path.string());
+  ASSERT_TRUE(words.ok()) << words.error();
   ASSERT_EQ(words->size(), 2u);
   EXPECT_EQ((*words)[0].phones, P("F R IY Z"));
   {
     std::ofstream out(path);
     out << "# nothing here\n";
   }
-  EXPECT_FALSE(LoadDictionary(path.string(), &error));
-  EXPECT_NE(error.find("no usable entry"), std::string::npos);
+  const auto empty = LoadDictionary(path.string());
+  EXPECT_FALSE(empty.ok());
+  EXPECT_NE(empty.error().find("no usable entry"), std::string::npos);
   std::filesystem::remove(path);
 }
 

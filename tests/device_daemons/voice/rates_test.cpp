@@ -34,10 +34,11 @@ std::optional<EvaluationReport> Measure(const RecognizerOptions& options,
   EXPECT_NE(recognizer, nullptr) << error;
   if (!recognizer) return std::nullopt;
   const int every = static_cast<int>(voices.size());
-  auto report = Evaluate(*recognizer, BuildCorpus(voices, TestWords(), every), &error);
-  EXPECT_TRUE(report) << error;
-  if (report) CheckCounts(*report, voices.size());
-  return report;
+  auto report = Evaluate(*recognizer, BuildCorpus(voices, TestWords(), every));
+  EXPECT_TRUE(report.ok()) << report.error();
+  if (!report.ok()) return std::nullopt;
+  CheckCounts(*report, voices.size());
+  return std::move(*report);
 }
 
 // Decoding is deterministic (fixed dither seed, fixed order), so a change in a figure below
@@ -81,9 +82,8 @@ TEST(VoiceRates, WeightedDecoysOnUnseenVoices) {
 // A model adapted to other speakers: every enrolment prompt in the twelve tuning voices
 // (none of the test voices), then both test sets.
 TEST(VoiceRates, AdaptedToTheTuningVoicesOnUnseenVoices) {
-  std::string error;
-  const auto enrolment = SynthesizeEnrolment(TuningVoices(), &error);
-  ASSERT_TRUE(enrolment) << error;
+  const auto enrolment = SynthesizeEnrolment(TuningVoices());
+  ASSERT_TRUE(enrolment.ok()) << enrolment.error();
   AdaptationOptions adaptation;
   adaptation.out_dir = TempFolder("adapted");
   const AdaptationReport adapted = AdaptModel(*enrolment, adaptation);
@@ -113,12 +113,10 @@ TEST(VoiceRates, AdaptedToTheTuningVoicesOnUnseenVoices) {
 TEST(VoiceRates, EnrolledOperators) {
   const std::string work = TempFolder("enrolled");
   for (const auto* voices : {&TestVoices(), &FliteTestVoices()}) {
-    std::string error;
     const auto report = EvaluateEnrolled(
         *voices, TestWords(), 175,
-        WithoutEvaluationWords(EnrolledRecognizerOptions(RecognizerOptions{}.model_dir)), work,
-        &error);
-    ASSERT_TRUE(report) << error;
+        WithoutEvaluationWords(EnrolledRecognizerOptions(RecognizerOptions{}.model_dir)), work);
+    ASSERT_TRUE(report.ok()) << report.error();
     CheckCounts(*report, voices->size());
     // Measured 97.7% and 2.9% (espeak-ng), 97.7% and 1.9% (flite): both targets met, and
     // the guards are the targets. Before the common-word check (step 6): 100.0% and 8.2%,

@@ -45,10 +45,9 @@ std::vector<std::pair<std::string, std::vector<int16_t>>> Recordings() {
     }
     std::sort(wavs.begin(), wavs.end());
     for (const auto& wav : wavs) {
-      std::string error;
-      auto audio = LoadSoundFile(wav.string(), &error);
-      EXPECT_TRUE(audio) << error;
-      if (audio) out.emplace_back(wav.lexically_relative(kData).string(), audio->samples);
+      auto audio = LoadSoundFile(wav.string());
+      EXPECT_TRUE(audio.ok()) << audio.error();
+      if (audio.ok()) out.emplace_back(wav.lexically_relative(kData).string(), audio->samples);
     }
   }
   return out;

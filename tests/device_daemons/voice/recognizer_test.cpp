@@ -20,10 +20,9 @@ class RecognizerTest : public ::testing::Test {
   static void TearDownTestSuite() { delete recognizer_; }
 
   static Audio Say(const std::string& text, const std::string& voice = "en-us", int wpm = 175) {
-    std::string error;
-    auto audio = Synthesize({text, voice, wpm}, &error);
-    EXPECT_TRUE(audio) << error;
-    return audio ? *audio : Audio{};
+    auto audio = Synthesize({text, voice, wpm});
+    EXPECT_TRUE(audio.ok()) << audio.error();
+    return audio.ok() ? *audio : Audio{};
   }
 
   static Recognizer* recognizer_;

@@ -150,9 +150,8 @@ TEST(VoiceDaemon, SimulatedDragonThroughPtyAndTcp) {
     EXPECT_EQ(daemon.Stop(), 0);
   }
   // Record then replay reproduces the commands.
-  std::string error;
-  auto rec = LoadRecording(recording, &error);
-  ASSERT_TRUE(rec) << error;
+  auto rec = LoadRecording(recording);
+  ASSERT_TRUE(rec.ok()) << rec.error();
   EXPECT_EQ(rec->header.device(), "voice");
   ASSERT_GE(rec->readings.size(), 6u);
   DaemonProcess replay("igms-voiced",
