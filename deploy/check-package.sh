@@ -53,6 +53,8 @@ for path in /usr/bin/igms /usr/bin/igms-run /usr/bin/igms-video-server /usr/bin/
   grep -qxF "$path" <<<"$contents" || bad "the package has no $path"
 done
 grep -q '^/usr/share/igms/sounds/.' <<<"$contents" || bad "the package has no sound bank"
+dpkg-deb --fsys-tarfile "$DEB" | tar -xO ./usr/share/doc/igms/copyright 2>/dev/null |
+  grep -qx 'License: Expat' || bad "the copyright file does not grant the Expat (MIT) licence"
 dpkg-deb -I "$DEB" conffiles 2>/dev/null | grep -qxF /etc/igms/lab.yaml ||
   bad "/etc/igms/lab.yaml is not a conffile"
 
