@@ -49,6 +49,7 @@ contents=$(dpkg-deb -c "$DEB" | awk '{ print $NF }' | sed 's|^\./|/|')
 for path in /usr/bin/igms /usr/bin/igms-run /usr/bin/igms-video-server /usr/bin/igms-control \
   /etc/igms/lab.yaml /usr/lib/systemd/system/igms@.service /usr/lib/systemd/system/igms.target \
   /usr/lib/systemd/system/igms@video.service.d/devices.conf \
+  /usr/lib/sysusers.d/igms.conf \
   /usr/share/igms/thesis_calibration.yaml /usr/share/doc/igms/copyright /usr/share/doc/igms/deploy.md; do
   grep -qxF "$path" <<<"$contents" || bad "the package has no $path"
 done
