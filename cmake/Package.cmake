@@ -7,6 +7,9 @@ set(CPACK_PACKAGE_NAME igms)
 set(CPACK_PACKAGE_VENDOR "IGMS")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_CONTACT "IGMS maintainers <igms-maintainers@lists.example.org>")
+# MIT (Debian: Expat). The package carries it as /usr/share/doc/igms/copyright
+# (deploy/debian/copyright, machine-readable), not as a second licence file.
+set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Interactive Graphical Modelling System")
 set(CPACK_PACKAGE_DESCRIPTION
     "An operator models a remote site from stereo video: marks four points around\n\

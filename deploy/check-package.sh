@@ -49,10 +49,13 @@ contents=$(dpkg-deb -c "$DEB" | awk '{ print $NF }' | sed 's|^\./|/|')
 for path in /usr/bin/igms /usr/bin/igms-run /usr/bin/igms-video-server /usr/bin/igms-control \
   /etc/igms/lab.yaml /usr/lib/systemd/system/igms@.service /usr/lib/systemd/system/igms.target \
   /usr/lib/systemd/system/igms@video.service.d/devices.conf \
+  /usr/lib/sysusers.d/igms.conf \
   /usr/share/igms/thesis_calibration.yaml /usr/share/doc/igms/copyright /usr/share/doc/igms/deploy.md; do
   grep -qxF "$path" <<<"$contents" || bad "the package has no $path"
 done
 grep -q '^/usr/share/igms/sounds/.' <<<"$contents" || bad "the package has no sound bank"
+dpkg-deb --fsys-tarfile "$DEB" | tar -xO ./usr/share/doc/igms/copyright 2>/dev/null |
+  grep -qx 'License: Expat' || bad "the copyright file does not grant the Expat (MIT) licence"
 dpkg-deb -I "$DEB" conffiles 2>/dev/null | grep -qxF /etc/igms/lab.yaml ||
   bad "/etc/igms/lab.yaml is not a conffile"
 

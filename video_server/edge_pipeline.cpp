@@ -18,6 +18,7 @@ double MsSince(Clock::time_point start) {
 // What the two side tasks of one frame share until the second one publishes.
 struct PairJob {
   std::weak_ptr<FrameRecord> record;
+  std::shared_ptr<EdgePipeline::Counters> counters;
   std::mutex mutex;
   int remaining = 2;
   std::shared_ptr<StereoEdges> edges = std::make_shared<StereoEdges>();
@@ -43,7 +44,12 @@ void RunSide(const std::shared_ptr<PairJob>& job, bool left, const EdgeOptions& 
   (left ? edges.left : edges.right) = std::move(result);
   (left ? edges.left_ms : edges.right_ms) = ms;
   if (!error.empty()) edges.error = error;
-  if (--job->remaining > 0 || !record) return;
+  if (--job->remaining > 0) return;
+  if (!record) {
+    ++job->counters->skipped;
+    return;
+  }
+  ++(edges.error.empty() ? job->counters->done : job->counters->failed);
   edges.ready_ms = MsSince(record->inserted());
   if (!edges.error.empty()) {
     edges.left = EdgeImage{};
@@ -64,9 +70,24 @@ EdgePipeline::EdgePipeline(EdgeOptions options, int threads)
 void EdgePipeline::Start(const std::shared_ptr<FrameRecord>& record) {
   auto job = std::make_shared<PairJob>();
   job->record = record;
+  job->counters = counters_;
   job->edges->options = options_;
+  ++counters_->started;
   pool_.Post([job, this] { RunSide(job, true, options_); });
   pool_.Post([job, this] { RunSide(job, false, options_); });
+}
+
+EdgeJobCounts EdgePipeline::Counts() const {
+  EdgeJobCounts c;
+  // Finished counts first: a job finishing between the loads then shows as in flight,
+  // never as a negative number.
+  c.done = counters_->done.load();
+  c.failed = counters_->failed.load();
+  c.skipped = counters_->skipped.load();
+  const uint64_t started = counters_->started.load();
+  const uint64_t finished = c.done + c.failed + c.skipped;
+  c.in_flight = started > finished ? started - finished : 0;
+  return c;
 }
 
 }  // namespace igms::video

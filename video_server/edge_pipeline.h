@@ -8,6 +8,8 @@
 // flight do.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 
 #include "video_server/edges.h"
@@ -15,6 +17,14 @@
 #include "video_server/worker_pool.h"
 
 namespace igms::video {
+
+// The pipeline's jobs (one per grab, both images) since it started, for GetStatus.
+struct EdgeJobCounts {
+  uint64_t done = 0;
+  uint64_t failed = 0;   // the detector threw on either image
+  uint64_t skipped = 0;  // evicted before its turn
+  uint64_t in_flight = 0;
+};
 
 class EdgePipeline {
  public:
@@ -26,9 +36,16 @@ class EdgePipeline {
 
   const EdgeOptions& options() const { return options_; }
   int threads() const { return pool_.size(); }
+  EdgeJobCounts Counts() const;
+
+  // Shared with the jobs, which may finish while the pipeline is being destroyed.
+  struct Counters {
+    std::atomic<uint64_t> started{0}, done{0}, failed{0}, skipped{0};
+  };
 
  private:
   const EdgeOptions options_;
+  std::shared_ptr<Counters> counters_ = std::make_shared<Counters>();
   WorkerPool pool_;
 };
 

@@ -1,6 +1,7 @@
 #include "video_server/video_service.h"
 
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
@@ -14,6 +15,12 @@ namespace igms::video {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+std::string HostName() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return "";
+  return name;
+}
 constexpr uint32_t kDefaultEdgeWaitMs = 10000;
 constexpr uint32_t kMaxEdgeWaitMs = 120000;
 
@@ -237,10 +244,23 @@ StatusResponse VideoService::Status() const {
   ToProto(options_.edges, status.mutable_edge_parameters());
   status.set_calibration_file(options_.calibration_file);
   status.set_calibration_sha256(options_.calibration_sha256);
+  // Where edges are computed, so an operator of a lab over several hosts can tell.
+  static const std::string hostname = HostName();
+  status.set_hostname(hostname);
+  if (server_ && server_->port() != 0) {
+    status.set_listen_address(server_->options().bind_address + ":" +
+                              std::to_string(server_->port()));
+  }
+  const EdgeJobCounts jobs = pipeline_.Counts();
+  status.set_edge_jobs_done(jobs.done);
+  status.set_edge_jobs_failed(jobs.failed);
+  status.set_edge_jobs_skipped(jobs.skipped);
+  status.set_edge_jobs_in_flight(static_cast<uint32_t>(jobs.in_flight));
   return status;
 }
 
 void VideoService::Register(net::Server& server) {
+  server_ = &server;
   const std::string prefix = "igms.video.VideoService.";
   server.HandleAsync<GrabRequest, GrabResponse>(
       prefix + "Grab", [this](const GrabRequest&, net::Reply<GrabResponse> reply) {

@@ -62,7 +62,8 @@ class VideoService {
                VideoServiceOptions options, Overlay overlay, PoseSource pose = nullptr);
   ~VideoService();
 
-  // Registers every method of igms.video.VideoService on `server`.
+  // Registers every method of igms.video.VideoService on `server`, which must outlive the
+  // service (GetStatus reports the address it listens at).
   void Register(net::Server& server);
 
   // The same requests, callable directly (the handlers use them; so can tests).
@@ -80,6 +81,7 @@ class VideoService {
   CaptureResult CaptureNow();
 
   boost::asio::io_context& io_;
+  const net::Server* server_ = nullptr;  // set by Register
   const VideoServiceOptions options_;
   std::unique_ptr<CaptureBackend> backend_;
   std::mutex backend_mutex_;  // one capture at a time: grabs and live video share it

@@ -154,6 +154,7 @@ Server::Server(asio::io_context& io, ServerOptions options)
               r.set_program(version::ProgramName());
               r.set_version(version::Full());
               r.set_protocol_version(igms::PROTOCOL_VERSION_CURRENT);
+              r.set_server_unix_ns(UnixNs());
               r.set_uptime_ms(std::chrono::duration_cast<std::chrono::milliseconds>(
                                   std::chrono::steady_clock::now() - impl_->started)
                                   .count());

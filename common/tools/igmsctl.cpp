@@ -25,6 +25,7 @@
 #include "common/config/process_options.h"
 #include "common/log/log.h"
 #include "common/net/client.h"
+#include "common/net/clock_offset.h"
 #include "common/stats/percentile.h"
 #include "common/version/version.h"
 
@@ -42,7 +43,9 @@ Commands:
   list                       every service, method and stream igmsctl knows
   describe METHOD            a method's request and response messages
   ping                       igms.Server.Ping: is the server there, who is it (its name,
-                             program, protocol version, uptime and IGMS version)
+                             program, protocol version, uptime and IGMS version); then
+                             the server's clock offset from --pings pings (on stderr),
+                             with a warning beyond --max-offset-ms
   call METHOD [JSON]         send one request, print the response as JSON
   subscribe METHOD [JSON]    print each stream message as one line of JSON; with --count
                              or --duration it stops and prints the rate and the latency
@@ -125,6 +128,27 @@ std::string Describe(const pb::Descriptor* d) {
 
 std::atomic<bool> g_interrupted{false};
 
+// After a ping: the server's clock against this host's (common/net/clock_offset.h), on
+// stderr, so stdout stays the response's JSON. Only a warning when it is far off: the
+// server is there, which is what ping answers.
+void ReportClock(net::Client& client, const po::variables_map& vm) {
+  std::string error;
+  const auto offset = net::MeasureClockOffset(
+      client, vm["pings"].as<int>(), std::chrono::milliseconds(vm["timeout"].as<int>()), &error);
+  if (!offset) {
+    std::cerr << "igmsctl: no clock offset: " << error << "\n";
+    return;
+  }
+  std::cerr << "igmsctl: clock offset " << offset->Describe()
+            << ", the server's clock minus this host's\n";
+  const double limit_ms = vm["max-offset-ms"].as<double>();
+  if (std::abs(offset->offset_ns) / 1e6 > limit_ms) {
+    std::cerr << "igmsctl: warning: the server's clock is off by more than " << limit_ms
+              << " ms; stamps compared across hosts (capture and platform times, latencies) "
+                 "are wrong by as much: synchronise the clocks (NTP or PTP)\n";
+  }
+}
+
 }  // namespace
 
 int IgmsctlMain(int argc, char** argv) {
@@ -144,7 +168,10 @@ int IgmsctlMain(int argc, char** argv) {
       "call: set the request's take_control (the platform obeys one client at a time)")(
       "count,n", po::value<long>()->default_value(0), "subscribe: stop after N messages")(
       "duration", po::value<double>()->default_value(0), "subscribe: stop after S seconds")(
-      "quiet,q", "subscribe: print only the summary")(
+      "quiet,q", "subscribe: print only the summary")("pings", po::value<int>()->default_value(5),
+                                                      "ping: pings that estimate the clock offset")(
+      "max-offset-ms", po::value<double>()->default_value(net::kClockOffsetLimit.count()),
+      "ping: warn when the server's clock is off by more")(
       "max-frame", po::value<std::size_t>()->default_value(64u << 20),
       "largest frame accepted, bytes")("log-level", po::value<std::string>()->default_value("warn"),
                                        "igmsctl's own log level");
@@ -299,8 +326,11 @@ int IgmsctlMain(int argc, char** argv) {
           done = true;
           cv.notify_all();
         });
-    std::unique_lock lock(m);
-    cv.wait(lock, [&] { return done; });
+    {
+      std::unique_lock lock(m);
+      cv.wait(lock, [&] { return done; });
+    }
+    if (command == "ping" && rc == kExitOk && vm["pings"].as<int>() > 0) ReportClock(client, vm);
   } else {
     const long count = vm["count"].as<long>();
     const double duration = vm["duration"].as<double>();

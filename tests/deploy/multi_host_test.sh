@@ -122,5 +122,13 @@ else
   fail "igms-vision-demo from the control host: $(tail -3 "$SCRATCH/vision.log")"
 fi
 located=$(grep -c 'locate .* on frame' "$RUN/object.log" || true)
+# The video server's status names the video host and counts the edge jobs it ran.
+status=$(in_ns ctl "$BIN/igmsctl" --config "$LAB" --to video --timeout 2000 call VideoService.GetStatus 2>&1 || true)
+check "the video server's status names the video host's address" \
+  grep -q '"listen_address":"10.200.0.2:7301"' <<<"$status"
+done_jobs=$(sed -n 's/.*"edge_jobs_done":"\([0-9]*\)".*/\1/p' <<<"$status")
+check "the video host ran the edge jobs (${done_jobs:-none} done)" test "${done_jobs:-0}" -gt 0
+# Clocks: the namespaces share one kernel clock, so each offset is within its round trip.
+note "$(in_ns ctl "$BIN/igmsctl" --config "$LAB" --to platform --timeout 2000 ping 2>&1 >/dev/null | grep 'clock offset')"
 check "the object server located objects on fetched frames ($located)" test "$located" -gt 0
 finish

@@ -50,6 +50,27 @@ TEST(VideoServerWithIgmsctl, GrabEdgesOverlayAndLive) {
   EXPECT_NE(edges.output.find("\"edge_count\""), std::string::npos) << edges.output;
   EXPECT_NE(edges.output.find("\"direction_rad\""), std::string::npos);
 
+  // The status names where edges are computed and counts the one edge job, done.
+  const CtlRun status = Igmsctl(port, "call GetStatus");
+  ASSERT_EQ(status.status, 0) << status.output;
+  EXPECT_NE(status.output.find("\"listen_address\":\"127.0.0.1:" + std::to_string(port) + "\""),
+            std::string::npos)
+      << status.output;
+  EXPECT_TRUE(std::regex_search(status.output, std::regex("\"hostname\":\"[^\"]+\"")))
+      << status.output;
+  EXPECT_NE(status.output.find("\"edge_jobs_done\":\"1\""), std::string::npos) << status.output;
+  EXPECT_NE(status.output.find("\"edge_jobs_failed\":\"0\""), std::string::npos);
+  EXPECT_NE(status.output.find("\"edge_jobs_in_flight\":0"), std::string::npos);
+
+  // A ping says how far the server's clock is from this host's: one clock here, so within
+  // the round trip.
+  const CtlRun ping = Igmsctl(port, "ping --pings 3");
+  ASSERT_EQ(ping.status, 0) << ping.output;
+  EXPECT_TRUE(std::regex_search(
+      ping.output, std::regex("clock offset [+-]0\\.\\d+ ms \\(within .* best of 3 pings\\)")))
+      << ping.output;
+  EXPECT_EQ(ping.output.find("warning"), std::string::npos) << ping.output;
+
   const CtlRun unknown = Igmsctl(port, "call GetImages '{\"frame_id\": \"12345\"}'");
   EXPECT_EQ(unknown.status, 1) << unknown.output;
   EXPECT_NE(unknown.output.find("NOT_FOUND"), std::string::npos) << unknown.output;
