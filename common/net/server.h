@@ -155,16 +155,9 @@ class Server {
 
   template <class Req, class Resp>
   void HandleAsync(const std::string& method, std::function<void(const Req&, Reply<Resp>)> fn) {
-    AddMethod(method,
-              [fn, method](std::string_view payload, std::weak_ptr<Session> s, std::uint64_t id) {
-                Req req;
-                if (!req.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
-                  Reply<Resp>(s, id, method)(
-                      Status::Error(igms::BAD_REQUEST, "payload is not a " + req.GetTypeName()));
-                  return;
-                }
-                fn(req, Reply<Resp>(s, id, method));
-              });
+    HandleAsyncFrom<Req, Resp>(method, [fn](const Caller&, const Req& req, Reply<Resp> reply) {
+      fn(req, std::move(reply));
+    });
   }
 
   // HandleAsync for a handler that must know who is calling.
