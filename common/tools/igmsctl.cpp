@@ -49,6 +49,8 @@ Commands:
   call METHOD [JSON]         send one request, print the response as JSON
   subscribe METHOD [JSON]    print each stream message as one line of JSON; with --count
                              or --duration it stops and prints the rate and the latency
+                             (send to receipt, the server's stamps put on this host's
+                             clock with the offset --pings pings estimate first)
 
 METHOD is a full name (igms.video.VideoService.Grab) or a unique suffix (VideoService.Grab,
 Grab). JSON is the request in protobuf's JSON form ('{}' when omitted).
@@ -342,6 +344,15 @@ int IgmsctlMain(int argc, char** argv) {
     bool failed = false;
     std::int64_t first_ns = 0, last_ns = 0;
     auto response = NewMessage(method->output_type());
+    // The messages' send stamps are the server's clock: latencies across hosts need the
+    // offset from this host's, estimated from pings before the stream starts.
+    std::optional<net::ClockOffset> clock;
+    if (vm["pings"].as<int>() > 0 && (count > 0 || duration > 0 || quiet)) {
+      std::string error;
+      clock = net::MeasureClockOffset(client, vm["pings"].as<int>(), timeout, &error);
+      if (!clock)
+        std::cerr << "igmsctl: no clock offset (latencies on raw stamps): " << error << "\n";
+    }
     client.SubscribeRaw(
         method->full_name(), request->SerializeAsString(),
         [&](std::string_view payload, std::int64_t sent_ns) {
@@ -351,7 +362,8 @@ int IgmsctlMain(int argc, char** argv) {
           ++received;
           if (first_ns == 0) first_ns = now;
           last_ns = now;
-          if (sent_ns > 0) latencies_ms.push_back((now - sent_ns) / 1e6);
+          if (sent_ns > 0)
+            latencies_ms.push_back((now - (clock ? clock->ToLocalNs(sent_ns) : sent_ns)) / 1e6);
           if (!quiet) {
             if (response->ParseFromArray(payload.data(), static_cast<int>(payload.size())))
               std::cout << ToJson(*response) << std::endl;
@@ -380,6 +392,7 @@ int IgmsctlMain(int argc, char** argv) {
       if (!latencies_ms.empty()) {
         std::cerr << ", latency p50 " << stats::Percentile(latencies_ms, 0.5) << " ms, p99 "
                   << stats::Percentile(latencies_ms, 0.99) << " ms";
+        if (clock) std::cerr << " (the server's clock " << clock->Describe() << " from this one's)";
       }
       std::cerr << "\n";
     }
