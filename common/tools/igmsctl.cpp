@@ -392,7 +392,7 @@ int IgmsctlMain(int argc, char** argv) {
       if (!latencies_ms.empty()) {
         std::cerr << ", latency p50 " << stats::Percentile(latencies_ms, 0.5) << " ms, p99 "
                   << stats::Percentile(latencies_ms, 0.99) << " ms";
-        if (clock) std::cerr << " (the server's clock " << clock->Describe() << " from this one's)";
+        if (clock) std::cerr << "; the server's clock " << clock->Describe() << " from this host's";
       }
       std::cerr << "\n";
     }
