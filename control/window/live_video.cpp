@@ -79,6 +79,8 @@ struct LiveVideo::Impl : std::enable_shared_from_this<Impl> {
           std::lock_guard lock(self->mutex);
           self->clock = offset;
           self->stats.clock_offset_ms = offset->offset_ns / 1e6;
+          self->stats.clock_bound_ms = offset->bound_ns() / 1e6;
+          self->stats.clock_pings = offset->samples;
         });
   }
 

@@ -36,6 +36,8 @@ struct LiveStats {
   // this host's clock with the offset pings estimated, once they have.
   double latency_ms = 0;
   double clock_offset_ms = 0;  // the video server's clock minus this host's
+  double clock_bound_ms = 0;   // the offset is true within this (half the best round trip)
+  int clock_pings = 0;         // the pings it was estimated from; 0: not yet
   double rate_fps = 0;         // over the last second
 };
 
