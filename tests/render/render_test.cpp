@@ -110,6 +110,39 @@ TEST_F(Render, ABoxFillsItsProjectedOutlineInBothEyes) {
   }
 }
 
+TEST_F(Render, ASolidInsideAnotherStaysHiddenWithBackFacesCulled) {
+  // Back faces are culled: were the front ones culled instead, the inner red box's far
+  // faces would lie nearer than the outer box's and show through. The outer box also
+  // mirrored (a rotation of determinant -1 turns its faces' winding).
+  for (const double mirror : {1.0, -1.0}) {
+    DrawList list = Thesis();
+    DrawModel outer;
+    outer.center = {21, -48, 2};
+    outer.size = {6, 6, 6};
+    outer.rotation = Eigen::Vector3d(1, 1, mirror).asDiagonal();
+    outer.color = {1, 1, 1};
+    DrawModel inner = outer;
+    inner.rotation.setIdentity();
+    inner.size = {3, 3, 3};
+    inner.color = {1, 0, 0};
+    list.models = {inner, outer};  // the inner one first: drawn nearest-first anyway
+    list.lit = false;
+    for (int eye = 0; eye < 2; ++eye) {
+      const cv::Mat image = DrawEye(list, eye);
+      int white = 0, red = 0;
+      for (int v = 0; v < image.rows; ++v) {
+        for (int u = 0; u < image.cols; ++u) {
+          const cv::Vec3b p = image.at<cv::Vec3b>(v, u);
+          white += p[0] > 200 && p[2] > 200;
+          red += p[0] < 50 && p[2] > 200;
+        }
+      }
+      EXPECT_GT(white, 500) << "eye " << eye << " mirror " << mirror;
+      EXPECT_EQ(red, 0) << "eye " << eye << " mirror " << mirror;
+    }
+  }
+}
+
 TEST_F(Render, TheSitesSolidsRegisterOnItsVideoToAFractionOfAPixel) {
   const site::Scene scene = registration::MaskScene(site::DefaultTestbedScene());
   DrawList list = Thesis();

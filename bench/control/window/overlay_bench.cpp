@@ -11,9 +11,10 @@
 //  2. The frame time of side-by-side stereo at 1280 x 1024 per eye with 1, 100, 1,000 and
 //     10,000 models, video uploaded each frame, in this machine's software GL.
 //
-//   bench_overlay [--quick] [--registration | --frames] [--mark-seed N]
+//   bench_overlay [--quick] [--registration | --frames] [--mark-seed N] [--models N,N,...]
 //
-// --registration or --frames prints only those figures; --quick draws fewer frames.
+// --registration or --frames prints only those figures; --quick draws fewer frames;
+// --models the model counts of the frame times (default 1,100,1000,10000).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -149,7 +150,7 @@ void Registration(Renderer& renderer, uint64_t mark_seed) {
   }
 }
 
-void FrameTimes(Renderer& renderer, bool quick) {
+void FrameTimes(Renderer& renderer, bool quick, const std::vector<int>& counts) {
   const auto& cal = calibration::ThesisCalibration();
   // The thesis's cameras scaled to 1280 x 1024 (the BOOM2C's channels, section 2.1.3).
   Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
@@ -172,7 +173,7 @@ void FrameTimes(Renderer& renderer, bool quick) {
       "every frame (%s):\n",
       reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
   std::printf("  %8s %10s %10s %10s\n", "models", "solid ms", "wire ms", "fps solid");
-  for (int count : {1, 100, 1000, 10000}) {
+  for (int count : counts) {
     list.models.clear();
     for (int i = 0; i < count; ++i) {
       DrawModel m;
@@ -210,6 +211,7 @@ void FrameTimes(Renderer& renderer, bool quick) {
 int main(int argc, char** argv) {
   bool quick = false, registration = true, frames = true;
   uint64_t mark_seed = 1;
+  std::vector<int> counts = {1, 100, 1000, 10000};
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
@@ -219,10 +221,16 @@ int main(int argc, char** argv) {
       registration = false;
     } else if (std::strcmp(argv[i], "--mark-seed") == 0 && i + 1 < argc) {
       mark_seed = std::strtoull(argv[++i], nullptr, 10);
+    } else if (std::strcmp(argv[i], "--models") == 0 && i + 1 < argc) {
+      counts.clear();
+      for (char* p = argv[++i]; *p;) {
+        counts.push_back(static_cast<int>(std::strtol(p, &p, 10)));
+        if (*p == ',') ++p;
+      }
     } else {
       std::fprintf(stderr,
                    "usage: bench_overlay [--quick] [--registration | --frames] "
-                   "[--mark-seed N]\n");
+                   "[--mark-seed N] [--models N,N,...]\n");
       return 2;
     }
   }
@@ -237,6 +245,6 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (registration) igms::control::render::Registration(**renderer, mark_seed);
-  if (frames) igms::control::render::FrameTimes(**renderer, quick);
+  if (frames) igms::control::render::FrameTimes(**renderer, quick, counts);
   return 0;
 }
