@@ -407,7 +407,8 @@ struct Renderer::Impl {
     }
     glBindVertexArray(model_vao);
     glBindBuffer(GL_ARRAY_BUFFER, model_vbo);
-    if (!triangles.empty()) {
+    // (Black solids left out may still carry texture patches.)
+    if (!list.wireframe && !list.models.empty()) {
       use(unkeyed ? unkeyed_program : model_program, list.lit);
       glBufferData(GL_ARRAY_BUFFER, triangles.size() * sizeof(Vertex), triangles.data(),
                    GL_STREAM_DRAW);
