@@ -12,9 +12,11 @@
 //     10,000 models, video uploaded each frame, in this machine's software GL.
 //
 //   bench_overlay [--quick] [--registration | --frames] [--mark-seed N] [--models N,N,...]
+//                 [--cylinder-sides N]
 //
 // --registration or --frames prints only those figures; --quick draws fewer frames;
-// --models the model counts of the frame times (default 1,100,1000,10000).
+// --models the model counts of the frame times (default 1,100,1000,10000);
+// --cylinder-sides the renderer's sides per cylinder (default 96).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -212,6 +214,7 @@ int main(int argc, char** argv) {
   bool quick = false, registration = true, frames = true;
   uint64_t mark_seed = 1;
   std::vector<int> counts = {1, 100, 1000, 10000};
+  int sides = 0;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
@@ -221,6 +224,8 @@ int main(int argc, char** argv) {
       registration = false;
     } else if (std::strcmp(argv[i], "--mark-seed") == 0 && i + 1 < argc) {
       mark_seed = std::strtoull(argv[++i], nullptr, 10);
+    } else if (std::strcmp(argv[i], "--cylinder-sides") == 0 && i + 1 < argc) {
+      sides = std::atoi(argv[++i]);
     } else if (std::strcmp(argv[i], "--models") == 0 && i + 1 < argc) {
       counts.clear();
       for (char* p = argv[++i]; *p;) {
@@ -230,7 +235,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: bench_overlay [--quick] [--registration | --frames] "
-                   "[--mark-seed N] [--models N,N,...]\n");
+                   "[--mark-seed N] [--models N,N,...] [--cylinder-sides N]\n");
       return 2;
     }
   }
@@ -244,6 +249,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_overlay: %s\n", renderer.error().c_str());
     return 1;
   }
+  if (sides > 0) (*renderer)->cylinder_segments = sides;
   if (registration) igms::control::render::Registration(**renderer, mark_seed);
   if (frames) igms::control::render::FrameTimes(**renderer, quick, counts);
   return 0;
