@@ -77,7 +77,7 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "iterations must be at least 1";
     return false;
   }
-  if (!(max_rms_px > 0) || !(min_match_zncc > -1 && min_match_zncc < 1)) {
+  if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(min_match_zncc > -1 && min_match_zncc < 1)) {
     *error = "thresholds must be positive";
     return false;
   }
@@ -176,6 +176,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   res.rms_left_px = f.rms_px[0];
   res.rms_right_px = f.rms_px[1];
   if (!f.ok) return fail({Failure::kFitFailed, "model fit: " + f.error});
+  res.fit_score = FitScore(f);
 
   // 5. Consistency between the views, on the parts of the outline that should show an edge.
   const std::array<OutlineSupport, 2> support = {
@@ -188,6 +189,11 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
     return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);
+  if (res.fit_score > opt.max_fit_score)
+    return fail({Failure::kLeftRightInconsistent,
+                 "the fitted outline explains the edges poorly (score " +
+                     FormatFixed(res.fit_score) + ", limit " + FormatFixed(opt.max_fit_score) +
+                     "): another object's edges, or the other type?"});
 
   // The other type, when this one explains the images only fairly.
   if (FitScore(f) > opt.other_type_score) {
@@ -198,6 +204,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                                       : FitCylinder(other_starts, views, fit, opt);
     spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
                   FitScore(f));
+    res.other_type_fit_score = FitScore(other);
     if (other.ok && !CheckBothViews(other, opt) &&
         opt.other_type_ratio * FitScore(other) < FitScore(f))
       return fail({Failure::kFitFailed, std::string("a ") + (cylinder ? "box" : "cylinder") +
