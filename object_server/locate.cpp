@@ -195,8 +195,10 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                      FormatFixed(res.fit_score) + ", limit " + FormatFixed(opt.max_fit_score) +
                      "): another object's edges, or the other type?"});
 
-  // The other type, when this one explains the images only fairly.
-  if (FitScore(f) > opt.other_type_score) {
+  // The other type: for a cylinder when it explains the images only fairly; for a box always,
+  // since a box fits an upright cylinder's outline (its end ellipses seen thin) about as well as
+  // the cylinder does, while a real box's corners leave a cylinder well behind.
+  if (!cylinder || FitScore(f) > opt.other_type_score) {
     const std::vector<Eigen::VectorXd> other_starts =
         cylinder ? BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left)
                  : CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left);
@@ -205,13 +207,16 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
                   FitScore(f));
     res.other_type_fit_score = FitScore(other);
-    if (other.ok && !CheckBothViews(other, opt) &&
+    if (cylinder && other.ok && !CheckBothViews(other, opt) &&
         opt.other_type_ratio * FitScore(other) < FitScore(f))
-      return fail({Failure::kFitFailed, std::string("a ") + (cylinder ? "box" : "cylinder") +
-                                            " explains the outline much better (score " +
+      return fail({Failure::kFitFailed, "a box explains the outline much better (score " +
                                             FormatFixed(FitScore(other)) + " against " +
-                                            FormatFixed(FitScore(f)) + "): is the object a " +
-                                            (cylinder ? "box" : "cylinder") + "?"});
+                                            FormatFixed(FitScore(f)) + "): is the object a box?"});
+    if (!cylinder && other.ok && FitScore(f) > opt.box_over_cylinder * FitScore(other))
+      return fail(
+          {Failure::kFitFailed, "a cylinder explains the outline about as well as a box (score " +
+                                    FormatFixed(FitScore(other)) + " against " +
+                                    FormatFixed(FitScore(f)) + "): is the object a cylinder?"});
   }
 
   // The result.

@@ -103,6 +103,9 @@ struct LocateOptions {
   double max_beyond_marks_px = 6.0;
   double other_type_score = 0.25;
   double other_type_ratio = 1.5;
+  // A box is reported only when it explains the outline clearly better than a cylinder: its
+  // score at most this share of the cylinder's (a box fits an upright cylinder about as well).
+  double box_over_cylinder = 0.8;
   // A fit scoring worse than this explains too little of the outline to be the object: on
   // the site scenes it was a wrong model (another object's edges, the other type) far more
   // often than a right one.

@@ -123,9 +123,11 @@ int main(int argc, char** argv) {
         }
         for (const auto& n : igms::object::EvaluateNothingThere(scene, name, first + s, 2)) {
           if (verbose && n.result.found)
-            std::printf("%-18s nothing there (%s) reported found, score %.3f, other type's %.3f\n",
-                        name.c_str(), n.what.c_str(), n.result.fit_score,
-                        n.result.other_type_fit_score);
+            std::printf(
+                "%-18s nothing there (%s) reported found as %s, score %.3f, other type's %.3f\n",
+                name.c_str(), n.what.c_str(),
+                n.result.type == igms::object::SolidType::kBox ? "box" : "cylinder",
+                n.result.fit_score, n.result.other_type_fit_score);
           nothing.push_back(n);
         }
       }
