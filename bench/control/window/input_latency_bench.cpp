@@ -140,14 +140,25 @@ int main(int argc, char** argv) {
     stop = true;
   });
   std::vector<double> latency_ms, frame_ms;
-  int64_t last_stamp = 0, last_shown = 0;
+  int64_t last_stamp = 0, last_shown = 0, first_shown = 0;
+  // The live video as the window's own connection receives it: each new pair's capture to
+  // receipt (on this host's clock through the offset from pings) and the pairs' count.
+  std::vector<double> live_latency_ms;
+  igms::control::LiveStats live_stats;
   std::optional<Eigen::Vector3d> last_pointer;
   igms::control::DisplayLoopOptions loop;
   loop.max_fps = fps;
   loop.offscreen_continuous = true;
   loop.on_frame = [&](const igms::control::SessionView& view, int64_t shown_ns) {
     if (last_shown) frame_ms.push_back(static_cast<double>(shown_ns - last_shown) / 1e6);
+    if (!first_shown) first_shown = shown_ns;
     last_shown = shown_ns;
+    if (live) {
+      const igms::control::LiveStats s = live->stats();
+      if (s.frames > live_stats.frames && s.clock_pings > 0)
+        live_latency_ms.push_back(s.latency_ms);
+      live_stats = s;
+    }
     const bool moved = view.pointer && last_pointer && (*view.pointer - *last_pointer).norm() > 0;
     if (moved && view.joystick_stamp_ns > last_stamp && last_stamp != 0) {
       latency_ms.push_back(static_cast<double>(shown_ns - view.joystick_stamp_ns) / 1e6);
@@ -171,5 +182,14 @@ int main(int argc, char** argv) {
       calibration->left.image_size.width, calibration->left.image_size.height, samples, fps);
   Print("reading stamp to frame shown", latency_ms);
   Print("frame interval", frame_ms);
+  const double span_s = static_cast<double>(last_shown - first_shown) / 1e9;
+  std::printf(
+      "live video into the window: %llu pairs in %.1f s (%.1f per second), %llu skipped; "
+      "the video server's clock %+.3f ms (within %.3f ms, %d pings) from this one's\n",
+      static_cast<unsigned long long>(live_stats.frames), span_s,
+      span_s > 0 ? live_stats.frames / span_s : 0.0,
+      static_cast<unsigned long long>(live_stats.skipped), live_stats.clock_offset_ms,
+      live_stats.clock_bound_ms, live_stats.clock_pings);
+  Print("live pair capture to receipt", live_latency_ms);
   return 0;
 }
