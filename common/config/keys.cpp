@@ -283,6 +283,9 @@ void ReadBound(const ProcessOptions& process, const KeySpec& spec, T* field) {
         *field = flags[spec.flag].as<T>();
       }
       return;
+    } else if constexpr (std::is_same_v<T, std::chrono::milliseconds>) {
+      *field = std::chrono::milliseconds(flags[spec.flag].as<int>());
+      return;
     } else if constexpr (std::is_same_v<T, bool>) {
       // A switch: on when given; off leaves the file its say.
       if (flags[spec.flag].as<bool>()) {
@@ -295,7 +298,11 @@ void ReadBound(const ProcessOptions& process, const KeySpec& spec, T* field) {
     }
   }
   const std::string key = FullKey(process.name, spec.key);
-  *field = process.config.Get<T>(key, *field);
+  if constexpr (std::is_same_v<T, std::chrono::milliseconds>) {
+    *field = std::chrono::milliseconds(process.config.Get<long long>(key, field->count()));
+  } else {
+    *field = process.config.Get<T>(key, *field);
+  }
 }
 
 template void ReadBound<bool>(const ProcessOptions&, const KeySpec&, bool*);
@@ -305,6 +312,8 @@ template void ReadBound<unsigned long>(const ProcessOptions&, const KeySpec&, un
 template void ReadBound<double>(const ProcessOptions&, const KeySpec&, double*);
 template void ReadBound<float>(const ProcessOptions&, const KeySpec&, float*);
 template void ReadBound<std::string>(const ProcessOptions&, const KeySpec&, std::string*);
+template void ReadBound<std::chrono::milliseconds>(const ProcessOptions&, const KeySpec&,
+                                                   std::chrono::milliseconds*);
 template void ReadBound<std::vector<double>>(const ProcessOptions&, const KeySpec&,
                                              std::vector<double>*);
 

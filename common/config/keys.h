@@ -16,6 +16,7 @@
 // other processes' sections belong to other programs.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -69,8 +70,8 @@ class Keys {
   // Binds a key to a field: Read() sets the field from the flag when it is given, else from
   // the key when it is set, else leaves the field's value (the default). A bool flag is a
   // switch that can only turn the field on. T: bool, int, unsigned, double, float,
-  // std::string, std::size_t, std::vector<double> (a list; its flag a string of numbers
-  // separated by spaces or commas).
+  // std::string, std::size_t, std::chrono::milliseconds (an integer key, "..._ms"),
+  // std::vector<double> (a list; its flag a string of numbers separated by spaces or commas).
   template <class T>
   Keys& Bind(const std::string& key, T* field, const std::string& help,
              const std::string& flag = "");
@@ -110,6 +111,8 @@ template <class T>
 KeyType TypeOf() {
   if constexpr (IsVector<T>::value)
     return KeyType::kList;
+  else if constexpr (std::is_same_v<T, std::chrono::milliseconds>)
+    return KeyType::kInt;
   else if constexpr (std::is_same_v<T, bool>)
     return KeyType::kBool;
   else if constexpr (std::is_integral_v<T>)
@@ -128,6 +131,8 @@ std::string DefaultText(const T& value) {
     for (std::size_t i = 0; i < value.size(); ++i) out << (i ? ", " : "") << value[i];
     out << "]";
     return out.str();
+  } else if constexpr (std::is_same_v<T, std::chrono::milliseconds>) {
+    return std::to_string(value.count());
   } else if constexpr (std::is_same_v<T, bool>)
     return value ? "true" : "false";
   else if constexpr (std::is_same_v<T, std::string>)

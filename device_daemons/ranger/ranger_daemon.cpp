@@ -8,11 +8,13 @@ config::Keys RangerKeys(RangerDaemonOptions* options) {
   config::Keys keys = DaemonKeys();
   keys.Bind("poll_hz", &options->poll_hz,
             "also range continuously at this rate, at most 6 Hz (0: on request only)", "poll-hz");
-  keys.Path("scene", "simulator: the site's scene file (default: the thesis testbed)");
-  keys.Path("calibration",
-            "simulator: the ranger's mount and the platform model (default: lab.calibration)");
-  keys.Add("platform", config::KeyType::kString, "",
-           "simulator: the platform process whose pose turns the beam");
+  keys.BindPath("scene", &options->scene_file,
+                "simulator: the site's scene file (default: the thesis testbed)", "scene");
+  keys.BindPath("calibration", &options->calibration_file,
+                "simulator: the ranger's mount and the platform model (default: lab.calibration)",
+                "calibration");
+  keys.Bind("platform", &options->platform,
+            "simulator: the platform process whose pose turns the beam");
   return keys;
 }
 
