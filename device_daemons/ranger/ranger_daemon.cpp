@@ -30,8 +30,11 @@ RangerDaemon::~RangerDaemon() {
 
 std::unique_ptr<SimulatedDevice> RangerDaemon::MakeSimulator(std::string* error) {
   RangerSimOptions sim_options;
-  auto world = LoadRangerWorld(ranger_.scene_file, ranger_.calibration_file, error);
-  if (!world) return nullptr;
+  auto world = LoadRangerWorld(ranger_.scene_file, ranger_.calibration_file);
+  if (!world.ok()) {
+    *error = world.error();
+    return nullptr;
+  }
   sim_options.world = std::move(*world);
   if (!sim_options.world.mount.platform && ranger_.follow_platform_port != 0) {
     spdlog::warn("ranger simulator: the calibration has no platform model, so the beam stays put");
