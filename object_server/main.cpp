@@ -39,11 +39,10 @@ int main(int argc, char** argv) {
       spdlog::critical("lab.calibration: the object server needs the cameras' calibration");
       return igms::kExitUsage;
     }
-    std::string error;
     const auto calibration =
-        igms::calibration::LoadCalibration(process->config.ResolvePath(calibration_file), &error);
-    if (!calibration) {
-      spdlog::critical("lab.calibration: {}", error);
+        igms::calibration::LoadCalibration(process->config.ResolvePath(calibration_file));
+    if (!calibration.ok()) {
+      spdlog::critical("lab.calibration: {}", calibration.error());
       return igms::kExitUsage;
     }
     options.ranger = igms::object::RangerInWorld(*calibration);

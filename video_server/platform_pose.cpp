@@ -47,10 +47,9 @@ Result<std::optional<PlatformFollowOptions>> ConfiguredPlatformFollow(
   // A model mismatch is better found at start than as a wrong pose later.
   const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
   if (!calibration_file.empty()) {
-    std::string error;
     const auto calibration =
-        calibration::LoadCalibration(process.config.ResolvePath(calibration_file), &error);
-    if (!calibration) return ErrorMessage{"lab.calibration: " + error};
+        calibration::LoadCalibration(process.config.ResolvePath(calibration_file));
+    if (!calibration.ok()) return ErrorMessage{"lab.calibration: " + calibration.error()};
     options.model = calibration->platform;
   }
   return std::optional<PlatformFollowOptions>(std::move(options));

@@ -116,12 +116,11 @@ VideoServiceOptions ConfiguredServiceOptions(const config::ProcessOptions& proce
   const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
   if (!calibration_file.empty()) {
     const std::string path = process.config.ResolvePath(calibration_file);
-    std::string why;
-    if (const auto calibration = calibration::LoadCalibration(path, &why)) {
+    if (const auto calibration = calibration::LoadCalibration(path); calibration.ok()) {
       options.calibration_file = path;
       options.calibration_sha256 = calibration::CalibrationHash(*calibration);
     } else {
-      spdlog::warn("lab.calibration: {}; GetStatus reports no calibration", why);
+      spdlog::warn("lab.calibration: {}; GetStatus reports no calibration", calibration.error());
     }
   }
   if (std::string problem; !options.Check(&problem)) {

@@ -162,10 +162,9 @@ igms::Result<Startup> Prepare(const igms::config::ProcessOptions& process,
   if (calibration_file.empty()) {
     return ErrorMessage{"lab.calibration: the control client needs the cameras' calibration"};
   }
-  std::string error;
   auto calibration =
-      igms::calibration::LoadCalibration(process.config.ResolvePath(calibration_file), &error);
-  if (!calibration) return ErrorMessage{"lab.calibration: " + error};
+      igms::calibration::LoadCalibration(process.config.ResolvePath(calibration_file));
+  if (!calibration.ok()) return ErrorMessage{"lab.calibration: " + calibration.error()};
   s.calibration = std::move(*calibration);
   auto options = igms::control::MakeControlAppOptions(process, config);
   if (!options.ok()) return ErrorMessage{options.error()};

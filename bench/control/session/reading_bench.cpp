@@ -172,11 +172,11 @@ int main(int argc, char** argv) {
       static_cast<int>(argv_control.size()), argv_control.data(), "control", "bench", no_flags,
       igms::control::ControlKeys(&control_config), &exit_code);
   if (!process) return 1;
-  std::string error;
   const auto calibration = igms::calibration::LoadCalibration(
-      process->config.ResolvePath(process->config.Get<std::string>("lab.calibration", "")), &error);
-  if (!calibration) {
-    std::fprintf(stderr, "bench_reading_to_state: lab.calibration: %s\n", error.c_str());
+      process->config.ResolvePath(process->config.Get<std::string>("lab.calibration", "")));
+  if (!calibration.ok()) {
+    std::fprintf(stderr, "bench_reading_to_state: lab.calibration: %s\n",
+                 calibration.error().c_str());
     return 1;
   }
   auto options = igms::control::MakeControlAppOptions(*process, control_config);

@@ -120,12 +120,11 @@ SimSceneChoice ConfiguredSimScene(const config::ProcessOptions& process) {
   }
   const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
   if (!calibration_file.empty()) {
-    std::string error;
     const auto calibration =
-        calibration::LoadCalibration(process.config.ResolvePath(calibration_file), &error);
-    if (!calibration) {
+        calibration::LoadCalibration(process.config.ResolvePath(calibration_file));
+    if (!calibration.ok()) {
       choice.scene.reset();
-      choice.error = "lab.calibration: " + error;
+      choice.error = "lab.calibration: " + calibration.error();
       return choice;
     }
     choice.scene->cameras.left = calibration->left.Camera();

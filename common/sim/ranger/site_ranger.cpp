@@ -38,9 +38,8 @@ Result<RangerWorld> LoadSiteRangerWorld(const std::string& scene_file,
     world.mount = RangerMount::FromCalibration(c);
     return world;
   }
-  std::string error;
-  auto calibration = calibration::LoadCalibration(calibration_file, &error);
-  if (!calibration) return ErrorMessage{"ranger calibration: " + error};
+  auto calibration = calibration::LoadCalibration(calibration_file);
+  if (!calibration.ok()) return ErrorMessage{"ranger calibration: " + calibration.error()};
   world.mount = RangerMount::FromCalibration(*calibration);
   return world;
 }
