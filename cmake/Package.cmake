@@ -33,6 +33,9 @@ set(CPACK_DEBIAN_PACKAGE_HOMEPAGE "https://example.org/igms")
 # The lab file is the administrator's to edit: a conffile, kept on upgrade.
 set(igms_package_dir ${CMAKE_BINARY_DIR}/package)
 file(WRITE ${igms_package_dir}/conffiles "/etc/igms/lab.yaml\n")
-set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${igms_package_dir}/conffiles)
+# The maintainer scripts: postinst makes the sysusers.d groups (where systemd-sysusers
+# exists) and reloads a running systemd; postrm reloads it after removal.
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${igms_package_dir}/conffiles
+    ${PROJECT_SOURCE_DIR}/deploy/debian/postinst ${PROJECT_SOURCE_DIR}/deploy/debian/postrm)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 include(CPack)

@@ -74,5 +74,29 @@ else
   printf '%s\n' "$check" >&2
   bad "igms config check on the unpacked package's lab file"
 fi
+
+# The maintainer scripts, run as dpkg would into the scratch root (DPKG_ROOT): postinst makes
+# the sysusers.d group there with systemd-sysusers, and without systemd-sysusers (a
+# container) it still succeeds; neither script fails where no systemd runs.
+mkdir -p "$TMP/control"
+dpkg-deb -e "$DEB" "$TMP/control"
+for script in postinst postrm; do
+  [ -x "$TMP/control/$script" ] || bad "the package has no executable $script"
+done
+if [ -x "$TMP/control/postinst" ]; then
+  if command -v systemd-sysusers >/dev/null; then
+    mkdir -p "$TMP/etc"
+    DPKG_ROOT="$TMP" "$TMP/control/postinst" configure >"$TMP/postinst.log" 2>&1 ||
+      bad "postinst configure failed: $(tail -2 "$TMP/postinst.log")"
+    grep -q '^input:' "$TMP/etc/group" 2>/dev/null ||
+      bad "postinst did not make the input group (systemd-sysusers igms.conf)"
+  fi
+  mkdir -p "$TMP/nosystemd"
+  ln -s "$(command -v sh)" "$TMP/nosystemd/sh"
+  PATH="$TMP/nosystemd" DPKG_ROOT="$TMP" "$TMP/control/postinst" configure >"$TMP/postinst.log" 2>&1 ||
+    bad "postinst failed without systemd-sysusers: $(tail -2 "$TMP/postinst.log")"
+  "$TMP/control/postrm" remove >"$TMP/postrm.log" 2>&1 ||
+    bad "postrm remove failed: $(tail -2 "$TMP/postrm.log")"
+fi
 [ "$failures" = 0 ] || { say "$failures checks failed"; exit 1; }
 echo "$DEB"

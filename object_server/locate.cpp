@@ -77,7 +77,7 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "iterations must be at least 1";
     return false;
   }
-  if (!(max_rms_px > 0) || !(min_match_zncc > -1 && min_match_zncc < 1)) {
+  if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(min_match_zncc > -1 && min_match_zncc < 1)) {
     *error = "thresholds must be positive";
     return false;
   }
@@ -176,6 +176,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   res.rms_left_px = f.rms_px[0];
   res.rms_right_px = f.rms_px[1];
   if (!f.ok) return fail({Failure::kFitFailed, "model fit: " + f.error});
+  res.fit_score = FitScore(f);
 
   // 5. Consistency between the views, on the parts of the outline that should show an edge.
   const std::array<OutlineSupport, 2> support = {
@@ -188,9 +189,16 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
     return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);
+  if (res.fit_score > opt.max_fit_score)
+    return fail({Failure::kLeftRightInconsistent,
+                 "the fitted outline explains the edges poorly (score " +
+                     FormatFixed(res.fit_score) + ", limit " + FormatFixed(opt.max_fit_score) +
+                     "): another object's edges, or the other type?"});
 
-  // The other type, when this one explains the images only fairly.
-  if (FitScore(f) > opt.other_type_score) {
+  // The other type: for a cylinder when it explains the images only fairly; for a box always,
+  // since a box fits an upright cylinder's outline (its end ellipses seen thin) about as well as
+  // the cylinder does, while a real box's corners leave a cylinder well behind.
+  if (!cylinder || FitScore(f) > opt.other_type_score) {
     const std::vector<Eigen::VectorXd> other_starts =
         cylinder ? BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left)
                  : CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left);
@@ -198,13 +206,17 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                                       : FitCylinder(other_starts, views, fit, opt);
     spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
                   FitScore(f));
-    if (other.ok && !CheckBothViews(other, opt) &&
+    res.other_type_fit_score = FitScore(other);
+    if (cylinder && other.ok && !CheckBothViews(other, opt) &&
         opt.other_type_ratio * FitScore(other) < FitScore(f))
-      return fail({Failure::kFitFailed, std::string("a ") + (cylinder ? "box" : "cylinder") +
-                                            " explains the outline much better (score " +
+      return fail({Failure::kFitFailed, "a box explains the outline much better (score " +
                                             FormatFixed(FitScore(other)) + " against " +
-                                            FormatFixed(FitScore(f)) + "): is the object a " +
-                                            (cylinder ? "box" : "cylinder") + "?"});
+                                            FormatFixed(FitScore(f)) + "): is the object a box?"});
+    if (!cylinder && other.ok && FitScore(f) > opt.box_over_cylinder * FitScore(other))
+      return fail(
+          {Failure::kFitFailed, "a cylinder explains the outline about as well as a box (score " +
+                                    FormatFixed(FitScore(other)) + " against " +
+                                    FormatFixed(FitScore(f)) + "): is the object a cylinder?"});
   }
 
   // The result.

@@ -103,6 +103,13 @@ struct LocateOptions {
   double max_beyond_marks_px = 6.0;
   double other_type_score = 0.25;
   double other_type_ratio = 1.5;
+  // A box is reported only when it explains the outline clearly better than a cylinder: its
+  // score at most this share of the cylinder's (a box fits an upright cylinder about as well).
+  double box_over_cylinder = 0.8;
+  // A fit scoring worse than this explains too little of the outline to be the object: on
+  // the site scenes it was a wrong model (another object's edges, the other type) far more
+  // often than a right one.
+  double max_fit_score = 1.0;
   double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)
   double ranger_accuracy = 0.5;      // world units: the range's own error
   // False, with what is wrong in *error, when invalid.
@@ -183,6 +190,8 @@ struct LocateResult {
   double match_zncc = 0;    // its normalised cross-correlation
   int outline_samples = 0;  // edge measurements in the final fit (both images)
   double rms_left_px = 0, rms_right_px = 0;
+  // FitScore of the fit, and of the other type's when it was tried (-1: not tried).
+  double fit_score = 0, other_type_fit_score = -1;
   double elapsed_ms = 0;
   RangeCheck range;
   LocateTrace trace;

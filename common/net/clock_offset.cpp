@@ -3,6 +3,8 @@
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
+#include <utility>
 
 #include "common/base/clock.h"
 #include "igms/common.pb.h"
@@ -51,6 +53,50 @@ std::optional<ClockOffset> MeasureClockOffset(Client& client, int pings,
   auto estimate = EstimateClockOffset(samples);
   if (!estimate) *error = "the server's pings carry no time (a server older than this client)";
   return estimate;
+}
+
+namespace {
+struct AsyncPings {
+  Client* client;
+  int pings;
+  std::chrono::milliseconds timeout;
+  ClockOffsetDone done;
+  std::vector<ClockSample> samples;
+
+  static void Next(std::shared_ptr<AsyncPings> self) {
+    if (static_cast<int>(self->samples.size()) >= self->pings) {
+      auto estimate = EstimateClockOffset(self->samples);
+      self->done(
+          estimate,
+          estimate ? "" : "the server's pings carry no time (a server older than this client)");
+      return;
+    }
+    const std::int64_t sent = UnixNs();
+    Client* client = self->client;
+    const auto timeout = self->timeout;
+    client->Call<PingResponse>(
+        "igms.Server.Ping", PingRequest(), timeout,
+        [self = std::move(self), sent](Result<PingResponse> r) mutable {
+          const std::int64_t received = UnixNs();
+          if (!r.ok()) {
+            self->done(std::nullopt, "ping: " + r.status.ToString());
+            return;
+          }
+          self->samples.push_back({sent, r.value.server_unix_ns(), received});
+          Next(std::move(self));
+        });
+  }
+};
+}  // namespace
+
+void MeasureClockOffsetAsync(Client& client, int pings, std::chrono::milliseconds timeout,
+                             ClockOffsetDone done) {
+  auto state = std::make_shared<AsyncPings>();
+  state->client = &client;
+  state->pings = pings > 0 ? pings : 1;
+  state->timeout = timeout;
+  state->done = std::move(done);
+  AsyncPings::Next(std::move(state));
 }
 
 }  // namespace igms::net

@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +40,8 @@ struct ClockOffset {
   std::int64_t round_trip_ns = 0;  // of the sample kept; the offset is true within half of it
   int samples = 0;                 // usable samples among those given
   std::int64_t bound_ns() const { return round_trip_ns / 2; }
+  // A stamp of the server's clock on this host's: what latencies across hosts subtract.
+  std::int64_t ToLocalNs(std::int64_t server_unix_ns) const { return server_unix_ns - offset_ns; }
   // "+0.012 ms (within ±0.050 ms, best of 5 pings)"
   std::string Describe() const;
 };
@@ -52,5 +55,12 @@ std::optional<ClockOffset> EstimateClockOffset(const std::vector<ClockSample>& s
 std::optional<ClockOffset> MeasureClockOffset(Client& client, int pings,
                                               std::chrono::milliseconds timeout,
                                               std::string* error);
+
+// The same without blocking, for a client's own network thread: the pings go one after the
+// other from the callbacks, and `done` gets the estimate, or nullopt and why. `client` must
+// outlive the pings (Stop() fails those in flight, which ends them).
+using ClockOffsetDone = std::function<void(std::optional<ClockOffset>, const std::string& error)>;
+void MeasureClockOffsetAsync(Client& client, int pings, std::chrono::milliseconds timeout,
+                             ClockOffsetDone done);
 
 }  // namespace igms::net

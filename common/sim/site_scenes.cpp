@@ -139,103 +139,153 @@ StereoCameras HdCameras() {
           geometry::ProjectiveCamera(S * thesis.right.P(), size)};
 }
 
-Scene SiteScene(uint64_t seed, SiteLevel level, bool hd) {
-  const Settings set = LevelSettings(level);
-  std::mt19937_64 rng(seed * 7919 + static_cast<uint64_t>(level) * 104729 + (hd ? 1 : 0));
-  auto uni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
-  auto chance = [&](double p) { return uni(0, 1) < p; };
-  Scene s;
-  s.cameras = hd ? HdCameras() : ThesisCameras();
-  const double px = hd ? 1920.0 / 512.0 : 1.0;  // the level's pixel sizes are the thesis's
-  s.sensor.seed = seed;
-  s.sensor.noise_sigma = uni(set.noise_min, set.noise_max);
-  s.sensor.blur_sigma = uni(0.5, 1.2);
-  s.table.albedo = uni(set.table_albedo_min, set.table_albedo_max);
-  s.table.hole_albedo = 0.2 * s.table.albedo;
-  s.lighting.ambient = uni(0.3, 0.45);
-  s.lighting.lights = {{Eigen::Vector3d(uni(-0.6, 0.6), uni(-0.4, 0.4), 1.0), uni(0.35, 0.5)},
-                       {Eigen::Vector3d(uni(-0.5, 0.5), 1.0, uni(0.2, 0.6)), uni(0.15, 0.3)}};
-  s.lighting.shadows = true;
+namespace {
 
-  const Eigen::Vector3d eye = s.cameras.left.Center();
-  std::vector<Rect> left_rects, right_rects;
-  std::vector<std::pair<Eigen::Vector2d, double>> footprints;
-  int count = 0;
-  auto material = [&](SceneObject& o) {
-    o.albedo = uni(set.albedo_min, set.albedo_max);
-    if (chance(set.textured_share)) o.texture = {uni(0.1, 0.35), uni(0.6, 2.0)};
-  };
+// Builds one site scene: the sensor and lighting drawn first, then the objects, each group
+// placed where it is apart from the others. Every draw comes from one generator, in a fixed
+// order, so a (seed, level, hd) always gives the same scene.
+class SceneBuilder {
+ public:
+  SceneBuilder(uint64_t seed, SiteLevel level, bool hd)
+      : set_(LevelSettings(level)),
+        level_(level),
+        rng_(seed * 7919 + static_cast<uint64_t>(level) * 104729 + (hd ? 1 : 0)),
+        px_(hd ? 1920.0 / 512.0 : 1.0) {  // the level's pixel sizes are the thesis's
+    s_.cameras = hd ? HdCameras() : ThesisCameras();
+    s_.sensor.seed = seed;
+  }
+
+  Scene Build() {
+    DrawSensorAndLighting();
+    eye_ = s_.cameras.left.Center();
+    const int n = static_cast<int>(uni(set_.min_objects, set_.max_objects + 1 - 1e-9));
+    for (int i = 0; i < n; ++i) PlaceOne();
+    return std::move(s_);
+  }
+
+ private:
+  double uni(double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng_); }
+  bool chance(double p) { return uni(0, 1) < p; }
+
+  void DrawSensorAndLighting() {
+    s_.sensor.noise_sigma = uni(set_.noise_min, set_.noise_max);
+    s_.sensor.blur_sigma = uni(0.5, 1.2);
+    s_.table.albedo = uni(set_.table_albedo_min, set_.table_albedo_max);
+    s_.table.hole_albedo = 0.2 * s_.table.albedo;
+    s_.lighting.ambient = uni(0.3, 0.45);
+    s_.lighting.lights = {{Eigen::Vector3d(uni(-0.6, 0.6), uni(-0.4, 0.4), 1.0), uni(0.35, 0.5)},
+                          {Eigen::Vector3d(uni(-0.5, 0.5), 1.0, uni(0.2, 0.6)), uni(0.15, 0.3)}};
+    s_.lighting.shadows = true;
+  }
+
+  // One object (or a pipe with its supports), of the kind the level favours.
+  void PlaceOne() {
+    const double k = uni(0, 1);
+    if (level_ == SiteLevel::kPipes) {
+      // Mostly pipes, with an upright pipe or a block among them now and then.
+      if (k < 0.7)
+        Place(&SceneBuilder::Pipe);
+      else if (k < 0.85)
+        Place(&SceneBuilder::UprightPipe);
+      else
+        Place(&SceneBuilder::Block);
+    } else {
+      if (k < 0.4)
+        Place(&SceneBuilder::UprightPipe);
+      else if (k < 0.7)
+        Place(&SceneBuilder::Pipe);
+      else
+        Place(&SceneBuilder::Block);
+    }
+  }
+
+  void Material(SceneObject& o) {
+    o.albedo = uni(set_.albedo_min, set_.albedo_max);
+    if (chance(set_.textured_share)) o.texture = {uni(0.1, 0.35), uni(0.6, 2.0)};
+  }
+
+  std::string Name(const std::string& kind) { return kind + "_" + std::to_string(count_++); }
+
   // Places the group made at table point `at` (drawn afresh each attempt); false when it
   // found no room.
-  auto place = [&](auto make) {
+  bool Place(Group (SceneBuilder::*make)(const Eigen::Vector2d&)) {
     for (int attempt = 0; attempt < 400; ++attempt) {
-      const double dist = uni(set.min_distance, set.max_distance);
+      const double dist = uni(set_.min_distance, set_.max_distance);
       const double half_width = 0.24 * dist;
-      const Eigen::Vector2d at(eye.x() + uni(-half_width, half_width), eye.y() - dist);
-      Group g = make(at);
+      const Eigen::Vector2d at(eye_.x() + uni(-half_width, half_width), eye_.y() - dist);
+      Group g = (this->*make)(at);
       Rect l, r;
-      bool ok = true, first = true;
-      Eigen::Vector2d fc;
-      double fr = 0;
       std::vector<std::pair<Eigen::Vector2d, double>> feet;
-      for (const auto& o : g.objects) {
-        Rect lo, ro;
-        if (!Bounds(o.shape, s.cameras.left, lo) || !Bounds(o.shape, s.cameras.right, ro)) {
-          ok = false;
-          break;
-        }
-        l = first ? lo : Union(l, lo);
-        r = first ? ro : Union(r, ro);
-        first = false;
-        Footprint(o.shape, fc, fr);
-        feet.push_back({fc, fr});
-      }
-      if (!ok) continue;
-      const double margin = 8 * px;
-      const Rect lm{l.u0 - margin, l.v0 - margin, l.u1 + margin, l.v1 + margin};
-      const Rect rm{r.u0 - margin, r.v0 - margin, r.u1 + margin, r.v1 + margin};
-      if (InsideShare(lm, s.cameras.left.image_size()) < set.min_inside ||
-          InsideShare(rm, s.cameras.right.image_size()) < set.min_inside)
-        continue;
-      if (set.min_inside < 1.0 && (InsideShare(l, s.cameras.left.image_size()) < set.min_inside ||
-                                   InsideShare(r, s.cameras.right.image_size()) < set.min_inside))
-        continue;
-      for (size_t i = 0; i < left_rects.size() && ok && set.image_gap >= 0; ++i)
-        ok = Apart(l, left_rects[i], set.image_gap * px) &&
-             Apart(r, right_rects[i], set.image_gap * px);
-      // Solids never meet, whatever the image shows.
-      for (const auto& [c, rad] : feet)
-        for (const auto& [c2, rad2] : footprints)
-          if (ok && (c - c2).norm() < rad + rad2 + 0.3) ok = false;
-      if (!ok) continue;
-      left_rects.push_back(l);
-      right_rects.push_back(r);
-      footprints.insert(footprints.end(), feet.begin(), feet.end());
-      for (auto& o : g.objects) s.objects.push_back(std::move(o));
+      if (!Fits(g, l, r, feet)) continue;
+      left_rects_.push_back(l);
+      right_rects_.push_back(r);
+      footprints_.insert(footprints_.end(), feet.begin(), feet.end());
+      for (auto& o : g.objects) s_.objects.push_back(std::move(o));
       return true;
     }
     return false;
-  };
-  auto name = [&](const std::string& kind) { return kind + "_" + std::to_string(count++); };
-  auto upright = [&](const Eigen::Vector2d& at) {
+  }
+
+  // Whether group g is in view, in the images and on the table apart from the groups placed
+  // already; its rectangles in both images and its footprints on the table come out.
+  bool Fits(const Group& g, Rect& l, Rect& r,
+            std::vector<std::pair<Eigen::Vector2d, double>>& feet) const {
+    bool ok = true, first = true;
+    Eigen::Vector2d fc;
+    double fr = 0;
+    for (const auto& o : g.objects) {
+      Rect lo, ro;
+      if (!Bounds(o.shape, s_.cameras.left, lo) || !Bounds(o.shape, s_.cameras.right, ro)) {
+        ok = false;
+        break;
+      }
+      l = first ? lo : Union(l, lo);
+      r = first ? ro : Union(r, ro);
+      first = false;
+      Footprint(o.shape, fc, fr);
+      feet.push_back({fc, fr});
+    }
+    if (!ok) return false;
+    const double margin = 8 * px_;
+    const Rect lm{l.u0 - margin, l.v0 - margin, l.u1 + margin, l.v1 + margin};
+    const Rect rm{r.u0 - margin, r.v0 - margin, r.u1 + margin, r.v1 + margin};
+    if (InsideShare(lm, s_.cameras.left.image_size()) < set_.min_inside ||
+        InsideShare(rm, s_.cameras.right.image_size()) < set_.min_inside)
+      return false;
+    if (set_.min_inside < 1.0 && (InsideShare(l, s_.cameras.left.image_size()) < set_.min_inside ||
+                                  InsideShare(r, s_.cameras.right.image_size()) < set_.min_inside))
+      return false;
+    for (size_t i = 0; i < left_rects_.size() && ok && set_.image_gap >= 0; ++i)
+      ok = Apart(l, left_rects_[i], set_.image_gap * px_) &&
+           Apart(r, right_rects_[i], set_.image_gap * px_);
+    // Solids never meet, whatever the image shows.
+    for (const auto& [c, rad] : feet)
+      for (const auto& [c2, rad2] : footprints_)
+        if (ok && (c - c2).norm() < rad + rad2 + 0.3) ok = false;
+    return ok;
+  }
+
+  Group UprightPipe(const Eigen::Vector2d& at) {
     Group g;
-    SceneObject o(name("upright"), Upright(at, chance(0.5) ? 0.5 : 0.25, uni(3.0, 12.0)));
-    material(o);
+    SceneObject o(Name("upright"), Upright(at, chance(0.5) ? 0.5 : 0.25, uni(3.0, 12.0)));
+    Material(o);
     g.objects.push_back(o);
     return g;
-  };
-  auto block = [&](const Eigen::Vector2d& at) {
+  }
+
+  Group Block(const Eigen::Vector2d& at) {
     Group g;
     const Eigen::Vector3d size(uni(1.0, 4.0), uni(1.0, 4.0), uni(1.0, 4.0));
-    SceneObject o(name("box"),
-                  Block({at.x(), at.y(), 0.0}, size, chance(0.5) ? uni(-40.0, 40.0) * kDeg : 0.0));
-    material(o);
+    SceneObject o(Name("box"), site::Block({at.x(), at.y(), 0.0}, size,
+                                           chance(0.5) ? uni(-40.0, 40.0) * kDeg : 0.0));
+    Material(o);
     g.objects.push_back(o);
     return g;
-  };
+  }
+
   // A lying pipe in any horizontal direction: on the table, raised on two blocks, or tilted
   // with one end on a block.
-  auto pipe = [&](const Eigen::Vector2d& at) {
+  Group Pipe(const Eigen::Vector2d& at) {
     Group g;
     const double r = chance(0.5) ? 0.5 : 0.25, len = uni(3.0, 8.0);
     const double yaw = uni(0.0, 180.0) * kDeg;
@@ -259,14 +309,14 @@ Scene SiteScene(uint64_t seed, SiteLevel level, bool hd) {
       c.center = Eigen::Vector3d(at.x(), at.y(), r) + 0.5 * len * c.axis;
       c.center.z() = r + 0.5 * len * std::sin(tilt);
     }
-    SceneObject o(name("lying"), c);
-    material(o);
+    SceneObject o(Name("lying"), c);
+    Material(o);
     g.objects.push_back(o);
     const double depth = 0.8 * r * 2;  // along the pipe
     auto support = [&](double along, double height) {
       const Eigen::Vector3d p = c.center + along * c.axis;
-      SceneObject b(name("support"), Block({p.x(), p.y(), 0.0}, {depth, bw, height}, yaw));
-      material(b);
+      SceneObject b(Name("support"), site::Block({p.x(), p.y(), 0.0}, {depth, bw, height}, yaw));
+      Material(b);
       g.objects.push_back(b);
     };
     if (how == 1) {
@@ -278,29 +328,23 @@ Scene SiteScene(uint64_t seed, SiteLevel level, bool hd) {
       support(along, std::max(0.2, p.z() - r * std::sqrt(1 - c.axis.z() * c.axis.z())));
     }
     return g;
-  };
-  const int n = static_cast<int>(uni(set.min_objects, set.max_objects + 1 - 1e-9));
-  for (int i = 0; i < n; ++i) {
-    if (level == SiteLevel::kPipes) {
-      // Mostly pipes, with an upright pipe or a block among them now and then.
-      const double k = uni(0, 1);
-      if (k < 0.7)
-        place(pipe);
-      else if (k < 0.85)
-        place(upright);
-      else
-        place(block);
-    } else {
-      const double k = uni(0, 1);
-      if (k < 0.4)
-        place(upright);
-      else if (k < 0.7)
-        place(pipe);
-      else
-        place(block);
-    }
   }
-  return s;
+
+  const Settings set_;
+  const SiteLevel level_;
+  std::mt19937_64 rng_;
+  const double px_;
+  Scene s_;
+  Eigen::Vector3d eye_;
+  std::vector<Rect> left_rects_, right_rects_;
+  std::vector<std::pair<Eigen::Vector2d, double>> footprints_;
+  int count_ = 0;
+};
+
+}  // namespace
+
+Scene SiteScene(uint64_t seed, SiteLevel level, bool hd) {
+  return SceneBuilder(seed, level, hd).Build();
 }
 
 }  // namespace igms::site

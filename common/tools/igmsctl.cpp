@@ -15,6 +15,7 @@
 #include <iostream>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -49,6 +50,8 @@ Commands:
   call METHOD [JSON]         send one request, print the response as JSON
   subscribe METHOD [JSON]    print each stream message as one line of JSON; with --count
                              or --duration it stops and prints the rate and the latency
+                             (send to receipt, the server's stamps put on this host's
+                             clock with the offset --pings pings estimate first)
 
 METHOD is a full name (igms.video.VideoService.Grab) or a unique suffix (VideoService.Grab,
 Grab). JSON is the request in protobuf's JSON form ('{}' when omitted).
@@ -149,9 +152,8 @@ void ReportClock(net::Client& client, const po::variables_map& vm) {
   }
 }
 
-}  // namespace
-
-int IgmsctlMain(int argc, char** argv) {
+// The options --help shows.
+po::options_description VisibleOptions() {
   po::options_description opts("Options");
   opts.add_options()("help,h", "show this help")("version", "print the version and exit")(
       "host", po::value<std::string>()->default_value("127.0.0.1"), "server host")(
@@ -175,6 +177,214 @@ int IgmsctlMain(int argc, char** argv) {
       "max-frame", po::value<std::size_t>()->default_value(64u << 20),
       "largest frame accepted, bytes")("log-level", po::value<std::string>()->default_value("warn"),
                                        "igmsctl's own log level");
+  return opts;
+}
+
+// The method a command names (ping: igms.Server.Ping), checked against the command: a
+// stream only for subscribe. Null after saying why.
+const pb::MethodDescriptor* CommandMethod(const std::string& command,
+                                          const std::vector<std::string>& args) {
+  std::string method_name = command == "ping" ? "igms.Server.Ping" : "";
+  if (command == "call" || command == "subscribe" || command == "describe") {
+    if (args.size() < 2) {
+      std::cerr << "igmsctl: " << command << " needs a METHOD\n";
+      return nullptr;
+    }
+    method_name = args[1];
+  } else if (command != "ping") {
+    std::cerr << "igmsctl: unknown command '" << command << "' (see igmsctl --help)\n";
+    return nullptr;
+  }
+  std::string error;
+  const pb::MethodDescriptor* method = FindMethod(method_name, &error);
+  if (!method) {
+    std::cerr << "igmsctl: " << error << "\n";
+    return nullptr;
+  }
+  if (command == "subscribe" && !method->server_streaming()) {
+    std::cerr << "igmsctl: " << method->full_name() << " is not a stream; use call\n";
+    return nullptr;
+  }
+  if (command == "call" && method->server_streaming()) {
+    std::cerr << "igmsctl: " << method->full_name() << " is a stream; use subscribe\n";
+    return nullptr;
+  }
+  return method;
+}
+
+// The request from its JSON ('{}' when omitted), with --take-control set. Null after saying
+// why.
+std::unique_ptr<pb::Message> MakeRequest(const pb::MethodDescriptor* method,
+                                         const std::vector<std::string>& args,
+                                         const po::variables_map& vm) {
+  auto request = NewMessage(method->input_type());
+  const std::string json = args.size() > 2 ? args[2] : "{}";
+  if (auto s = pb::util::JsonStringToMessage(json, request.get()); !s.ok()) {
+    std::cerr << "igmsctl: the request is not a " << method->input_type()->full_name() << ": "
+              << s.message() << "\n";
+    return nullptr;
+  }
+  if (vm.count("take-control")) {
+    const pb::FieldDescriptor* take = request->GetDescriptor()->FindFieldByName("take_control");
+    if (!take || take->type() != pb::FieldDescriptor::TYPE_BOOL) {
+      std::cerr << "igmsctl: --take-control: a " << method->input_type()->full_name()
+                << " has no take_control\n";
+      return nullptr;
+    }
+    request->GetReflection()->SetBool(request.get(), take, true);
+  }
+  return request;
+}
+
+// Where and how to connect: --host/--port, or the lab file's process --to, with its token and
+// TLS. Nothing after saying why.
+std::optional<net::ClientOptions> ConnectionOptions(const std::string& command,
+                                                    const po::variables_map& vm) {
+  net::ClientOptions co;
+  co.name = "igmsctl";
+  co.reconnect = command == "subscribe";
+  co.max_frame_bytes = vm["max-frame"].as<std::size_t>();
+  co.host = vm["host"].as<std::string>();
+  const std::string as = vm["as"].as<std::string>();
+  co.tls = net::TlsOptions{};  // plain unless the lab file or --certs says TLS
+  if (vm.count("certs")) co.tls = net::TlsOptions::FromFolder(vm["certs"].as<std::string>(), as);
+  try {
+    if (vm.count("config")) {
+      const auto config = config::LabConfig::Load(vm["config"].as<std::string>());
+      co.token = config.Get<std::string>("lab.token", "");
+      const config::LabSecurity security = config::SecurityOf(config, as);
+      if (security.tls && !vm.count("certs"))
+        co.tls = net::TlsOptions::FromFolder(security.certs_dir, as);
+      if (!vm.count("to")) {
+        std::cerr << "igmsctl: --config needs --to NAME (one of the lab's processes)\n";
+        return std::nullopt;
+      }
+      const std::string to = vm["to"].as<std::string>();
+      co.host = config.Get<std::string>("processes." + to + ".host", "127.0.0.1");
+      co.port = static_cast<std::uint16_t>(config.Get<int>("processes." + to + ".port"));
+    }
+  } catch (const config::ConfigError& e) {
+    std::cerr << "igmsctl: " << e.what() << "\n";
+    return std::nullopt;
+  }
+  if (vm.count("port")) co.port = static_cast<std::uint16_t>(vm["port"].as<int>());
+  if (vm.count("token")) co.token = vm["token"].as<std::string>();
+  if (co.port == 0) {
+    std::cerr << "igmsctl: say which server: --port P (and --host H), or --config FILE --to NAME\n";
+    return std::nullopt;
+  }
+  return co;
+}
+
+// call and ping: one request, its response printed as JSON; the exit status.
+int CallOnce(net::Client& client, const pb::MethodDescriptor* method, const pb::Message& request,
+             std::chrono::milliseconds timeout) {
+  int rc = kExitOk;
+  std::mutex m;
+  std::condition_variable cv;
+  bool done = false;
+  client.CallRaw(
+      method->full_name(), request.SerializeAsString(), timeout,
+      [&](const net::Status& status, std::string_view payload) {
+        if (!status.ok()) {
+          std::cerr << "igmsctl: " << method->full_name() << ": " << status.ToString() << "\n";
+          // A server that cannot be reached is a wrong address as far as igmsctl can tell.
+          rc = status.code == igms::TIMEOUT || status.code == igms::UNAVAILABLE ? kExitUsage
+                                                                                : kExitFailure;
+        } else {
+          auto response = NewMessage(method->output_type());
+          if (!response->ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
+            std::cerr << "igmsctl: the response is not a " << method->output_type()->full_name()
+                      << "\n";
+            rc = kExitUsage;
+          } else {
+            std::cout << ToJson(*response) << std::endl;
+          }
+        }
+        std::lock_guard lock(m);
+        done = true;
+        cv.notify_all();
+      });
+  std::unique_lock lock(m);
+  cv.wait(lock, [&] { return done; });
+  return rc;
+}
+
+// subscribe: each message as a line of JSON until --count, --duration, an error or Ctrl-C,
+// then the rate and latency on stderr; the exit status.
+int Subscribe(net::Client& client, const pb::MethodDescriptor* method, const pb::Message& request,
+              std::chrono::milliseconds timeout, const po::variables_map& vm) {
+  int rc = kExitOk;
+  const long count = vm["count"].as<long>();
+  const double duration = vm["duration"].as<double>();
+  const bool quiet = vm.count("quiet") > 0;
+  std::mutex m;
+  std::condition_variable cv;
+  std::vector<double> latencies_ms;
+  long received = 0;
+  bool failed = false;
+  std::int64_t first_ns = 0, last_ns = 0;
+  auto response = NewMessage(method->output_type());
+  // The messages' send stamps are the server's clock: latencies across hosts need the
+  // offset from this host's, estimated from pings before the stream starts.
+  std::optional<net::ClockOffset> clock;
+  if (vm["pings"].as<int>() > 0 && (count > 0 || duration > 0 || quiet)) {
+    std::string error;
+    clock = net::MeasureClockOffset(client, vm["pings"].as<int>(), timeout, &error);
+    if (!clock)
+      std::cerr << "igmsctl: no clock offset (latencies on raw stamps): " << error << "\n";
+  }
+  client.SubscribeRaw(
+      method->full_name(), request.SerializeAsString(),
+      [&](std::string_view payload, std::int64_t sent_ns) {
+        const std::int64_t now = igms::UnixNs();
+        std::lock_guard lock(m);
+        if (count > 0 && received >= count) return;
+        ++received;
+        if (first_ns == 0) first_ns = now;
+        last_ns = now;
+        if (sent_ns > 0)
+          latencies_ms.push_back((now - (clock ? clock->ToLocalNs(sent_ns) : sent_ns)) / 1e6);
+        if (!quiet) {
+          if (response->ParseFromArray(payload.data(), static_cast<int>(payload.size())))
+            std::cout << ToJson(*response) << std::endl;
+        }
+        if (count > 0 && received >= count) cv.notify_all();
+      },
+      [&](const net::Status& status) {
+        std::cerr << "igmsctl: " << method->full_name() << ": " << status.ToString() << "\n";
+        std::lock_guard lock(m);
+        failed = true;
+        cv.notify_all();
+      });
+  std::signal(SIGINT, [](int) { g_interrupted = true; });
+  const auto t0 = std::chrono::steady_clock::now();
+  std::unique_lock lock(m);
+  while (!failed && !g_interrupted && !(count > 0 && received >= count) &&
+         !(duration > 0 &&
+           std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(duration))) {
+    cv.wait_for(lock, 50ms);
+  }
+  if (failed) rc = 1;
+  if (count > 0 || duration > 0 || quiet) {
+    const double span_s = (last_ns - first_ns) / 1e9;
+    std::cerr << "igmsctl: " << received << " messages";
+    if (received > 1 && span_s > 0) std::cerr << ", " << (received - 1) / span_s << " per second";
+    if (!latencies_ms.empty()) {
+      std::cerr << ", latency p50 " << stats::Percentile(latencies_ms, 0.5) << " ms, p99 "
+                << stats::Percentile(latencies_ms, 0.99) << " ms";
+      if (clock) std::cerr << "; the server's clock " << clock->Describe() << " from this host's";
+    }
+    std::cerr << "\n";
+  }
+  if (count > 0 && received < count && !failed) rc = kExitUsage;
+  return rc;
+}
+
+}  // namespace
+
+int IgmsctlMain(int argc, char** argv) {
+  const po::options_description opts = VisibleOptions();
   po::options_description hidden;
   hidden.add_options()("args", po::value<std::vector<std::string>>(), "");
   po::options_description all;
@@ -208,182 +418,31 @@ int IgmsctlMain(int argc, char** argv) {
     }
     return kExitOk;
   }
-
-  std::string method_name = command == "ping" ? "igms.Server.Ping" : "";
-  if (command == "call" || command == "subscribe" || command == "describe") {
-    if (args.size() < 2) {
-      std::cerr << "igmsctl: " << command << " needs a METHOD\n";
-      return kExitUsage;
-    }
-    method_name = args[1];
-  } else if (command != "ping") {
-    std::cerr << "igmsctl: unknown command '" << command << "' (see igmsctl --help)\n";
-    return kExitUsage;
-  }
-  std::string error;
-  const pb::MethodDescriptor* method = FindMethod(method_name, &error);
-  if (!method) {
-    std::cerr << "igmsctl: " << error << "\n";
-    return kExitUsage;
-  }
+  const pb::MethodDescriptor* method = CommandMethod(command, args);
+  if (!method) return kExitUsage;
   if (command == "describe") {
     std::cout << method->full_name() << (method->server_streaming() ? " (stream)" : "") << "\n"
               << "  request:  " << Describe(method->input_type()) << "\n"
               << "  response: " << Describe(method->output_type()) << "\n";
     return kExitOk;
   }
-  if (command == "subscribe" && !method->server_streaming()) {
-    std::cerr << "igmsctl: " << method->full_name() << " is not a stream; use call\n";
-    return kExitUsage;
-  }
-  if (command == "call" && method->server_streaming()) {
-    std::cerr << "igmsctl: " << method->full_name() << " is a stream; use subscribe\n";
-    return kExitUsage;
-  }
-
-  auto request = NewMessage(method->input_type());
-  const std::string json = args.size() > 2 ? args[2] : "{}";
-  if (auto s = pb::util::JsonStringToMessage(json, request.get()); !s.ok()) {
-    std::cerr << "igmsctl: the request is not a " << method->input_type()->full_name() << ": "
-              << s.message() << "\n";
-    return kExitUsage;
-  }
-  if (vm.count("take-control")) {
-    const pb::FieldDescriptor* take = request->GetDescriptor()->FindFieldByName("take_control");
-    if (!take || take->type() != pb::FieldDescriptor::TYPE_BOOL) {
-      std::cerr << "igmsctl: --take-control: a " << method->input_type()->full_name()
-                << " has no take_control\n";
-      return kExitUsage;
-    }
-    request->GetReflection()->SetBool(request.get(), take, true);
-  }
-
-  net::ClientOptions co;
-  co.name = "igmsctl";
-  co.reconnect = command == "subscribe";
-  co.max_frame_bytes = vm["max-frame"].as<std::size_t>();
-  co.host = vm["host"].as<std::string>();
-  const std::string as = vm["as"].as<std::string>();
-  co.tls = net::TlsOptions{};  // plain unless the lab file or --certs says TLS
-  if (vm.count("certs")) co.tls = net::TlsOptions::FromFolder(vm["certs"].as<std::string>(), as);
-  try {
-    if (vm.count("config")) {
-      const auto config = config::LabConfig::Load(vm["config"].as<std::string>());
-      co.token = config.Get<std::string>("lab.token", "");
-      const config::LabSecurity security = config::SecurityOf(config, as);
-      if (security.tls && !vm.count("certs"))
-        co.tls = net::TlsOptions::FromFolder(security.certs_dir, as);
-      if (!vm.count("to")) {
-        std::cerr << "igmsctl: --config needs --to NAME (one of the lab's processes)\n";
-        return kExitUsage;
-      }
-      const std::string to = vm["to"].as<std::string>();
-      co.host = config.Get<std::string>("processes." + to + ".host", "127.0.0.1");
-      co.port = static_cast<std::uint16_t>(config.Get<int>("processes." + to + ".port"));
-    }
-  } catch (const config::ConfigError& e) {
-    std::cerr << "igmsctl: " << e.what() << "\n";
-    return kExitUsage;
-  }
-  if (vm.count("port")) co.port = static_cast<std::uint16_t>(vm["port"].as<int>());
-  if (vm.count("token")) co.token = vm["token"].as<std::string>();
-  if (co.port == 0) {
-    std::cerr << "igmsctl: say which server: --port P (and --host H), or --config FILE --to NAME\n";
-    return kExitUsage;
-  }
+  const auto request = MakeRequest(method, args, vm);
+  if (!request) return kExitUsage;
+  const auto co = ConnectionOptions(command, vm);
+  if (!co) return kExitUsage;
   const auto timeout = std::chrono::milliseconds(vm["timeout"].as<int>());
 
   boost::asio::io_context io;
   auto work = boost::asio::make_work_guard(io);
   std::thread io_thread([&] { io.run(); });
-  net::Client client(io, co);
+  net::Client client(io, *co);
   client.Start();
   int rc = kExitOk;
-
   if (command != "subscribe") {
-    std::mutex m;
-    std::condition_variable cv;
-    bool done = false;
-    client.CallRaw(
-        method->full_name(), request->SerializeAsString(), timeout,
-        [&](const net::Status& status, std::string_view payload) {
-          if (!status.ok()) {
-            std::cerr << "igmsctl: " << method->full_name() << ": " << status.ToString() << "\n";
-            // A server that cannot be reached is a wrong address as far as igmsctl can tell.
-            rc = status.code == igms::TIMEOUT || status.code == igms::UNAVAILABLE ? kExitUsage
-                                                                                  : kExitFailure;
-          } else {
-            auto response = NewMessage(method->output_type());
-            if (!response->ParseFromArray(payload.data(), static_cast<int>(payload.size()))) {
-              std::cerr << "igmsctl: the response is not a " << method->output_type()->full_name()
-                        << "\n";
-              rc = kExitUsage;
-            } else {
-              std::cout << ToJson(*response) << std::endl;
-            }
-          }
-          std::lock_guard lock(m);
-          done = true;
-          cv.notify_all();
-        });
-    {
-      std::unique_lock lock(m);
-      cv.wait(lock, [&] { return done; });
-    }
+    rc = CallOnce(client, method, *request, timeout);
     if (command == "ping" && rc == kExitOk && vm["pings"].as<int>() > 0) ReportClock(client, vm);
   } else {
-    const long count = vm["count"].as<long>();
-    const double duration = vm["duration"].as<double>();
-    const bool quiet = vm.count("quiet") > 0;
-    std::mutex m;
-    std::condition_variable cv;
-    std::vector<double> latencies_ms;
-    long received = 0;
-    bool failed = false;
-    std::int64_t first_ns = 0, last_ns = 0;
-    auto response = NewMessage(method->output_type());
-    client.SubscribeRaw(
-        method->full_name(), request->SerializeAsString(),
-        [&](std::string_view payload, std::int64_t sent_ns) {
-          const std::int64_t now = igms::UnixNs();
-          std::lock_guard lock(m);
-          if (count > 0 && received >= count) return;
-          ++received;
-          if (first_ns == 0) first_ns = now;
-          last_ns = now;
-          if (sent_ns > 0) latencies_ms.push_back((now - sent_ns) / 1e6);
-          if (!quiet) {
-            if (response->ParseFromArray(payload.data(), static_cast<int>(payload.size())))
-              std::cout << ToJson(*response) << std::endl;
-          }
-          if (count > 0 && received >= count) cv.notify_all();
-        },
-        [&](const net::Status& status) {
-          std::cerr << "igmsctl: " << method->full_name() << ": " << status.ToString() << "\n";
-          std::lock_guard lock(m);
-          failed = true;
-          cv.notify_all();
-        });
-    std::signal(SIGINT, [](int) { g_interrupted = true; });
-    const auto t0 = std::chrono::steady_clock::now();
-    std::unique_lock lock(m);
-    while (!failed && !g_interrupted && !(count > 0 && received >= count) &&
-           !(duration > 0 &&
-             std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(duration))) {
-      cv.wait_for(lock, 50ms);
-    }
-    if (failed) rc = 1;
-    if (count > 0 || duration > 0 || quiet) {
-      const double span_s = (last_ns - first_ns) / 1e9;
-      std::cerr << "igmsctl: " << received << " messages";
-      if (received > 1 && span_s > 0) std::cerr << ", " << (received - 1) / span_s << " per second";
-      if (!latencies_ms.empty()) {
-        std::cerr << ", latency p50 " << stats::Percentile(latencies_ms, 0.5) << " ms, p99 "
-                  << stats::Percentile(latencies_ms, 0.99) << " ms";
-      }
-      std::cerr << "\n";
-    }
-    if (count > 0 && received < count && !failed) rc = kExitUsage;
+    rc = Subscribe(client, method, *request, timeout, vm);
   }
   client.Stop();
   work.reset();

@@ -1,6 +1,8 @@
 #include "control/render/draw_list.h"
 
+#include <array>
 #include <cmath>
+#include <utility>
 
 namespace igms::control::render {
 namespace {
@@ -25,18 +27,26 @@ Eigen::Vector3d BoxCorner(const DrawModel& m, int i) {
   return m.center + m.rotation * local;
 }
 
+// The corners of the face normal to `axis` on its `sign` side (0: -, 1: +), counter-clockwise
+// seen from outside, so the renderer can cull back faces (a mirroring rotation too).
+std::array<Eigen::Vector3d, 4> FaceCorners(const DrawModel& m, int axis, int sign) {
+  const int bit = 1 << axis, a1 = 1 << ((axis + 1) % 3), a2 = 1 << ((axis + 2) % 3);
+  const int base = sign ? bit : 0;
+  std::array<Eigen::Vector3d, 4> c = {BoxCorner(m, base), BoxCorner(m, base | a1),
+                                      BoxCorner(m, base | a1 | a2), BoxCorner(m, base | a2)};
+  // In that order they turn about the + side's normal (a1 x a2 = axis) in the box's frame.
+  if ((sign == 0) != (m.rotation.determinant() < 0)) std::swap(c[1], c[3]);
+  return c;
+}
+
 void AppendBox(const DrawModel& m, Mesh* mesh) {
   auto corner = [&](int i) { return BoxCorner(m, i); };
-  // Each face: the axis it is normal to, its sign, and its corners in order around it.
   for (int axis = 0; axis < 3; ++axis) {
     for (int sign = 0; sign < 2; ++sign) {
-      const int bit = 1 << axis, a1 = 1 << ((axis + 1) % 3), a2 = 1 << ((axis + 2) % 3);
-      const int base = sign ? bit : 0;
-      const Eigen::Vector3d c0 = corner(base), c1 = corner(base | a1), c2 = corner(base | a1 | a2),
-                            c3 = corner(base | a2);
+      const auto c = FaceCorners(m, axis, sign);
       Eigen::Vector3d n = m.rotation.col(axis) * (sign ? 1.0 : -1.0);
-      Triangle(c0, c1, c2, n, mesh);
-      Triangle(c0, c2, c3, n, mesh);
+      Triangle(c[0], c[1], c[2], n, mesh);
+      Triangle(c[0], c[2], c[3], n, mesh);
     }
   }
   for (int i = 0; i < 8; ++i) {
@@ -104,13 +114,9 @@ bool TexturedFace(const DrawModel& m, std::vector<Eigen::Vector3f>* triangles) {
     }
   }
   if (best <= 0) return false;
-  const int bit = 1 << best_axis, a1 = 1 << ((best_axis + 1) % 3), a2 = 1 << ((best_axis + 2) % 3);
-  const int base = best_sign ? bit : 0;
-  const Eigen::Vector3d c0 = BoxCorner(m, base), c1 = BoxCorner(m, base | a1),
-                        c2 = BoxCorner(m, base | a1 | a2), c3 = BoxCorner(m, base | a2);
-  for (const Eigen::Vector3d* p : {&c0, &c1, &c2, &c0, &c2, &c3}) {
-    triangles->push_back(p->cast<float>());
-  }
+  // The face's own triangles, vertex for vertex, so the patch has the face's depths.
+  const auto c = FaceCorners(m, best_axis, best_sign);
+  for (const int i : {0, 1, 2, 0, 2, 3}) triangles->push_back(c[i].cast<float>());
   return true;
 }
 

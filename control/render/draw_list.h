@@ -93,8 +93,9 @@ struct Mesh {
   std::vector<Eigen::Vector3f> normals;    // one per triangle vertex
   std::vector<Eigen::Vector3f> lines;      // two per segment
 };
-// The solid's faces (cylinders with `segments` sides) and its outline as seen from
-// `eye_center`: a box's 12 edges; a cylinder's two caps and its two silhouette generators.
+// The solid's faces (cylinders with `segments` sides; each triangle counter-clockwise seen
+// from outside, so back faces can be culled) and its outline as seen from `eye_center`: a
+// box's 12 edges; a cylinder's two caps and its two silhouette generators.
 void AppendModel(const DrawModel& model, const Eigen::Vector3d& eye_center, int segments,
                  Mesh* mesh);
 // The two triangles of the box face its texture camera saw most squarely (facing it), for

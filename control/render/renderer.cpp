@@ -88,6 +88,17 @@ void main() {
   color = vec4(color_v, alpha);
 })";
 
+// The same without the keyer, for when it keys out nothing that is drawn (key level 0: only
+// black, and black models are left out): a shader that never discards lets the rasteriser
+// test depth before shading, which software GL needs with many models.
+constexpr const char* kModelUnkeyedFs = R"(#version 330 core
+in vec3 color_v;
+uniform float alpha;
+out vec4 color;
+void main() {
+  color = vec4(color_v, alpha);
+})";
+
 // A box's texture patch, projected from the camera that took it.
 constexpr const char* kTexturedVs = R"(#version 330 core
 layout(location = 0) in vec3 position;
@@ -158,6 +169,23 @@ Result<GLuint> Link(const char* vs, const char* fs, const char* name) {
     return ErrorMessage{std::string("the ") + name + " program: " + log};
   }
   return program;
+}
+
+// How a face turned towards the camera winds on screen: a small triangle in front of it,
+// counter-clockwise about the normal that faces the camera, projected by `mvp` (the
+// viewport keeps the orientation of normalised device coordinates).
+GLenum OutwardWinding(const Eigen::Matrix4f& mvp, const geometry::ProjectiveCamera& camera) {
+  const Eigen::Vector3d d = camera.ViewDirection();
+  const Eigen::Vector3d a = d.unitOrthogonal(), b = a.cross(d);  // a x b = -d: to the eye
+  const Eigen::Vector3d p = camera.Center() + 10.0 * d;
+  Eigen::Vector2f s[3];
+  int k = 0;
+  for (const Eigen::Vector3d& q : {p, Eigen::Vector3d(p + a), Eigen::Vector3d(p + b)}) {
+    const Eigen::Vector4f c = mvp * Eigen::Vector4f(q.x(), q.y(), q.z(), 1.0f);
+    s[k++] = c.head<2>() / c.w();
+  }
+  const Eigen::Vector2f e1 = s[1] - s[0], e2 = s[2] - s[0];
+  return e1.x() * e2.y() - e1.y() * e2.x() > 0 ? GL_CCW : GL_CW;
 }
 
 struct Vertex {
@@ -246,6 +274,7 @@ cv::Mat RenderHudImage(const DrawList& list, int width, int height) {
 
 struct Renderer::Impl {
   GLuint video_program = 0, model_program = 0, hud_program = 0, textured_program = 0;
+  GLuint unkeyed_program = 0;
   // Box texture patches by the address of their pixels, kept while they are drawn.
   std::map<const void*, GLuint> patches;
   GLuint empty_vao = 0, model_vao = 0, model_vbo = 0;
@@ -255,11 +284,14 @@ struct Renderer::Impl {
   GLuint hud_texture = 0;
   std::string hud_key;
   std::vector<Vertex> triangles, lines;
+  std::vector<size_t> order;
+  std::vector<double> distance;
   Mesh mesh;
 
   ~Impl() {
     glDeleteProgram(video_program);
     glDeleteProgram(model_program);
+    glDeleteProgram(unkeyed_program);
     glDeleteProgram(hud_program);
     glDeleteProgram(textured_program);
     for (auto& [data, texture] : patches) glDeleteTextures(1, &texture);
@@ -315,10 +347,29 @@ struct Renderer::Impl {
 
     triangles.clear();
     lines.clear();
-    for (const DrawModel& model : list.models) {
+    // Solids nearest first, so the depth test spares the shading of what they hide (not when
+    // blending, whose result depends on the order).
+    const bool opaque = list.graphics_alpha >= 1.0f;
+    order.resize(list.models.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    if (opaque && !list.wireframe) {
+      distance.resize(list.models.size());
+      for (size_t i = 0; i < order.size(); ++i) {
+        distance[i] = (list.models[i].center - center).squaredNorm();
+      }
+      std::stable_sort(order.begin(), order.end(),
+                       [&](size_t a, size_t b) { return distance[a] < distance[b]; });
+    }
+    // Key level 0 keys out black alone: leave black solids out and shade the rest unkeyed.
+    const bool unkeyed = list.key_level <= 0;
+    for (const size_t index : order) {
+      const DrawModel& model = list.models[index];
       mesh.triangles.clear();
       mesh.normals.clear();
       mesh.lines.clear();
+      if (!list.wireframe && unkeyed && model.color.maxCoeff() * 255.0f <= list.key_level) {
+        continue;
+      }
       AppendModel(model, center, segments, &mesh);
       if (!list.wireframe) {
         for (size_t i = 0; i < mesh.triangles.size(); ++i) {
@@ -341,31 +392,43 @@ struct Renderer::Impl {
     for (const auto& mark : list.marks) cross(mark, 0.5 * list.pointer_size, {1.0f, 0.2f, 1.0f});
     if (list.pointer) cross(*list.pointer, list.pointer_size, {1.0f, 1.0f, 0.1f});
 
-    glUseProgram(model_program);
-    glUniformMatrix4fv(U(model_program, "mvp"), 1, GL_FALSE, mvp.data());
     const Eigen::Vector3f eye_f = center.cast<float>();
-    glUniform3fv(U(model_program, "eye"), 1, eye_f.data());
-    glUniform1f(U(model_program, "key_level"), static_cast<float>(list.key_level));
-    glUniform1f(U(model_program, "alpha"), list.graphics_alpha);
+    auto use = [&](GLuint program, bool shaded) {
+      glUseProgram(program);
+      glUniformMatrix4fv(U(program, "mvp"), 1, GL_FALSE, mvp.data());
+      glUniform3fv(U(program, "eye"), 1, eye_f.data());
+      glUniform1f(U(program, "key_level"), static_cast<float>(list.key_level));
+      glUniform1f(U(program, "alpha"), list.graphics_alpha);
+      glUniform1i(U(program, "shaded"), shaded ? 1 : 0);
+    };
     if (list.graphics_alpha < 1.0f) {
       glEnable(GL_BLEND);
       glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     }
     glBindVertexArray(model_vao);
     glBindBuffer(GL_ARRAY_BUFFER, model_vbo);
-    if (!triangles.empty()) {
+    // (Black solids left out may still carry texture patches.)
+    if (!list.wireframe && !list.models.empty()) {
+      use(unkeyed ? unkeyed_program : model_program, list.lit);
       glBufferData(GL_ARRAY_BUFFER, triangles.size() * sizeof(Vertex), triangles.data(),
                    GL_STREAM_DRAW);
       glEnable(GL_DEPTH_TEST);
       glDepthFunc(GL_LESS);
-      glUniform1i(U(model_program, "shaded"), list.lit ? 1 : 0);
+      // The solids are closed and convex: their back faces are hidden by their front ones
+      // (when opaque), so they are culled instead of rasterised.
+      if (opaque) {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+        glFrontFace(OutwardWinding(mvp, camera));
+      }
       glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(triangles.size()));
+      glDisable(GL_CULL_FACE);
       DrawPatches(list, mvp);
       glDisable(GL_DEPTH_TEST);
     }
     if (!lines.empty()) {
+      use(model_program, false);
       glBufferData(GL_ARRAY_BUFFER, lines.size() * sizeof(Vertex), lines.data(), GL_STREAM_DRAW);
-      glUniform1i(U(model_program, "shaded"), 0);
       // A wireframe shows every edge, hidden ones too (the thesis's outline models); the
       // pointer and marks are never hidden by a model.
       glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(model_lines));
@@ -450,6 +513,9 @@ Result<std::unique_ptr<Renderer>> Renderer::Make() {
   auto model = Link(kModelVs, kModelFs, "model");
   if (!model.ok()) return ErrorMessage{model.error()};
   impl->model_program = *model;
+  auto unkeyed = Link(kModelVs, kModelUnkeyedFs, "unkeyed model");
+  if (!unkeyed.ok()) return ErrorMessage{unkeyed.error()};
+  impl->unkeyed_program = *unkeyed;
   auto textured = Link(kTexturedVs, kTexturedFs, "texture patch");
   if (!textured.ok()) return ErrorMessage{textured.error()};
   impl->textured_program = *textured;

@@ -12,6 +12,7 @@
 
 #include "common/base/clock.h"
 #include "common/net/client.h"
+#include "common/net/clock_offset.h"
 #include "common/wire/image_message.h"
 #include "igms/video.pb.h"
 
@@ -33,6 +34,9 @@ struct LiveVideo::Impl : std::enable_shared_from_this<Impl> {
   video::OverlaySettings overlay;
   uint64_t grab_id = 0;  // the grab asked for, and when it has come, its pair
   std::optional<StereoFrame> grab;
+  // The video server's clock minus this host's, from pings at each connection: a frame's
+  // capture stamp is the video host's clock (common/net/clock_offset.h).
+  std::optional<net::ClockOffset> clock;
 
   void OnFrame(const video::LiveFrame& f) {
     StereoFrame frame;
@@ -48,12 +52,36 @@ struct LiveVideo::Impl : std::enable_shared_from_this<Impl> {
       stats.skipped += frame.sequence - newest.sequence - 1;
     }
     stats.frames++;
-    stats.latency_ms = (UnixNs() - frame.capture_unix_ns) / 1e6;
+    // Unknown until the pings have come back: the stamps as they are meanwhile.
+    const int64_t captured =
+        clock ? clock->ToLocalNs(frame.capture_unix_ns) : frame.capture_unix_ns;
+    stats.latency_ms = (UnixNs() - captured) / 1e6;
     arrivals.push_back(now);
     while (!arrivals.empty() && arrivals.front() < now - 1'000'000'000) arrivals.pop_front();
     stats.rate_fps = static_cast<double>(arrivals.size());
     last_frame_ns = now;
     newest = std::move(frame);
+  }
+
+  // Pings the video server for its clock's offset; on the network thread.
+  void MeasureClock() {
+    net::MeasureClockOffsetAsync(
+        *client, 5, std::chrono::milliseconds(2000),
+        [weak = weak_from_this()](std::optional<net::ClockOffset> offset, const std::string& why) {
+          auto self = weak.lock();
+          if (!self) return;
+          if (!offset) {
+            spdlog::warn("the window's live video: no clock offset of the video server: {}", why);
+            return;
+          }
+          spdlog::info("the window's live video: the video server's clock offset {}",
+                       offset->Describe());
+          std::lock_guard lock(self->mutex);
+          self->clock = offset;
+          self->stats.clock_offset_ms = offset->offset_ns / 1e6;
+          self->stats.clock_bound_ms = offset->bound_ns() / 1e6;
+          self->stats.clock_pings = offset->samples;
+        });
   }
 
   void GetOverlay() {
@@ -91,6 +119,7 @@ std::unique_ptr<LiveVideo> LiveVideo::Start(LiveVideoOptions options) {
     }
     if (state == net::ConnectionState::kConnected) {
       self->GetOverlay();
+      self->MeasureClock();
     } else if (state == net::ConnectionState::kDisconnected) {
       spdlog::warn("the window's live video: {}", why);
     }

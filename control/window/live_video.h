@@ -30,10 +30,15 @@ struct LiveVideoOptions {
 };
 
 struct LiveStats {
-  uint64_t frames = 0;    // received
-  uint64_t skipped = 0;   // gaps in the server's sequence
-  double latency_ms = 0;  // capture to receipt, the newest frame (one host's clock)
-  double rate_fps = 0;    // over the last second
+  uint64_t frames = 0;   // received
+  uint64_t skipped = 0;  // gaps in the server's sequence
+  // Capture to receipt, the newest frame: the capture stamp (the video host's clock) put on
+  // this host's clock with the offset pings estimated, once they have.
+  double latency_ms = 0;
+  double clock_offset_ms = 0;  // the video server's clock minus this host's
+  double clock_bound_ms = 0;   // the offset is true within this (half the best round trip)
+  int clock_pings = 0;         // the pings it was estimated from; 0: not yet
+  double rate_fps = 0;         // over the last second
 };
 
 class LiveVideo {

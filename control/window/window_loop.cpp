@@ -114,8 +114,9 @@ void RunDisplayLoop(ControlApp& app, Window& window, LiveVideo* live, Screenshot
         const LiveStats st = live->stats();
         if (st.frames > 0) {
           spdlog::info(
-              "live video: {:.0f} frames/s, capture to receipt {:.1f} ms, {} of {} skipped",
-              st.rate_fps, st.latency_ms, st.skipped, st.frames + st.skipped);
+              "live video: {:.0f} frames/s, capture to receipt {:.1f} ms (the video server's "
+              "clock {:+.3f} ms from this one's), {} of {} skipped",
+              st.rate_fps, st.latency_ms, st.clock_offset_ms, st.skipped, st.frames + st.skipped);
         }
       }
     } else {

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # deploy/lab up|down|status|logs with real processes on loopback: each is started by
 # `igms run`, is up once it answers a ping, the control client is left alone, a pid file
-# naming another program is not trusted, --only and --here select, and a process that
-# cannot start is named.
+# naming another program is not trusted, --only and --here select, a process that cannot
+# start is named, and a lab file with lab.tls: on gets its certificates in its run folder.
 TEST_NAME=deploy/launcher
 . "$(dirname "$0")/lib.sh"
 
@@ -98,4 +98,27 @@ check "up fails when a process cannot start" test "$rc" != 0
 check "... and names it" grep -q 'viewer exited while starting' <<<"$out"
 check "... with its log's reason" grep -q 'unknown key processes.viewer.serail' <<<"$out"
 check "a second lab file has its own run folder" test "$(ls -d "$SCRATCH"/run/* | wc -l)" = 2
+
+# A lab file that says lab.tls: on and names no folder: up makes the authority and the
+# certificates in its run folder, the process serves TLS only, status pings with them.
+read -r P5 <<<"$(free_ports 1)"
+TLS_LAB="$SCRATCH/tls.yaml"
+cat >"$TLS_LAB" <<YAML
+lab:
+  tls: on
+  calibration: $SRC/common/calibration/data/thesis_calibration.yaml
+processes:
+  viewer:
+    program: igms-viewerd
+    port: $P5
+    serial: simulate
+YAML
+at_exit "IGMS_DOWN_TIMEOUT=2 lab down --config '$TLS_LAB'"
+check "up on a TLS lab file" lab up --config "$TLS_LAB"
+TLS_RUN=$(ls -d "$SCRATCH"/run/tls-*)
+check "its certificates are made in its run folder" test -f "$TLS_RUN/certs/ca.crt" -a -f "$TLS_RUN/certs/viewer.key"
+check "the viewer listens with TLS" grep -q 'listening on .*(TLS 1.3, mutual certificates)' "$TLS_RUN/viewer.log"
+check "status pings it with those certificates" lab status --config "$TLS_LAB"
+check "a plain client is refused" bash -c "! '$BIN/igmsctl' --port $P5 --timeout 1000 ping --pings 0 >/dev/null 2>&1"
+check "down on a TLS lab file" lab down --config "$TLS_LAB"
 finish

@@ -6,7 +6,8 @@
 # (no bind); from the control namespace every server answers a ping, and igms-vision-demo
 # grabs from the video host and locates every object through the object server, which
 # fetches its frames from the video host's address; the video server follows the platform
-# on the daemons' host. Cleans up whatever happens, stale namespaces of earlier runs too.
+# on the daemons' host; a stream's latency from the control host is taken on the clock offset
+# estimated from pings. Cleans up whatever happens, stale namespaces of earlier runs too.
 # Needs root (ip netns); skips without it, and fails instead when CI=true.
 TEST_NAME=deploy/multi_host
 . "$(dirname "$0")/lib.sh"
@@ -130,5 +131,12 @@ done_jobs=$(sed -n 's/.*"edge_jobs_done":"\([0-9]*\)".*/\1/p' <<<"$status")
 check "the video host ran the edge jobs (${done_jobs:-none} done)" test "${done_jobs:-0}" -gt 0
 # Clocks: the namespaces share one kernel clock, so each offset is within its round trip.
 note "$(in_ns ctl "$BIN/igmsctl" --config "$LAB" --to platform --timeout 2000 ping 2>&1 >/dev/null | grep 'clock offset')"
+# Latency across hosts: the platform stream's send stamps (the daemons' host) put on the
+# control host's clock with the offset estimated from pings first, not compared raw.
+stream=$(in_ns ctl "$BIN/igmsctl" --config "$LAB" --to platform --timeout 2000 \
+  subscribe PlatformService.Live --count 20 --quiet 2>&1 >/dev/null || true)
+note "$(grep 'messages' <<<"$stream")"
+check "the platform stream's latency from the control host uses the clock offset from pings" \
+  grep -qE "latency p50 .*; the server's clock [+-][0-9.]+ ms \(within .*best of 5 pings\) from this host's" <<<"$stream"
 check "the object server located objects on fetched frames ($located)" test "$located" -gt 0
 finish

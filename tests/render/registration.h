@@ -1,16 +1,22 @@
 // Registration of graphics on video, measured on pixels: the sub-pixel positions where two
 // coverage images (0 outside the solids, 1 inside) cross one half, along rows and columns,
-// paired within two pixels. Used by the render test and bench/control/window.
+// paired within two pixels. The graphics are the site's true solids, or the models the
+// object server's locator finds from generated marks on the site's simulated stereo pair.
+// Used by the render test and bench/control/window.
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 #include <vector>
 
+#include "common/sim/marks.h"
 #include "common/sim/renderer.h"
 #include "common/sim/scene.h"
 #include "control/render/draw_list.h"
+#include "object_server/locate.h"
 
 namespace igms::control::render::registration {
 
@@ -50,6 +56,85 @@ inline std::vector<DrawModel> ModelsOf(const site::Scene& scene) {
     models.push_back(m);
   }
   return models;
+}
+
+// The observed (distorted) image of an ideal one: each observed pixel reads the ideal image
+// where the lens sends it back.
+inline cv::Mat Distorted(const cv::Mat& ideal, const geometry::ProjectiveCamera& lensed) {
+  cv::Mat map_x(ideal.size(), CV_32F), map_y(ideal.size(), CV_32F);
+  for (int v = 0; v < ideal.rows; ++v) {
+    for (int u = 0; u < ideal.cols; ++u) {
+      const auto p = lensed.Undistort(Eigen::Vector2d(u, v));
+      map_x.at<float>(v, u) = p ? static_cast<float>(p->x()) : -1000.f;
+      map_y.at<float>(v, u) = p ? static_cast<float>(p->y()) : -1000.f;
+    }
+  }
+  cv::Mat out;
+  cv::remap(ideal, out, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+  return out;
+}
+
+// What a camera of the site delivers (lit, textured, blurred, noisy, 8-bit): through its
+// lens when it has one, the lens bending the light before the sensor blurs and adds noise.
+inline cv::Mat CameraImage(const site::Scene& scene, const geometry::ProjectiveCamera& camera,
+                           uint64_t stream) {
+  if (!camera.has_distortion()) return site::Render(scene, camera, stream);
+  const geometry::ProjectiveCamera ideal(camera.P(), camera.image_size());
+  return site::ApplySensor(Distorted(site::RenderRadiance(scene, ideal), camera), scene.sensor,
+                           stream);
+}
+
+// The located models: each box and cylinder of `scene` asked of the object server's locator
+// (object_server/locate.h) with the marks the mark model makes from the truth (seeded by
+// mark_seed * 1000 + the object's index, as common/sim/vision's evaluation does), on the
+// stereo pair `left`, `right` taken by `cameras` (with their lenses, if any). The found ones
+// become the renderer's models, white; the truth is never drawn.
+struct Located {
+  std::vector<DrawModel> models;
+  int asked = 0, found = 0;
+  std::vector<std::string> refused;  // "NAME: reason", for a person
+};
+inline Located LocateModels(const site::Scene& scene, const site::StereoCameras& cameras,
+                            const cv::Mat& left, const cv::Mat& right, uint64_t mark_seed) {
+  Located out;
+  const geometry::ProjectiveCamera ideal_left(cameras.left.P(), cameras.left.image_size());
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const auto& shape = scene.objects[i].shape;
+    const bool cylinder = std::holds_alternative<site::Cylinder>(shape);
+    if (!cylinder && !std::holds_alternative<site::Box>(shape)) continue;
+    const auto marks = site::GenerateMarks(shape, ideal_left, mark_seed * 1000 + i);
+    if (!marks) continue;
+    ++out.asked;
+    object::LocateInput in;
+    in.type = cylinder ? object::SolidType::kCylinder : object::SolidType::kBox;
+    in.marks = *marks;
+    in.left = left;
+    in.right = right;
+    in.left_camera = cameras.left;
+    in.right_camera = cameras.right;
+    const object::LocateResult r = object::Locate(in);
+    if (!r.found) {
+      out.refused.push_back(scene.objects[i].name + ": " + object::FailureName(r.reason));
+      continue;
+    }
+    ++out.found;
+    DrawModel m;
+    m.color = {1.0f, 1.0f, 1.0f};
+    if (cylinder) {
+      m.kind = DrawModel::Kind::kCylinder;
+      m.center = r.cylinder.center;
+      m.axis = r.cylinder.axis.normalized();
+      m.radius = r.cylinder.radius;
+      m.height = r.cylinder.height;
+    } else {
+      m.kind = DrawModel::Kind::kBox;
+      m.center = r.box.center;
+      m.size = r.box.size;
+      m.rotation = r.box.rotation;
+    }
+    out.models.push_back(m);
+  }
+  return out;
 }
 
 // The sim's noiseless coverage (0..1, CV_32F) of the scene's solids seen by a camera.

@@ -1,7 +1,8 @@
 // The renderer through a real OpenGL 3.3 core context without a display (EGL, Mesa's
 // llvmpipe): pixels read back must show the models where the cameras' matrices put them,
 // the video where the graphics are black, each stereo mode's layout, the lens undone, and
-// the simulated site's solids on their own image to a fraction of a pixel.
+// the simulated site's solids, and the models the locator finds for them, on the site's
+// image to a fraction of a pixel.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -109,6 +110,39 @@ TEST_F(Render, ABoxFillsItsProjectedOutlineInBothEyes) {
   }
 }
 
+TEST_F(Render, ASolidInsideAnotherStaysHiddenWithBackFacesCulled) {
+  // Back faces are culled: were the front ones culled instead, the inner red box's far
+  // faces would lie nearer than the outer box's and show through. The outer box also
+  // mirrored (a rotation of determinant -1 turns its faces' winding).
+  for (const double mirror : {1.0, -1.0}) {
+    DrawList list = Thesis();
+    DrawModel outer;
+    outer.center = {21, -48, 2};
+    outer.size = {6, 6, 6};
+    outer.rotation = Eigen::Vector3d(1, 1, mirror).asDiagonal();
+    outer.color = {1, 1, 1};
+    DrawModel inner = outer;
+    inner.rotation.setIdentity();
+    inner.size = {3, 3, 3};
+    inner.color = {1, 0, 0};
+    list.models = {inner, outer};  // the inner one first: drawn nearest-first anyway
+    list.lit = false;
+    for (int eye = 0; eye < 2; ++eye) {
+      const cv::Mat image = DrawEye(list, eye);
+      int white = 0, red = 0;
+      for (int v = 0; v < image.rows; ++v) {
+        for (int u = 0; u < image.cols; ++u) {
+          const cv::Vec3b p = image.at<cv::Vec3b>(v, u);
+          white += p[0] > 200 && p[2] > 200;
+          red += p[0] < 50 && p[2] > 200;
+        }
+      }
+      EXPECT_GT(white, 500) << "eye " << eye << " mirror " << mirror;
+      EXPECT_EQ(red, 0) << "eye " << eye << " mirror " << mirror;
+    }
+  }
+}
+
 TEST_F(Render, TheSitesSolidsRegisterOnItsVideoToAFractionOfAPixel) {
   const site::Scene scene = registration::MaskScene(site::DefaultTestbedScene());
   DrawList list = Thesis();
@@ -132,6 +166,38 @@ TEST_F(Render, TheSitesSolidsRegisterOnItsVideoToAFractionOfAPixel) {
               errors.size(), median, p95, missing);
   EXPECT_LT(median, 0.2);
   EXPECT_LT(p95, 0.5);
+  EXPECT_LT(missing, static_cast<int>(errors.size() / 50));
+}
+
+TEST_F(Render, LocatedModelsRegisterOnTheSitesVideoToAFractionOfAPixel) {
+  // The models the object server's locator finds (from marks the mark model makes, seed 1,
+  // on the site's simulated pair: lit, textured, noisy), drawn instead of the truth. Both
+  // registration figures are drawn the same way; the difference is the locator's error.
+  const site::Scene site_scene = site::DefaultTestbedScene();
+  const site::StereoImages pair = site::RenderStereo(site_scene);
+  const registration::Located located =
+      registration::LocateModels(site_scene, site_scene.cameras, pair.left, pair.right, 1);
+  EXPECT_EQ(located.asked, 7);
+  EXPECT_EQ(located.found, 7);
+  const site::Scene scene = registration::MaskScene(site_scene);
+  DrawList list = Thesis();
+  list.models = located.models;
+  list.lit = false;
+  const geometry::ProjectiveCamera camera(list.eyes[0].P, kSize);
+  const cv::Mat truth = registration::TruthCoverage(scene, camera);
+  const cv::Mat graphics = registration::CoverageOf(DrawEye(list, 0, 4, 4));
+  int missing = 0;
+  const auto errors = registration::EdgeErrors(truth, graphics, &missing);
+  ASSERT_GT(errors.size(), 300u);
+  const double median = stats::Percentile(errors, 0.5), p95 = stats::Percentile(errors, 0.95);
+  std::printf("located: %zu edge crossings, median %.3f px, p95 %.3f px, %d unpaired\n",
+              errors.size(), median, p95, missing);
+  // Measured: median 0.108 px, p95 0.323 px, 4 of 1695 crossings unpaired (bench_overlay:
+  // about 0.1 and 0.3 px over both eyes, three poses, and a lens). The bounds are those
+  // figures with 40% margin, not a target: the locator's error, not the renderer's, is most
+  // of it (the true solids give 0.01 and 0.04 px above).
+  EXPECT_LT(median, 0.15);
+  EXPECT_LT(p95, 0.45);
   EXPECT_LT(missing, static_cast<int>(errors.size() / 50));
 }
 

@@ -1,10 +1,13 @@
 // The window's live video against a real video server (files backend, the opencv-doc stereo
 // pair: 1282 x 1110 colour, raw pairs of 8.5 MB, over the net client's default frame
 // limit): frames arrive whole, the overlay offset is stored on the server, and a server that
-// goes away is reported lost while the last frame stays.
+// goes away is reported lost while the last frame stays; the server's clock offset is
+// estimated from pings at connection and the latency is taken on it.
 #include "control/window/live_video.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "tests/support/video_server_process.h"
 #include "tests/support/wait_for.h"
@@ -40,6 +43,16 @@ TEST(LiveVideo, FramesOverTheDefaultLimitArriveAndALostServerIsReported) {
   EXPECT_EQ(frame->left.channels(), 3);
   EXPECT_EQ(frame->right.cols, 1282);
   EXPECT_FALSE(live->lost());
+  // The video server's clock offset, from pings at connection: on one host it is zero
+  // within its bound, and the capture-to-receipt latency is taken on it.
+  ASSERT_TRUE(
+      igms::testing::WaitFor("the clock offset", [&] { return live->stats().clock_pings; }));
+  const LiveStats stats = live->stats();
+  EXPECT_EQ(stats.clock_pings, 5);
+  EXPECT_LE(std::abs(stats.clock_offset_ms), stats.clock_bound_ms + 1e-6);
+  ASSERT_TRUE(igms::testing::WaitFor("a frame after the estimate",
+                                     [&] { return live->stats().frames > stats.frames; }));
+  EXPECT_GT(live->stats().latency_ms, -stats.clock_bound_ms - 1e-6);
 
   live->MoveOffset(3, -2);
   ASSERT_TRUE(igms::testing::WaitFor("the offset stored", [&] {

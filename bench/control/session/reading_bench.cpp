@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -138,11 +139,8 @@ std::optional<Seen> HoldCompleted(const std::vector<Seen>& readings, int buttons
   return std::nullopt;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  setenv("IGMS_BIN_DIR", IGMS_BIN_DIR_DEFAULT, 0);
-  setenv("IGMS_SOURCE_DIR", IGMS_SOURCE_DIR_DEFAULT, 0);
+// --reps N; nullopt (after the usage) for anything else.
+std::optional<int> ParseReps(int argc, char** argv) {
   int reps = 30;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -150,16 +148,16 @@ int main(int argc, char** argv) {
       reps = std::atoi(argv[++i]);
     } else {
       std::fprintf(stderr, "usage: bench_reading_to_state [--reps N]\n");
-      return 2;
+      return std::nullopt;
     }
   }
-  LabOnLoopback lab;
-  if (!lab.Start()) {
-    std::fprintf(stderr, "bench_reading_to_state: %s\n", lab.error().c_str());
-    return 1;
-  }
+  return reps;
+}
 
-  // The control client's options from the lab file, as igms-control reads them.
+// The control client with its options from the lab file, as igms-control reads them; every
+// view it publishes goes to `views`. Null (after the reason) when it cannot be made.
+std::unique_ptr<igms::control::ControlApp> MakeControlApp(const LabOnLoopback& lab,
+                                                          Log<Published>& views) {
   const std::string file = lab.file();
   std::vector<std::string> args = {"bench_reading_to_state", "--config", file, "--log-level",
                                    "warn"};
@@ -171,101 +169,114 @@ int main(int argc, char** argv) {
   const auto process = igms::config::ParseProcessOptions(
       static_cast<int>(argv_control.size()), argv_control.data(), "control", "bench", no_flags,
       igms::control::ControlKeys(&control_config), &exit_code);
-  if (!process) return 1;
+  if (!process) return nullptr;
   const auto calibration = igms::calibration::LoadCalibration(
       process->config.ResolvePath(process->config.Get<std::string>("lab.calibration", "")));
   if (!calibration.ok()) {
     std::fprintf(stderr, "bench_reading_to_state: lab.calibration: %s\n",
                  calibration.error().c_str());
-    return 1;
+    return nullptr;
   }
   auto options = igms::control::MakeControlAppOptions(*process, control_config);
   if (!options.ok()) {
     std::fprintf(stderr, "bench_reading_to_state: %s\n", options.error().c_str());
-    return 1;
+    return nullptr;
   }
   options->calibration_hash = igms::calibration::CalibrationHash(*calibration);
-  Log<Published> views;
   options->view_published = [&views](const SessionView& v, int64_t now_ns) {
     views.Add({now_ns, v.mode, v.pointer});
   };
   auto made = igms::control::ControlApp::Make(*options, *calibration, nullptr);
   if (!made.ok()) {
     std::fprintf(stderr, "bench_reading_to_state: %s\n", made.error().c_str());
-    return 1;
+    return nullptr;
   }
-  auto& app = **made;
+  return std::move(*made);
+}
 
-  // The baseline's plain subscribers, and the operator's hands.
-  TestClient viewer(lab.port("viewer"), "bench"), joystick(lab.port("joystick"), "bench");
-  Log<Seen> viewer_seen, joystick_seen;
-  viewer->Subscribe<igms::devices::ViewerState>(
-      "igms.devices.ViewerService.Live", igms::devices::SubscribeRequest(),
-      [&](const igms::devices::ViewerState& s) {
-        viewer_seen.Add({s.stamp().sequence(), s.stamp().receive_monotonic_ns(), MonotonicNs(),
-                         (s.button_left() ? 2 : 0) | (s.button_right() ? 1 : 0), 0});
-      });
-  joystick->Subscribe<igms::devices::JoystickState>(
-      "igms.devices.JoystickService.Live", igms::devices::SubscribeRequest(),
-      [&](const igms::devices::JoystickState& s) {
-        joystick_seen.Add(
-            {s.stamp().sequence(), s.stamp().receive_monotonic_ns(), MonotonicNs(), 0, s.x()});
-      });
-  auto buttons = [&](bool left, bool right) {
+// The operator's hands (the simulators' SimService.Inject) and the baseline's plain Live
+// subscribers, which log every reading with its stamp and arrival.
+class Hands {
+ public:
+  explicit Hands(const LabOnLoopback& lab)
+      : viewer_(lab.port("viewer"), "bench"), joystick_(lab.port("joystick"), "bench") {
+    viewer_->Subscribe<igms::devices::ViewerState>(
+        "igms.devices.ViewerService.Live", igms::devices::SubscribeRequest(),
+        [this](const igms::devices::ViewerState& s) {
+          viewer_seen.Add({s.stamp().sequence(), s.stamp().receive_monotonic_ns(), MonotonicNs(),
+                           (s.button_left() ? 2 : 0) | (s.button_right() ? 1 : 0), 0});
+        });
+    joystick_->Subscribe<igms::devices::JoystickState>(
+        "igms.devices.JoystickService.Live", igms::devices::SubscribeRequest(),
+        [this](const igms::devices::JoystickState& s) {
+          joystick_seen.Add(
+              {s.stamp().sequence(), s.stamp().receive_monotonic_ns(), MonotonicNs(), 0, s.x()});
+        });
+  }
+
+  bool Buttons(bool left, bool right) {
     igms::devices::SimInjectRequest r;
     r.mutable_viewer_buttons()->set_button_left(left);
     r.mutable_viewer_buttons()->set_button_right(right);
-    return viewer
+    return viewer_
         ->CallSync<igms::devices::SimInjectResponse>("igms.devices.SimService.Inject", r, 2s)
         .ok();
-  };
-  auto stick = [&](double x) {
+  }
+
+  bool Stick(double x) {
     igms::devices::SimInjectRequest r;
     r.mutable_joystick()->set_x(x);
-    return joystick
+    return joystick_
         ->CallSync<igms::devices::SimInjectResponse>("igms.devices.SimService.Inject", r, 2s)
         .ok();
-  };
-  auto mode_is = [&](Mode m) { return app.board().Get().mode == m; };
-
-  app.Start();
-  if (!WaitUntil([&] { return mode_is(Mode::kVerification); }, 30s)) {
-    std::fprintf(stderr, "bench_reading_to_state: the session did not start\n");
-    return 1;
   }
-  Figures freeze, pointer, pointer_first, unfreeze;
-  int failed = 0;
-  for (int rep = 0; rep < reps; ++rep) {
-    // Freeze: 01 held; the view leaves verification.
-    int64_t from = MonotonicNs();
-    if (!buttons(false, true) || !WaitUntil([&] { return mode_is(Mode::kModelBuilding); }) ||
-        !buttons(false, false)) {
-      ++failed;
-      break;
+
+  Log<Seen> viewer_seen, joystick_seen;
+
+ private:
+  TestClient viewer_, joystick_;
+};
+
+// One repetition's measurements against the running session.
+class Repetition {
+ public:
+  Repetition(igms::control::ControlApp& app, Hands& hands, const Log<Published>& views)
+      : app_(app), hands_(hands), views_(views) {}
+
+  // Freeze: 01 held; the view leaves verification. False when the session did not follow.
+  bool Freeze(int rep, Figures& freeze) {
+    const int64_t from = MonotonicNs();
+    if (!hands_.Buttons(false, true) || !WaitUntil([&] { return ModeIs(Mode::kModelBuilding); }) ||
+        !hands_.Buttons(false, false)) {
+      return false;
     }
     if (std::getenv("BENCH_DEBUG")) {
-      const auto seen = viewer_seen.Since(from);
+      const auto seen = hands_.viewer_seen.Since(from);
       std::fprintf(stderr, "rep %d: %zu viewer readings, %zu views; buttons:", rep, seen.size(),
-                   views.Since(from).size());
+                   views_.Since(from).size());
       for (const Seen& s : seen) std::fprintf(stderr, " %d", s.buttons);
       std::fprintf(stderr, "\n");
     }
-    if (auto hold = HoldCompleted(viewer_seen.Since(from), 1)) {
-      for (const Published& p : views.Since(from)) {
+    if (auto hold = HoldCompleted(hands_.viewer_seen.Since(from), 1)) {
+      for (const Published& p : views_.Since(from)) {
         if (p.mode == Mode::kVerification) continue;
         freeze.Add(hold->stamp_ns, p.at_ns, hold->arrived_ns);
         break;
       }
     }
-    // The stick forward: the pointer moves with the second deflected reading.
-    from = MonotonicNs();
-    const auto before = app.board().Get().pointer;
-    if (!stick(0.5) || !WaitUntil([&] { return app.board().Get().pointer != before; }) ||
-        !stick(0.0)) {
-      ++failed;
-      break;
+    return true;
+  }
+
+  // The stick forward: the pointer moves with the second deflected reading. Waits for the
+  // stick's zero to reach the session afterwards.
+  bool Pointer(Figures& pointer, Figures& pointer_first) {
+    const int64_t from = MonotonicNs();
+    const auto before = app_.board().Get().pointer;
+    if (!hands_.Stick(0.5) || !WaitUntil([&] { return app_.board().Get().pointer != before; }) ||
+        !hands_.Stick(0.0)) {
+      return false;
     }
-    const auto pushed = joystick_seen.Since(from);
+    const auto pushed = hands_.joystick_seen.Since(from);
     std::optional<Seen> first, second;
     for (const Seen& s : pushed) {
       if (std::abs(s.x) < kDeadBand) continue;
@@ -280,12 +291,12 @@ int main(int argc, char** argv) {
       for (const Seen& s : pushed)
         std::fprintf(stderr, "  joy %lu x %.3f stamp %+.2f ms arrived %+.2f\n", s.sequence, s.x,
                      (s.stamp_ns - from) / 1e6, (s.arrived_ns - from) / 1e6);
-      for (const Published& p : views.Since(from))
+      for (const Published& p : views_.Since(from))
         std::fprintf(stderr, "  view %+.2f ms moved %d\n", (p.at_ns - from) / 1e6,
                      p.pointer != before);
     }
     if (first && second && second->sequence == first->sequence + 1) {
-      for (const Published& p : views.Since(from)) {
+      for (const Published& p : views_.Since(from)) {
         if (p.pointer == before) continue;
         pointer.Add(second->stamp_ns, p.at_ns, second->arrived_ns);
         pointer_first.Add(first->stamp_ns, p.at_ns, first->arrived_ns);
@@ -295,19 +306,22 @@ int main(int argc, char** argv) {
     // Let the stick's zero reach the session before unfreezing.
     const int64_t zeroed = MonotonicNs();
     WaitUntil([&] {
-      for (const Seen& s : joystick_seen.Since(zeroed))
+      for (const Seen& s : hands_.joystick_seen.Since(zeroed))
         if (std::abs(s.x) < kDeadBand) return true;
       return false;
     });
-    // Unfreeze: 11 held; back in verification.
-    from = MonotonicNs();
-    if (!buttons(true, true) || !WaitUntil([&] { return mode_is(Mode::kVerification); }) ||
-        !buttons(false, false)) {
-      ++failed;
-      break;
+    return true;
+  }
+
+  // Unfreeze: 11 held; back in verification. Waits for the release to reach the session.
+  bool Unfreeze(Figures& unfreeze) {
+    const int64_t from = MonotonicNs();
+    if (!hands_.Buttons(true, true) || !WaitUntil([&] { return ModeIs(Mode::kVerification); }) ||
+        !hands_.Buttons(false, false)) {
+      return false;
     }
-    if (auto hold = HoldCompleted(viewer_seen.Since(from), 3)) {
-      for (const Published& p : views.Since(from)) {
+    if (auto hold = HoldCompleted(hands_.viewer_seen.Since(from), 3)) {
+      for (const Published& p : views_.Since(from)) {
         if (p.mode != Mode::kVerification) continue;
         unfreeze.Add(hold->stamp_ns, p.at_ns, hold->arrived_ns);
         break;
@@ -316,15 +330,58 @@ int main(int argc, char** argv) {
     // The release reaches the session before the next press.
     const int64_t released = MonotonicNs();
     WaitUntil([&] {
-      for (const Seen& s : viewer_seen.Since(released))
+      for (const Seen& s : hands_.viewer_seen.Since(released))
         if (s.buttons == 0) return true;
       return false;
     });
+    return true;
+  }
+
+  bool ModeIs(Mode m) const { return app_.board().Get().mode == m; }
+
+ private:
+  igms::control::ControlApp& app_;
+  Hands& hands_;
+  const Log<Published>& views_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  setenv("IGMS_BIN_DIR", IGMS_BIN_DIR_DEFAULT, 0);
+  setenv("IGMS_SOURCE_DIR", IGMS_SOURCE_DIR_DEFAULT, 0);
+  const std::optional<int> reps = ParseReps(argc, argv);
+  if (!reps) return 2;
+  LabOnLoopback lab;
+  if (!lab.Start()) {
+    std::fprintf(stderr, "bench_reading_to_state: %s\n", lab.error().c_str());
+    return 1;
+  }
+  Log<Published> views;
+  const auto made = MakeControlApp(lab, views);
+  if (!made) return 1;
+  auto& app = *made;
+  Hands hands(lab);
+  Repetition repetition(app, hands, views);
+
+  app.Start();
+  if (!WaitUntil([&] { return repetition.ModeIs(Mode::kVerification); }, 30s)) {
+    std::fprintf(stderr, "bench_reading_to_state: the session did not start\n");
+    return 1;
+  }
+  Figures freeze, pointer, pointer_first, unfreeze;
+  int failed = 0;
+  for (int rep = 0; rep < *reps; ++rep) {
+    if (!repetition.Freeze(rep, freeze) || !repetition.Pointer(pointer, pointer_first) ||
+        !repetition.Unfreeze(unfreeze)) {
+      ++failed;
+      break;
+    }
   }
   app.Stop();
   app.Wait();
 
-  std::printf("%d repetitions%s; ms from the reading's stamp\n", reps,
+  std::printf("%d repetitions%s; ms from the reading's stamp\n", *reps,
               failed ? " (stopped early: the session did not follow)" : "");
   std::printf("%-34s %5s %9s %9s %9s   %9s %9s\n", "reading -> state change", "n", "median", "p95",
               "max", "Live med", "Live p95");

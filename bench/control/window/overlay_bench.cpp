@@ -4,13 +4,22 @@
 //     and two panned poses of the thesis's platform, without and with a lens (radial and
 //     tangential distortion added to the simulated camera, undone by the renderer): the
 //     sub-pixel 50% crossings of the outlines along rows and columns, median and 95th
-//     percentile (the thesis saw up to 5 px, section 4.2).
+//     percentile (the thesis saw up to 5 px, section 4.2). Then the same for the located
+//     models: each object located by the object server's locator from marks the mark model
+//     makes (seeded by --mark-seed, default 1) on the pair the cameras deliver at that pose
+//     (lit, noisy, and through the lens in the lens rows), the found models drawn instead.
 //  2. The frame time of side-by-side stereo at 1280 x 1024 per eye with 1, 100, 1,000 and
 //     10,000 models, video uploaded each frame, in this machine's software GL.
 //
-//   bench_overlay [--quick]
+//   bench_overlay [--quick] [--registration | --frames] [--mark-seed N] [--models N,N,...]
+//                 [--cylinder-sides N]
+//
+// --registration or --frames prints only those figures; --quick draws fewer frames;
+// --models the model counts of the frame times (default 1,100,1000,10000);
+// --cylinder-sides the renderer's sides per cylinder (default 96).
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <random>
@@ -43,74 +52,107 @@ cv::Mat DrawOne(Renderer& renderer, const DrawList& list, int eye, int factor, i
   return small;
 }
 
-// The observed (distorted) image of an ideal one: each observed pixel reads the ideal image
-// where the lens sends it back.
-cv::Mat Distorted(const cv::Mat& ideal, const geometry::ProjectiveCamera& lensed) {
-  cv::Mat map_x(ideal.size(), CV_32F), map_y(ideal.size(), CV_32F);
-  for (int v = 0; v < ideal.rows; ++v) {
-    for (int u = 0; u < ideal.cols; ++u) {
-      const auto p = lensed.Undistort(Eigen::Vector2d(u, v));
-      map_x.at<float>(v, u) = p ? static_cast<float>(p->x()) : -1000.f;
-      map_y.at<float>(v, u) = p ? static_cast<float>(p->y()) : -1000.f;
-    }
-  }
-  cv::Mat out;
-  cv::remap(ideal, out, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
-  return out;
-}
-
-void Registration(Renderer& renderer) {
+void Registration(Renderer& renderer, uint64_t mark_seed) {
   const auto& cal = calibration::ThesisCalibration();
-  const site::Scene scene = reg::MaskScene(site::DefaultTestbedScene());
+  const site::Scene site_scene = site::DefaultTestbedScene();
+  const site::Scene scene = reg::MaskScene(site_scene);
   geometry::Lens lens;
   lens.K << 945, 0, 323, 0, 1190, 213, 0, 0, 1;
   lens.dist = {-0.35, 0.2, 0.002, -0.0015, 0.0};
   const std::vector<std::vector<double>> poses = {{0, 0, 0}, {0.06, 0, 0}, {-0.05, 0.03, 0}};
-  std::printf("registration: the site's true solids over its simulated video (px)\n");
-  std::printf("  %-26s %8s %8s %8s %9s\n", "pose (pan, tilt rad)", "lens", "median", "p95",
-              "crossings");
+  std::printf(
+      "registration: the site's true solids, and the models its locator finds from marks "
+      "(mark seed %llu), over its simulated video (px)\n",
+      static_cast<unsigned long long>(mark_seed));
+  std::printf("  %-20s %5s %-13s %8s %8s %9s %9s %8s\n", "pose (pan, tilt rad)", "lens", "models",
+              "median", "p95", "crossings", "unpaired", "locate s");
   for (bool with_lens : {false, true}) {
-    std::vector<double> all;
+    // Per row: 0 the true solids, 1 the located models.
+    std::vector<double> all[2];
+    int all_missing[2] = {0, 0}, all_found = 0, all_asked = 0;
     for (const auto& q : poses) {
-      DrawList graphics;
-      graphics.models = reg::ModelsOf(scene);
-      graphics.lit = false;
-      std::vector<double> errors;
+      DrawList graphics[2];
+      site::StereoCameras cameras;
       for (int eye = 0; eye < 2; ++eye) {
         const auto& c = eye == 0 ? cal.left : cal.right;
         const geometry::Matrix34 P = geometry::CameraAtPose(c.P, *cal.platform, q);
-        for (auto* l : {&graphics}) {
-          l->eyes[eye].P = P;
-          l->eyes[eye].size = kSize;
+        (eye == 0 ? cameras.left : cameras.right) = with_lens
+                                                        ? geometry::ProjectiveCamera(P, kSize, lens)
+                                                        : geometry::ProjectiveCamera(P, kSize);
+        for (auto& g : graphics) {
+          g.eyes[eye].P = P;
+          g.eyes[eye].size = kSize;
+          g.lit = false;
         }
-        const geometry::ProjectiveCamera camera(P, kSize);
-        const cv::Mat truth = reg::TruthCoverage(scene, camera);
+      }
+      graphics[0].models = reg::ModelsOf(scene);
+      // The locator sees what the cameras deliver at this pose (through the lens, if any).
+      const auto t0 = std::chrono::steady_clock::now();
+      const cv::Mat left = reg::CameraImage(site_scene, cameras.left, 0);
+      const cv::Mat right = reg::CameraImage(site_scene, cameras.right, 1);
+      const reg::Located located = reg::LocateModels(site_scene, cameras, left, right, mark_seed);
+      const double locate_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      graphics[1].models = located.models;
+      all_found += located.found;
+      all_asked += located.asked;
+      std::vector<double> errors[2];
+      int missing[2] = {0, 0};
+      for (int eye = 0; eye < 2; ++eye) {
+        const auto& camera = eye == 0 ? cameras.left : cameras.right;
+        const geometry::ProjectiveCamera ideal(camera.P(), kSize);
+        const cv::Mat truth = reg::TruthCoverage(scene, ideal);
         cv::Mat video8;
-        const cv::Mat observed =
-            with_lens ? Distorted(truth, geometry::ProjectiveCamera(P, kSize, lens)) : truth;
+        const cv::Mat observed = with_lens ? reg::Distorted(truth, camera) : truth;
         observed.convertTo(video8, CV_8U, 255.0);
         DrawList video;
-        video.eyes[eye].P = P;
+        video.eyes[eye].P = camera.P();
         video.eyes[eye].size = kSize;
         video.eyes[eye].video = video8;
         if (with_lens) video.eyes[eye].lens = lens;
         const cv::Mat drawn_video = reg::CoverageOf(DrawOne(renderer, video, eye, 1, 1));
-        const cv::Mat drawn_graphics = reg::CoverageOf(DrawOne(renderer, graphics, eye, 4, 4));
-        const auto e = reg::EdgeErrors(drawn_video, drawn_graphics);
-        errors.insert(errors.end(), e.begin(), e.end());
+        for (int k = 0; k < 2; ++k) {
+          const cv::Mat drawn = reg::CoverageOf(DrawOne(renderer, graphics[k], eye, 4, 4));
+          int m = 0;
+          const auto e = reg::EdgeErrors(drawn_video, drawn, &m);
+          errors[k].insert(errors[k].end(), e.begin(), e.end());
+          missing[k] += m;
+        }
       }
-      all.insert(all.end(), errors.begin(), errors.end());
       char pose[64];
       std::snprintf(pose, sizeof(pose), "(%.2f, %.2f)", q[0], q[1]);
-      std::printf("  %-26s %8s %8.3f %8.3f %9zu\n", pose, with_lens ? "yes" : "no",
-                  stats::Percentile(errors, 0.5), stats::Percentile(errors, 0.95), errors.size());
+      for (int k = 0; k < 2; ++k) {
+        all[k].insert(all[k].end(), errors[k].begin(), errors[k].end());
+        all_missing[k] += missing[k];
+        char models[32];
+        if (k == 0) {
+          std::snprintf(models, sizeof(models), "true");
+        } else {
+          std::snprintf(models, sizeof(models), "located %d/%d", located.found, located.asked);
+        }
+        char secs[16] = "";
+        if (k == 1) std::snprintf(secs, sizeof(secs), "%.1f", locate_s);
+        std::printf("  %-20s %5s %-13s %8.3f %8.3f %9zu %9d %8s\n", pose, with_lens ? "yes" : "no",
+                    models, stats::Percentile(errors[k], 0.5), stats::Percentile(errors[k], 0.95),
+                    errors[k].size(), missing[k], secs);
+      }
+      for (const auto& r : located.refused) std::printf("    refused %s\n", r.c_str());
     }
-    std::printf("  %-26s %8s %8.3f %8.3f %9zu\n", "all poses", with_lens ? "yes" : "no",
-                stats::Percentile(all, 0.5), stats::Percentile(all, 0.95), all.size());
+    for (int k = 0; k < 2; ++k) {
+      char models[32];
+      if (k == 0) {
+        std::snprintf(models, sizeof(models), "true");
+      } else {
+        std::snprintf(models, sizeof(models), "located %d/%d", all_found, all_asked);
+      }
+      std::printf("  %-20s %5s %-13s %8.3f %8.3f %9zu %9d\n", "all poses", with_lens ? "yes" : "no",
+                  models, stats::Percentile(all[k], 0.5), stats::Percentile(all[k], 0.95),
+                  all[k].size(), all_missing[k]);
+    }
   }
 }
 
-void FrameTimes(Renderer& renderer, bool quick) {
+void FrameTimes(Renderer& renderer, bool quick, const std::vector<int>& counts) {
   const auto& cal = calibration::ThesisCalibration();
   // The thesis's cameras scaled to 1280 x 1024 (the BOOM2C's channels, section 2.1.3).
   Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
@@ -133,7 +175,7 @@ void FrameTimes(Renderer& renderer, bool quick) {
       "every frame (%s):\n",
       reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
   std::printf("  %8s %10s %10s %10s\n", "models", "solid ms", "wire ms", "fps solid");
-  for (int count : {1, 100, 1000, 10000}) {
+  for (int count : counts) {
     list.models.clear();
     for (int i = 0; i < count; ++i) {
       DrawModel m;
@@ -169,7 +211,34 @@ void FrameTimes(Renderer& renderer, bool quick) {
 }  // namespace igms::control::render
 
 int main(int argc, char** argv) {
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  bool quick = false, registration = true, frames = true;
+  uint64_t mark_seed = 1;
+  std::vector<int> counts = {1, 100, 1000, 10000};
+  int sides = 0;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else if (std::strcmp(argv[i], "--registration") == 0) {
+      frames = false;
+    } else if (std::strcmp(argv[i], "--frames") == 0) {
+      registration = false;
+    } else if (std::strcmp(argv[i], "--mark-seed") == 0 && i + 1 < argc) {
+      mark_seed = std::strtoull(argv[++i], nullptr, 10);
+    } else if (std::strcmp(argv[i], "--cylinder-sides") == 0 && i + 1 < argc) {
+      sides = std::atoi(argv[++i]);
+    } else if (std::strcmp(argv[i], "--models") == 0 && i + 1 < argc) {
+      counts.clear();
+      for (char* p = argv[++i]; *p;) {
+        counts.push_back(static_cast<int>(std::strtol(p, &p, 10)));
+        if (*p == ',') ++p;
+      }
+    } else {
+      std::fprintf(stderr,
+                   "usage: bench_overlay [--quick] [--registration | --frames] "
+                   "[--mark-seed N] [--models N,N,...] [--cylinder-sides N]\n");
+      return 2;
+    }
+  }
   auto context = igms::control::render::OffscreenContext::Make();
   if (!context.ok()) {
     std::fprintf(stderr, "bench_overlay: %s\n", context.error().c_str());
@@ -180,7 +249,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_overlay: %s\n", renderer.error().c_str());
     return 1;
   }
-  igms::control::render::Registration(**renderer);
-  igms::control::render::FrameTimes(**renderer, quick);
+  if (sides > 0) (*renderer)->cylinder_segments = sides;
+  if (registration) igms::control::render::Registration(**renderer, mark_seed);
+  if (frames) igms::control::render::FrameTimes(**renderer, quick, counts);
   return 0;
 }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <future>
 
 #include "common/net/server.h"
 #include "tests/support/io_thread.h"
@@ -36,6 +37,9 @@ TEST(ClockOffset, FromTheShortestRoundTripWithinHalfOfIt) {
   EXPECT_EQ(uneven->offset_ns, 37 * kMs);
   EXPECT_LE(std::llabs(uneven->offset_ns - 40 * kMs), uneven->bound_ns());
 
+  // A stamp of the server's clock, put on this host's: 40 ms earlier.
+  EXPECT_EQ(offset->ToLocalNs(kNow + 40 * kMs), kNow);
+
   EXPECT_FALSE(EstimateClockOffset({samples[2]}));
   EXPECT_FALSE(EstimateClockOffset({}));
 }
@@ -59,6 +63,41 @@ TEST(ClockOffset, OnLoopbackTheOffsetIsWithinHalfTheRoundTrip) {
   EXPECT_LT(std::llabs(offset->offset_ns), kClockOffsetLimit.count() * kMs);
   client.Stop();
   server.Stop();
+}
+
+// The form a client's own network thread uses (the window's live video): the pings chained
+// from their callbacks, the estimate handed over at the end; a stopped client ends it.
+TEST(ClockOffset, MeasuredWithoutBlockingTheNetworkThread) {
+  igms::testing::IoThread io;
+  Server server(io.io(), ServerOptions{});
+  server.Start();
+  ClientOptions o;
+  o.port = server.port();
+  Client client(io.io(), o);
+  client.Start();
+  std::promise<std::pair<std::optional<ClockOffset>, std::string>> got;
+  MeasureClockOffsetAsync(client, 4, 2000ms,
+                          [&](std::optional<ClockOffset> offset, const std::string& error) {
+                            got.set_value({offset, error});
+                          });
+  auto future = got.get_future();
+  ASSERT_EQ(future.wait_for(10s), std::future_status::ready);
+  const auto [offset, error] = future.get();
+  ASSERT_TRUE(offset) << error;
+  EXPECT_EQ(offset->samples, 4);
+  EXPECT_LE(std::llabs(offset->offset_ns), offset->bound_ns() + 1) << offset->Describe();
+
+  // No server: the first ping fails and says why.
+  server.Stop();
+  client.Stop();
+  std::promise<std::string> failed;
+  MeasureClockOffsetAsync(client, 4, 500ms,
+                          [&](std::optional<ClockOffset> offset, const std::string& error) {
+                            failed.set_value(offset ? "" : error);
+                          });
+  auto why = failed.get_future();
+  ASSERT_EQ(why.wait_for(10s), std::future_status::ready);
+  EXPECT_NE(why.get().find("ping: "), std::string::npos);
 }
 
 }  // namespace
