@@ -96,9 +96,8 @@ int Run(int argc, char** argv) {
       return bad("--mark '" + marks[i] + "' is not X,Y,Z with three finite numbers");
     input.marks[i] = *m;
   }
-  std::string error;
-  const auto cal = igms::calibration::LoadCalibration(calibration, &error);
-  if (!cal) return bad(error);
+  const auto cal = igms::calibration::LoadCalibration(calibration);
+  if (!cal.ok()) return bad(cal.error());
   if (vm.count("range")) {
     if (!std::isfinite(range) || range <= 0) return bad("--range must be a positive distance");
     const auto ranger = igms::object::RangerInWorld(*cal);

@@ -39,16 +39,12 @@ int main(int argc, char** argv) {
       spdlog::critical("lab.calibration: the object server needs the cameras' calibration");
       return igms::kExitUsage;
     }
-    std::string error;
     const auto calibration =
-        igms::calibration::LoadCalibration(process->config.ResolvePath(calibration_file), &error);
-    if (!calibration) {
-      spdlog::critical("lab.calibration: {}", error);
+        igms::calibration::LoadCalibration(process->config.ResolvePath(calibration_file));
+    if (!calibration.ok()) {
+      spdlog::critical("lab.calibration: {}", calibration.error());
       return igms::kExitUsage;
     }
-    options.fetch_timeout = std::chrono::milliseconds(
-        process->Get<int>("fetch_timeout_ms", static_cast<int>(options.fetch_timeout.count())));
-    options.cache_frames = static_cast<size_t>(std::max(0, process->Get<int>("cache_frames", 4)));
     options.ranger = igms::object::RangerInWorld(*calibration);
     options.platform = calibration->platform;
     options.ranger_mount = calibration->ranger;
@@ -58,7 +54,7 @@ int main(int argc, char** argv) {
       spdlog::critical("{}: {}", process->Key(""), problem);
       return igms::kExitUsage;
     }
-    const std::string video_name = process->Get<std::string>("video", "video");
+    const std::string& video_name = options.video_process;
     const std::string video_host = process->HostOf(video_name);
     const std::uint16_t video_port = process->PortOf(video_name);
     if (process->check_only) return igms::config::CheckPassed(*process);

@@ -14,14 +14,13 @@
 namespace igms::object {
 
 config::Keys ObjectKeys(ObjectServiceOptions* options) {
-  using config::KeyType;
   config::Keys keys = net::ServerKeys();
-  keys.Add("fetch_timeout_ms", KeyType::kInt, "2000", "one GetImages call to the video server");
-  keys.Add("cache_frames", KeyType::kInt, "4", "grabs' images kept");
+  keys.Bind("fetch_timeout_ms", &options->fetch_timeout, "one GetImages call to the video server");
+  keys.Bind("cache_frames", &options->cache_frames, "grabs' images kept");
   keys.Bind("workers", &options->workers, "locates run at once");
   keys.Bind("camera_blur_px", &options->locate.camera_blur_px,
             "the cameras' blur in pixels, for the silhouette fit");
-  keys.Add("video", KeyType::kString, "video", "the video server process it fetches frames from");
+  keys.Bind("video", &options->video_process, "the video server process it fetches frames from");
   return keys;
 }
 namespace {

@@ -65,13 +65,14 @@ struct ObjectServiceOptions {
   std::string calibration_file;
   std::string calibration_sha256;
   std::string video = "the video server";
+  std::string video_process = "video";  // the lab's process it fetches frames from
   // False, with what is wrong in *error, when invalid.
   bool Check(std::string* error) const;
 };
 
 // The object server's keys (processes.NAME): fetch_timeout_ms, cache_frames, workers,
-// camera_blur_px (bound to `options`), video (read by the main), max_frame_bytes
-// (net::ServerKeys); and lab.calibration, which it requires.
+// camera_blur_px and video (bound to `options`), max_frame_bytes (net::ServerKeys); and
+// lab.calibration, which it requires.
 config::Keys ObjectKeys(ObjectServiceOptions* options);
 
 // BAD_REQUEST with a message naming what is wrong, or Ok.

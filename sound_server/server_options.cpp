@@ -24,16 +24,18 @@ po::options_description SoundFlags() {
 config::Keys SoundKeys(ServerSettings* s) {
   using config::KeyType;
   config::Keys keys = net::ServerKeys();
-  // Read by ReadSettings: paths resolve beside the lab file, and YAML's null is a word here.
-  keys.Path("bank", "the bank's manifest.yaml (default: share/igms/sounds beside the program)");
-  keys.Choice("output", {"default", "null", "wave"}, s->output.output, "where the sound goes");
+  keys.BindPath("bank", &s->bank,
+                "the bank's manifest.yaml (default: share/igms/sounds beside the program)", "bank");
+  keys.BindChoice("output", &s->output.output, {"default", "null", "wave"}, "where the sound goes",
+                  "output");
   keys.Bind("device", &s->output.device, "OpenAL device name for the default output", "device");
-  keys.Add("wave_file", KeyType::kOutputPath, "", "where the wave output writes");
+  keys.BindPath("wave_file", &s->output.wave_file, "where the wave output writes", "wave-file",
+                KeyType::kOutputPath);
   keys.Bind("wave_rate", &s->output.wave_rate, "Hz of the null and wave outputs", "wave-rate");
   keys.Bind("period_frames", &s->output.period_frames, "mixing period of the null and wave outputs",
             "period-frames");
-  keys.Choice("fallback", {"none", "null", "wave"}, s->output.fallback,
-              "used when the default device cannot be opened");
+  keys.BindChoice("fallback", &s->output.fallback, {"none", "null", "wave"},
+                  "used when the default device cannot be opened", "fallback");
   keys.Bind("cue_sources", &s->engine.cue_sources, "sources for cues", "cue-sources");
   keys.Bind("speech_queue", &s->speech_queue, "messages that may wait", "speech-queue");
   keys.Bind("volume", &s->engine.master_volume, "master volume 0..1", "volume");
@@ -42,21 +44,14 @@ config::Keys SoundKeys(ServerSettings* s) {
 
 namespace {
 
-// A flag if given, else the configuration key, else the fallback.
-template <class T>
-T Setting(const config::ProcessOptions& p, const char* flag, const char* key, T fallback) {
-  if (p.flags.count(flag)) return p.flags[flag].as<T>();
-  return p.Get<T>(key, fallback);
-}
-
-// `output: null` and `fallback: null` in YAML are a null value, not the word: read them as
-// the null output, which is what a person writing them means.
-std::string Mode(const config::ProcessOptions& p, const char* flag, const char* key,
-                 const std::string& fallback) {
-  if (p.flags.count(flag)) return p.flags[flag].as<std::string>();
+// `output: null` and `fallback: null` in YAML are a null value, not the word (so the bound
+// field keeps its default): read them as the null output, which is what a person writing
+// them means.
+void NullIsAWord(const config::ProcessOptions& p, const char* flag, const char* key,
+                 std::string* mode) {
+  if (p.flags.count(flag)) return;
   const YAML::Node node = p.config.Find(p.Key(key));
-  if (node.IsDefined() && node.IsNull()) return "null";
-  return p.Get<std::string>(key, fallback);
+  if (node.IsDefined() && node.IsNull()) *mode = "null";
 }
 
 }  // namespace
@@ -65,18 +60,9 @@ std::string ReadSettings(const config::ProcessOptions& p, const std::filesystem:
                          ServerSettings& s) {
   const std::filesystem::path default_bank =
       executable.parent_path() / ".." / "share" / "igms" / "sounds" / "manifest.yaml";
-  std::string bank = Setting<std::string>(p, "bank", "bank", "");
-  if (bank.empty()) {
-    s.manifest = default_bank.lexically_normal();
-  } else {
-    s.manifest = p.flags.count("bank") ? bank : p.config.ResolvePath(bank);
-  }
-  s.output.output = Mode(p, "output", "output", s.output.output);
-  s.output.wave_file = Setting<std::string>(p, "wave-file", "wave_file", "");
-  if (!s.output.wave_file.empty() && !p.flags.count("wave-file")) {
-    s.output.wave_file = p.config.ResolvePath(s.output.wave_file);
-  }
-  s.output.fallback = Mode(p, "fallback", "fallback", s.output.fallback);
+  s.manifest = s.bank.empty() ? default_bank.lexically_normal() : std::filesystem::path(s.bank);
+  NullIsAWord(p, "output", "output", &s.output.output);
+  NullIsAWord(p, "fallback", "fallback", &s.output.fallback);
   if (s.speech_queue < 1) return "the speech queue must hold at least 1 message";
   s.engine.speech_queue_limit = static_cast<size_t>(s.speech_queue);
   std::string error;

@@ -19,6 +19,7 @@ namespace igms::sound {
 inline constexpr std::uint16_t kDefaultPort = config::ports::kSound;
 
 struct ServerSettings {
+  std::string bank;  // the bank key (made absolute) or flag; empty: the installed bank
   std::filesystem::path manifest;
   OutputOptions output;
   EngineOptions engine;
@@ -28,13 +29,12 @@ struct ServerSettings {
 // The component's own flags, for ParseProcessOptions.
 boost::program_options::options_description SoundFlags();
 // The keys, and max_frame_bytes (net::ServerKeys), for ParseProcessOptions, which fills the
-// fields of `settings` they bind (numbers and the device, flags over the file).
+// fields of `settings` they bind (flags over the file; paths resolved beside the lab file).
 config::Keys SoundKeys(ServerSettings* settings);
 
-// The rest of the settings, after ParseProcessOptions: the bank and wave file (paths,
-// resolved beside the lab file; `executable` anchors the default bank), the output and
-// fallback, then the checks. Throws config::ConfigError for a key of the wrong type;
-// returns "" or what is out of range.
+// The rest of the settings, after ParseProcessOptions: the manifest (`executable` anchors
+// the default bank), a YAML null output or fallback taken as the null output, then the
+// checks. Returns "" or what is out of range.
 std::string ReadSettings(const config::ProcessOptions& process,
                          const std::filesystem::path& executable, ServerSettings& settings);
 

@@ -10,10 +10,28 @@ std::map<std::string, CaptureBackendFactory>& Registry() {
   return registry;
 }
 
+std::map<std::string, config::Keys>& KeysRegistry() {
+  static std::map<std::string, config::Keys> keys;
+  return keys;
+}
+
 }  // namespace
 
-void RegisterCaptureBackend(const std::string& name, CaptureBackendFactory factory) {
+void RegisterCaptureBackend(const std::string& name, CaptureBackendFactory factory,
+                            const config::Keys& keys) {
   Registry()[name] = std::move(factory);
+  // Declarations only: the factory reads its keys itself, so no binding is kept.
+  config::Keys declared;
+  for (const auto& spec : keys.specs()) {
+    declared.Add(spec.key, spec.type, spec.default_value, spec.help);
+  }
+  KeysRegistry()[name] = std::move(declared);
+}
+
+config::Keys CaptureBackendKeys() {
+  config::Keys keys;
+  for (const auto& [name, backend_keys] : KeysRegistry()) keys.Merge(backend_keys);
+  return keys;
 }
 
 const CaptureBackendFactory* FindCaptureBackend(const std::string& name) {

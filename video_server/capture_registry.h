@@ -24,9 +24,14 @@ struct BackendChoice {
 // Builds a backend from process `process`'s section of the lab configuration.
 using CaptureBackendFactory = std::function<BackendChoice(const config::ProcessOptions& process)>;
 
-// Adds the backend `name`, replacing one of that name. Call before the configuration is read,
-// from one thread (a program's main).
-void RegisterCaptureBackend(const std::string& name, CaptureBackendFactory factory);
+// Adds the backend `name`, replacing one of that name, and the keys its factory reads
+// (declared for VideoKeys: checked and listed in --help like the library's own). Call before
+// the configuration is read, from one thread (a program's main).
+void RegisterCaptureBackend(const std::string& name, CaptureBackendFactory factory,
+                            const config::Keys& keys = {});
+
+// The keys of every registered backend, declared (not bound).
+config::Keys CaptureBackendKeys();
 
 // The backend registered as `name`, or nullptr.
 const CaptureBackendFactory* FindCaptureBackend(const std::string& name);

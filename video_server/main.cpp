@@ -29,9 +29,10 @@ int main(int argc, char** argv) {
     extra.add_options()("port-file", po::value<std::string>(),
                         "write the port listened on to this file once listening");
     int exit_code = 0;
+    igms::video::VideoConfig video;
     auto process = igms::config::ParseProcessOptions(
         argc, argv, "video", "igms-video-server: stereo grabs, edges, live video, overlay", extra,
-        igms::video::VideoKeys(), &exit_code);
+        igms::video::VideoKeys(&video), &exit_code);
     if (!process) return exit_code;
 
     std::string error;
@@ -43,7 +44,7 @@ int main(int argc, char** argv) {
     }
     // A check opens no camera: the camera backend's keys are checked by their declarations.
     igms::video::BackendChoice backend;
-    if (!process->check_only || process->Get<std::string>("backend", "files") != "camera") {
+    if (!process->check_only || video.backend != "camera") {
       backend = igms::video::MakeConfiguredBackend(*process);
       if (!backend.backend) {
         spdlog::critical("{}", backend.error);
@@ -55,10 +56,9 @@ int main(int argc, char** argv) {
       spdlog::critical("{}", overlay.error());
       return igms::kExitUsage;
     }
-    error.clear();
-    auto platform = igms::video::ConfiguredPlatformFollow(*process, &error);
-    if (!error.empty()) {
-      spdlog::critical("{}", error);
+    auto platform = igms::video::ConfiguredPlatformFollow(*process);
+    if (!platform.ok()) {
+      spdlog::critical("{}", platform.error());
       return igms::kExitUsage;
     }
     if (process->check_only) return igms::config::CheckPassed(*process);
@@ -69,8 +69,8 @@ int main(int argc, char** argv) {
     boost::asio::io_context io;
     std::unique_ptr<igms::video::PlatformPoseFollower> follower;
     igms::video::PoseSource pose;
-    if (platform) {
-      follower = std::make_unique<igms::video::PlatformPoseFollower>(io, std::move(*platform));
+    if (*platform) {
+      follower = std::make_unique<igms::video::PlatformPoseFollower>(io, std::move(**platform));
       pose = [&follower] { return follower->Pose(); };
     }
     igms::net::Server server(io,

@@ -6,6 +6,7 @@
 #include <exception>
 
 #include "common/calibration/calibration_file.h"
+#include "video_server/video_config.h"
 
 namespace igms::video {
 
@@ -29,10 +30,10 @@ PoseStamp PoseFromPlatformState(const devices::PlatformState& state,
   return pose;
 }
 
-std::optional<PlatformFollowOptions> ConfiguredPlatformFollow(const config::ProcessOptions& process,
-                                                              std::string* error) {
-  const std::string name = process.Get<std::string>("platform", "");
-  if (name.empty()) return std::nullopt;
+Result<std::optional<PlatformFollowOptions>> ConfiguredPlatformFollow(
+    const config::ProcessOptions& process) {
+  const std::string name = ReadVideoConfig(process).platform;
+  if (name.empty()) return std::optional<PlatformFollowOptions>();
   PlatformFollowOptions options;
   options.process = name;
   options.client.name = process.name;
@@ -41,21 +42,17 @@ std::optional<PlatformFollowOptions> ConfiguredPlatformFollow(const config::Proc
   try {
     options.client.port = process.PortOf(name);
   } catch (const std::exception& e) {
-    *error = process.Key("platform") + " names '" + name + "': " + e.what();
-    return std::nullopt;
+    return ErrorMessage{process.Key("platform") + " names '" + name + "': " + e.what()};
   }
   // A model mismatch is better found at start than as a wrong pose later.
   const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
   if (!calibration_file.empty()) {
     const auto calibration =
-        calibration::LoadCalibration(process.config.ResolvePath(calibration_file), error);
-    if (!calibration) {
-      *error = "lab.calibration: " + *error;
-      return std::nullopt;
-    }
+        calibration::LoadCalibration(process.config.ResolvePath(calibration_file));
+    if (!calibration.ok()) return ErrorMessage{"lab.calibration: " + calibration.error()};
     options.model = calibration->platform;
   }
-  return options;
+  return std::optional<PlatformFollowOptions>(std::move(options));
 }
 
 PlatformPoseFollower::PlatformPoseFollower(boost::asio::io_context& io,

@@ -25,6 +25,7 @@
 #include <optional>
 #include <string>
 
+#include "common/base/result.h"
 #include "common/config/process_options.h"
 #include "common/geometry/platform.h"
 #include "common/net/client.h"
@@ -43,11 +44,11 @@ struct PlatformFollowOptions {
   std::optional<geometry::PlatformModel> model;  // tick scales; none = the daemon's degrees
 };
 
-// The follow options the lab configuration gives process `process`: nullopt when its section
-// names no platform (the pose stays zero), or when it is misconfigured (`error` set, naming
-// the key).
-std::optional<PlatformFollowOptions> ConfiguredPlatformFollow(const config::ProcessOptions& process,
-                                                              std::string* error);
+// The follow options the lab configuration gives process `process` (its `platform` key,
+// declared by VideoKeys): nullopt when its section names no platform (the pose stays zero);
+// an error naming the key when it is misconfigured.
+Result<std::optional<PlatformFollowOptions>> ConfiguredPlatformFollow(
+    const config::ProcessOptions& process);
 
 class PlatformPoseFollower {
  public:

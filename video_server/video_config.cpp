@@ -5,15 +5,12 @@
 #include "common/calibration/calibration_file.h"
 #include "common/calibration/calibration_hash.h"
 #include "common/net/process_server.h"
-#include "video_server/camera_capture.h"
-#include "video_server/files_capture.h"
 
 namespace igms::video {
 namespace {
 
-std::string PathKey(const config::ProcessOptions& process, const std::string& sub) {
-  const std::string value = process.Get<std::string>(sub, "");
-  // Numbered patterns and device indices pass through; paths are made absolute.
+// Numbered patterns and device indices pass through; paths are made absolute.
+std::string ResolveUnlessIndex(const config::ProcessOptions& process, const std::string& value) {
   if (value.empty() ||
       (value.size() <= 4 && value.find_first_not_of("0123456789") == std::string::npos)) {
     return value;
@@ -34,73 +31,69 @@ std::string AvailableBackends() {
 
 }  // namespace
 
-config::Keys VideoKeys() {
+config::Keys VideoKeys(VideoConfig* c) {
   using config::KeyType;
   config::Keys keys = net::ServerKeys();
-  keys.Choice("backend", {"files", "camera", "sim"}, "files", "where the stereo pairs come from");
-  keys.Path("sim.scene", "sim: the site's scene file (default: the thesis testbed)");
-  keys.Add("sim.seed", KeyType::kInt, "", "sim: the sensor noise seed (default: the scene's)");
-  keys.Add("files.left", KeyType::kString, "", "files: the left images, a numbered pattern");
-  keys.Add("files.right", KeyType::kString, "", "files: the right images, a numbered pattern");
-  keys.Add("files.first", KeyType::kInt, "0", "files: the first number");
-  keys.Add("files.last", KeyType::kInt, "9999", "files: the last number");
-  keys.Add("files.colour", KeyType::kBool, "false", "files: keep colour");
-  keys.Add("camera.left", KeyType::kString, "0", "camera: the left camera (device or index)");
-  keys.Add("camera.right", KeyType::kString, "1", "camera: the right camera (device or index)");
-  keys.Add("camera.side_by_side", KeyType::kBool, "false",
-           "camera: one device, pairs side by side");
-  keys.Add("camera.width", KeyType::kInt, "0", "camera: frame width (0: the camera's)");
-  keys.Add("camera.height", KeyType::kInt, "0", "camera: frame height (0: the camera's)");
-  keys.Add("camera.colour", KeyType::kBool, "false", "camera: keep colour");
-  keys.Add("camera.pace_fps", KeyType::kNumber, "0", "camera: grab at most this often (0: freely)");
-  keys.Add("camera.frame_timeout_ms", KeyType::kInt, "1000",
-           "camera: a frame later than this fails");
-  keys.Add("camera.retry_ms", KeyType::kInt, "1000", "camera: reopen a lost camera this often");
-  keys.Add("platform", KeyType::kString, "", "follow this platform process's pose");
-  keys.Add("store_capacity", KeyType::kInt, "16", "grabs kept");
-  keys.Add("edge_threads", KeyType::kInt, "2", "threads detecting edges");
-  keys.Add("encode_threads", KeyType::kInt, "2", "threads encoding images");
-  keys.Add("edges.sigma", KeyType::kNumber, "1.0607", "edges: Gaussian sigma in pixels");
-  keys.Add("edges.low", KeyType::kNumber, "50", "edges: low hysteresis threshold");
-  keys.Add("edges.high", KeyType::kNumber, "150", "edges: high hysteresis threshold");
-  keys.Add("edges.l2_gradient", KeyType::kBool, "true", "edges: L2 gradient magnitude");
-  keys.Choice("encoding", {"png", "raw"}, "png", "image encoding when a request does not say");
-  keys.Add("overlay_file", KeyType::kOutputPath, "", "where the overlay settings are kept");
+  keys.BindChoice("backend", &c->backend, {"files", "camera", "sim"},
+                  "where the stereo pairs come from");
+  keys.Bind("files.left", &c->files.left, "files: the left images, a numbered pattern");
+  keys.Bind("files.right", &c->files.right, "files: the right images, a numbered pattern");
+  keys.Bind("files.first", &c->files.first, "files: the first number");
+  keys.Bind("files.last", &c->files.last, "files: the last number");
+  keys.Bind("files.colour", &c->files.colour, "files: keep colour");
+  keys.Bind("camera.left", &c->camera.left, "camera: the left camera (device or index)");
+  keys.Bind("camera.right", &c->camera.right, "camera: the right camera (device or index)");
+  keys.Bind("camera.side_by_side", &c->camera.side_by_side,
+            "camera: one device, pairs side by side");
+  keys.Bind("camera.width", &c->camera.width, "camera: frame width (0: the camera's)");
+  keys.Bind("camera.height", &c->camera.height, "camera: frame height (0: the camera's)");
+  keys.Bind("camera.colour", &c->camera.colour, "camera: keep colour");
+  keys.Bind("camera.pace_fps", &c->camera.pace_fps, "camera: grab at most this often (0: freely)");
+  keys.Bind("camera.frame_timeout_ms", &c->camera.frame_timeout,
+            "camera: a frame later than this fails");
+  keys.Bind("camera.retry_ms", &c->camera.retry_interval,
+            "camera: reopen a lost camera this often");
+  keys.Bind("platform", &c->platform, "follow this platform process's pose");
+  keys.Bind("store_capacity", &c->service.store_capacity, "grabs kept");
+  keys.Bind("edge_threads", &c->service.edge_threads, "threads detecting edges");
+  keys.Bind("encode_threads", &c->service.encode_threads, "threads encoding images");
+  keys.Bind("edges.sigma", &c->service.edges.sigma, "edges: Gaussian sigma in pixels");
+  keys.Bind("edges.low", &c->service.edges.low_threshold, "edges: low hysteresis threshold");
+  keys.Bind("edges.high", &c->service.edges.high_threshold, "edges: high hysteresis threshold");
+  keys.Bind("edges.l2_gradient", &c->service.edges.l2_gradient, "edges: L2 gradient magnitude");
+  keys.BindChoice("encoding", &c->encoding, {"png", "raw"},
+                  "image encoding when a request does not say");
+  keys.BindPath("overlay_file", &c->overlay_file, "where the overlay settings are kept", "",
+                KeyType::kOutputPath);
+  keys.Merge(CaptureBackendKeys());
   return keys;
+}
+
+VideoConfig ReadVideoConfig(const config::ProcessOptions& process) {
+  VideoConfig c;
+  VideoKeys(&c).Read(process);
+  c.files.left = ResolveUnlessIndex(process, c.files.left);
+  c.files.right = ResolveUnlessIndex(process, c.files.right);
+  c.camera.left = ResolveUnlessIndex(process, c.camera.left);
+  c.camera.right = ResolveUnlessIndex(process, c.camera.right);
+  return c;
 }
 
 BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process) {
   BackendChoice choice;
-  const std::string backend = process.Get<std::string>("backend", "files");
-  if (backend == "files") {
-    FilesCaptureOptions files;
-    files.left = PathKey(process, "files.left");
-    files.right = PathKey(process, "files.right");
-    files.first = process.Get<int>("files.first", files.first);
-    files.last = process.Get<int>("files.last", files.last);
-    files.colour = process.Get<bool>("files.colour", files.colour);
-    FilesOpenResult open = OpenFilesCapture(files);
+  const VideoConfig c = ReadVideoConfig(process);
+  if (c.backend == "files") {
+    FilesOpenResult open = OpenFilesCapture(c.files);
     choice.backend = std::move(open.backend);
     if (!choice.backend) choice.error = process.Key("files") + ": " + open.error;
-  } else if (backend == "camera") {
-    CameraCaptureOptions camera;
-    camera.left = PathKey(process, "camera.left");
-    camera.right = PathKey(process, "camera.right");
-    camera.side_by_side = process.Get<bool>("camera.side_by_side", false);
-    camera.width = process.Get<int>("camera.width", 0);
-    camera.height = process.Get<int>("camera.height", 0);
-    camera.colour = process.Get<bool>("camera.colour", false);
-    camera.pace_fps = process.Get<double>("camera.pace_fps", 0.0);
-    camera.frame_timeout =
-        std::chrono::milliseconds(process.Get<int>("camera.frame_timeout_ms", 1000));
-    camera.retry_interval = std::chrono::milliseconds(process.Get<int>("camera.retry_ms", 1000));
+  } else if (c.backend == "camera") {
     std::string error;
-    choice.backend = MakeCameraCapture(camera, &error);
+    choice.backend = MakeCameraCapture(c.camera, &error);
     if (!choice.backend) choice.error = process.Key("camera") + ": " + error;
-  } else if (const CaptureBackendFactory* factory = FindCaptureBackend(backend)) {
+  } else if (const CaptureBackendFactory* factory = FindCaptureBackend(c.backend)) {
     choice = (*factory)(process);
   } else {
-    choice.error = process.Key("backend") + ": unknown backend '" + backend + "' (" +
+    choice.error = process.Key("backend") + ": unknown backend '" + c.backend + "' (" +
                    AvailableBackends() + ")";
   }
   return choice;
@@ -108,36 +101,26 @@ BackendChoice MakeConfiguredBackend(const config::ProcessOptions& process) {
 
 VideoServiceOptions ConfiguredServiceOptions(const config::ProcessOptions& process,
                                              std::string* error) {
-  VideoServiceOptions options;
-  options.store_capacity = static_cast<size_t>(
-      std::max(0, process.Get<int>("store_capacity", static_cast<int>(options.store_capacity))));
-  options.edge_threads = process.Get<int>("edge_threads", options.edge_threads);
-  options.encode_threads = process.Get<int>("encode_threads", options.encode_threads);
-  options.edges.sigma = process.Get<double>("edges.sigma", options.edges.sigma);
-  options.edges.low_threshold = process.Get<double>("edges.low", options.edges.low_threshold);
-  options.edges.high_threshold = process.Get<double>("edges.high", options.edges.high_threshold);
-  options.edges.l2_gradient = process.Get<bool>("edges.l2_gradient", options.edges.l2_gradient);
-  const std::string encoding = process.Get<std::string>("encoding", "png");
-  if (encoding != "png" && encoding != "raw") {
-    *error = process.Key("encoding") + ": must be png or raw, not '" + encoding + "'";
+  const VideoConfig c = ReadVideoConfig(process);
+  VideoServiceOptions options = c.service;
+  if (c.encoding != "png" && c.encoding != "raw") {
+    *error = process.Key("encoding") + ": must be png or raw, not '" + c.encoding + "'";
     return options;
   }
   options.default_encoding =
-      encoding == "png" ? wire::ImageEncoding::kPng : wire::ImageEncoding::kRaw;
-  const std::string overlay = process.Get<std::string>("overlay_file", "");
-  options.overlay_path = overlay.empty() ? "" : process.config.ResolvePath(overlay);
+      c.encoding == "png" ? wire::ImageEncoding::kPng : wire::ImageEncoding::kRaw;
+  options.overlay_path = c.overlay_file;
   // The calibration's identity for GetStatus. The sim backend and the platform pose read
   // the file themselves and refuse a bad one; the other backends do not need it, so a file
   // that does not load only goes unreported.
   const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
   if (!calibration_file.empty()) {
     const std::string path = process.config.ResolvePath(calibration_file);
-    std::string why;
-    if (const auto calibration = calibration::LoadCalibration(path, &why)) {
+    if (const auto calibration = calibration::LoadCalibration(path); calibration.ok()) {
       options.calibration_file = path;
       options.calibration_sha256 = calibration::CalibrationHash(*calibration);
     } else {
-      spdlog::warn("lab.calibration: {}; GetStatus reports no calibration", why);
+      spdlog::warn("lab.calibration: {}; GetStatus reports no calibration", calibration.error());
     }
   }
   if (std::string problem; !options.Check(&problem)) {

@@ -23,14 +23,32 @@
 #include <string>
 
 #include "common/config/process_options.h"
+#include "video_server/camera_capture.h"
 #include "video_server/capture_backend.h"
 #include "video_server/capture_registry.h"
+#include "video_server/files_capture.h"
 #include "video_server/video_service.h"
 
 namespace igms::video {
 
-// The keys above, and max_frame_bytes (net::ServerKeys), for ParseProcessOptions.
-config::Keys VideoKeys();
+// The options the keys above fill (VideoKeys binds them; ReadVideoConfig reads them).
+struct VideoConfig {
+  std::string backend = "files";
+  FilesCaptureOptions files;    // left and right made absolute
+  CameraCaptureOptions camera;  // a device path made absolute, an index as given
+  VideoServiceOptions service;  // all but default_encoding, overlay_path and the calibration
+  std::string encoding = "png";
+  std::string overlay_file;  // absolute; empty: the overlay kept in memory only
+  std::string platform;      // the platform process to follow (platform_pose.h)
+};
+
+// The keys above bound to `config`, the keys of the backends a program registered
+// (capture_registry.h), and max_frame_bytes (net::ServerKeys), for ParseProcessOptions.
+config::Keys VideoKeys(VideoConfig* config);
+
+// The video options of process `process` (flags over keys over defaults). Throws
+// config::ConfigError for a key of the wrong type.
+VideoConfig ReadVideoConfig(const config::ProcessOptions& process);
 
 // Builds the configured backend: files or camera, or one registered by the program
 // (capture_registry.h). Errors name the key at fault, and an unknown backend's error names

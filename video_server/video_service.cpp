@@ -31,10 +31,12 @@ net::Status NotFound(const FrameLookup& lookup) {
 // The rectangle a request names, checked against the frame's size.
 std::optional<cv::Rect> RequestRect(const igms::video::Region& region, cv::Size size,
                                     net::Status* status) {
-  std::string error;
-  auto rect = wire::ResolveRegion(wire::RegionFromProto(region), size, &error);
-  if (!rect) *status = net::Status::Error(igms::BAD_REQUEST, error);
-  return rect;
+  auto rect = wire::ResolveRegion(wire::RegionFromProto(region), size);
+  if (!rect.ok()) {
+    *status = net::Status::Error(igms::BAD_REQUEST, rect.error());
+    return std::nullopt;
+  }
+  return *rect;
 }
 
 bool ValidSide(Side side) { return side == BOTH || side == LEFT || side == RIGHT; }

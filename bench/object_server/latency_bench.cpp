@@ -294,7 +294,7 @@ int main(int argc, char** argv) {
                                            : std::string(IGMS_SOURCE_DIR_DEFAULT) +
                                                  "/common/calibration/data/thesis_calibration.yaml";
   const auto cal = igms::calibration::LoadCalibration(calibration);
-  if (!cal) {
+  if (!cal.ok()) {
     std::fprintf(stderr, "bench_object_latency: cannot load %s\n", calibration.c_str());
     return 2;
   }

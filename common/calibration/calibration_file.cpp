@@ -192,7 +192,9 @@ bool ValidateCalibration(const StereoCalibration& c, std::string* error) {
   return true;
 }
 
-std::optional<StereoCalibration> ParseCalibration(const std::string& yaml, std::string* error) {
+namespace {
+
+std::optional<StereoCalibration> ParseText(const std::string& yaml, std::string* error) {
   StereoCalibration c;
   try {
     cv::FileStorage fs(
@@ -233,16 +235,21 @@ std::optional<StereoCalibration> ParseCalibration(const std::string& yaml, std::
   return c;
 }
 
-std::optional<StereoCalibration> LoadCalibration(const std::string& path, std::string* error) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    if (error) *error = path + ": cannot open the calibration file";
-    return std::nullopt;
-  }
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}  // namespace
+
+Result<StereoCalibration> ParseCalibration(const std::string& yaml) {
   std::string why;
-  auto c = ParseCalibration(text, &why);
-  if (!c && error) *error = path + ": " + why;
+  auto c = ParseText(yaml, &why);
+  if (!c) return ErrorMessage{why};
+  return std::move(*c);
+}
+
+Result<StereoCalibration> LoadCalibration(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return ErrorMessage{path + ": cannot open the calibration file"};
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto c = ParseCalibration(text);
+  if (!c.ok()) return ErrorMessage{path + ": " + c.error()};
   return c;
 }
 

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/result.h"
 #include "common/geometry/camera.h"
 #include "common/geometry/platform.h"
 
@@ -57,12 +58,10 @@ struct StereoCalibration {
   std::optional<RangerCalibration> ranger;
 };
 
-// Parses a calibration from YAML text. nullopt with `error` naming the key on failure.
-std::optional<StereoCalibration> ParseCalibration(const std::string& yaml,
-                                                  std::string* error = nullptr);
-// Reads a calibration file. nullopt with `error` (naming the file and the key) on failure.
-std::optional<StereoCalibration> LoadCalibration(const std::string& path,
-                                                 std::string* error = nullptr);
+// Parses a calibration from YAML text; an error naming the key on failure.
+Result<StereoCalibration> ParseCalibration(const std::string& yaml);
+// Reads a calibration file; an error naming the file and the key on failure.
+Result<StereoCalibration> LoadCalibration(const std::string& path);
 
 // The YAML text of a calibration. The calibration must validate (std::invalid_argument
 // otherwise: writing a file that cannot be read back is a programmer error).

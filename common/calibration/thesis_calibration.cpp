@@ -7,10 +7,9 @@ namespace igms::calibration {
 
 const StereoCalibration& ThesisCalibration() {
   static const StereoCalibration calibration = [] {
-    std::string error;
-    auto parsed = ParseCalibration(std::string(ThesisCalibrationYaml()), &error);
+    auto parsed = ParseCalibration(std::string(ThesisCalibrationYaml()));
     // The file is checked in and tested: failing here is a broken build, not bad input.
-    if (!parsed) throw std::logic_error("built-in thesis_calibration.yaml: " + error);
+    if (!parsed.ok()) throw std::logic_error("built-in thesis_calibration.yaml: " + parsed.error());
     return *parsed;
   }();
   return calibration;

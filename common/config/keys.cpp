@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <sstream>
 
 #include "common/config/lab_config.h"
 #include "common/config/process_options.h"
@@ -98,6 +99,30 @@ Keys& Keys::Add(const std::string& key, KeyType type, const std::string& default
 Keys& Keys::Choice(const std::string& key, std::vector<std::string> choices,
                    const std::string& default_value, const std::string& help) {
   Declare(key, KeyType::kString, default_value, help).choices = std::move(choices);
+  return *this;
+}
+
+Keys& Keys::BindChoice(const std::string& key, std::string* field, std::vector<std::string> choices,
+                       const std::string& help, const std::string& flag) {
+  Bind(key, field, help, flag);
+  Declare(key, KeyType::kString, *field, help).choices = std::move(choices);
+  return *this;
+}
+
+Keys& Keys::BindPath(const std::string& key, std::string* field, const std::string& help,
+                     const std::string& flag, KeyType type) {
+  KeySpec& spec = Declare(key, type, *field, help);
+  spec.flag = flag;
+  readers_.push_back([spec = spec, field](const ProcessOptions& process) {
+    if (!spec.flag.empty() && process.flags.count(spec.flag)) {
+      *field = process.flags[spec.flag].as<std::string>();
+      return;
+    }
+    const std::string full = FullKey(process.name, spec.key);
+    if (process.config.Has(full)) {
+      *field = process.config.ResolvePath(process.config.Get<std::string>(full));
+    }
+  });
   return *this;
 }
 
@@ -241,7 +266,27 @@ template <class T>
 void ReadBound(const ProcessOptions& process, const KeySpec& spec, T* field) {
   const auto& flags = process.flags;
   if (!spec.flag.empty() && flags.count(spec.flag)) {
-    if constexpr (std::is_same_v<T, bool>) {
+    if constexpr (IsVector<T>::value) {
+      // "1 2 3" or "1,2,3" on the command line.
+      const auto& value = flags[spec.flag].value();
+      if (const auto* text = boost::any_cast<std::string>(&value)) {
+        std::string spaced = *text;
+        std::replace(spaced.begin(), spaced.end(), ',', ' ');
+        std::istringstream in(spaced);
+        T values;
+        for (typename T::value_type v; in >> v;) values.push_back(v);
+        if (!in.eof()) {
+          throw ConfigError("--" + spec.flag + ": expected numbers, found '" + *text + "'");
+        }
+        *field = std::move(values);
+      } else {
+        *field = flags[spec.flag].as<T>();
+      }
+      return;
+    } else if constexpr (std::is_same_v<T, std::chrono::milliseconds>) {
+      *field = std::chrono::milliseconds(flags[spec.flag].as<int>());
+      return;
+    } else if constexpr (std::is_same_v<T, bool>) {
       // A switch: on when given; off leaves the file its say.
       if (flags[spec.flag].as<bool>()) {
         *field = true;
@@ -253,7 +298,11 @@ void ReadBound(const ProcessOptions& process, const KeySpec& spec, T* field) {
     }
   }
   const std::string key = FullKey(process.name, spec.key);
-  *field = process.config.Get<T>(key, *field);
+  if constexpr (std::is_same_v<T, std::chrono::milliseconds>) {
+    *field = std::chrono::milliseconds(process.config.Get<long long>(key, field->count()));
+  } else {
+    *field = process.config.Get<T>(key, *field);
+  }
 }
 
 template void ReadBound<bool>(const ProcessOptions&, const KeySpec&, bool*);
@@ -263,6 +312,10 @@ template void ReadBound<unsigned long>(const ProcessOptions&, const KeySpec&, un
 template void ReadBound<double>(const ProcessOptions&, const KeySpec&, double*);
 template void ReadBound<float>(const ProcessOptions&, const KeySpec&, float*);
 template void ReadBound<std::string>(const ProcessOptions&, const KeySpec&, std::string*);
+template void ReadBound<std::chrono::milliseconds>(const ProcessOptions&, const KeySpec&,
+                                                   std::chrono::milliseconds*);
+template void ReadBound<std::vector<double>>(const ProcessOptions&, const KeySpec&,
+                                             std::vector<double>*);
 
 }  // namespace detail
 

@@ -16,6 +16,7 @@
 // other processes' sections belong to other programs.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -69,10 +70,20 @@ class Keys {
   // Binds a key to a field: Read() sets the field from the flag when it is given, else from
   // the key when it is set, else leaves the field's value (the default). A bool flag is a
   // switch that can only turn the field on. T: bool, int, unsigned, double, float,
-  // std::string, std::size_t.
+  // std::string, std::size_t, std::chrono::milliseconds (an integer key, "..._ms"),
+  // std::vector<double> (a list; its flag a string of numbers separated by spaces or commas).
   template <class T>
   Keys& Bind(const std::string& key, T* field, const std::string& help,
              const std::string& flag = "");
+  // A bound string key that takes one of `choices`.
+  Keys& BindChoice(const std::string& key, std::string* field, std::vector<std::string> choices,
+                   const std::string& help, const std::string& flag = "");
+  // Binds a key naming a file or folder: the flag's value is taken as given (relative to the
+  // working folder), the key's is made absolute against the configuration file's folder.
+  // `type`: kPath (read: --check-config checks that it exists), kOutputPath (written), or
+  // kString (a pattern or a name that need not exist as written: resolved all the same).
+  Keys& BindPath(const std::string& key, std::string* field, const std::string& help,
+                 const std::string& flag = "", KeyType type = KeyType::kPath);
   // Another component's keys (a daemon's own keys after the ones every daemon shares).
   Keys& Merge(const Keys& other);
 
@@ -93,8 +104,16 @@ class Keys {
 
 namespace detail {
 template <class T>
+struct IsVector : std::false_type {};
+template <class T>
+struct IsVector<std::vector<T>> : std::true_type {};
+template <class T>
 KeyType TypeOf() {
-  if constexpr (std::is_same_v<T, bool>)
+  if constexpr (IsVector<T>::value)
+    return KeyType::kList;
+  else if constexpr (std::is_same_v<T, std::chrono::milliseconds>)
+    return KeyType::kInt;
+  else if constexpr (std::is_same_v<T, bool>)
     return KeyType::kBool;
   else if constexpr (std::is_integral_v<T>)
     return KeyType::kInt;
@@ -105,7 +124,16 @@ KeyType TypeOf() {
 }
 template <class T>
 std::string DefaultText(const T& value) {
-  if constexpr (std::is_same_v<T, bool>)
+  if constexpr (IsVector<T>::value) {
+    if (value.empty()) return "";
+    std::ostringstream out;
+    out << "[";
+    for (std::size_t i = 0; i < value.size(); ++i) out << (i ? ", " : "") << value[i];
+    out << "]";
+    return out.str();
+  } else if constexpr (std::is_same_v<T, std::chrono::milliseconds>) {
+    return std::to_string(value.count());
+  } else if constexpr (std::is_same_v<T, bool>)
     return value ? "true" : "false";
   else if constexpr (std::is_same_v<T, std::string>)
     return value;

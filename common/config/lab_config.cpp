@@ -22,6 +22,32 @@ std::vector<std::string> SplitKey(const std::string& key) {
 
 LabConfig::LabConfig() : root_(YAML::NodeType::Map), source_("<defaults>") {}
 
+LabConfig::LabConfig(const LabConfig& other)
+    : root_(YAML::Clone(other.root_)), source_(other.source_), folder_(other.folder_) {}
+
+LabConfig::LabConfig(LabConfig&& other) noexcept
+    : root_(other.root_), source_(std::move(other.source_)), folder_(std::move(other.folder_)) {
+  other.root_.reset(YAML::Node(YAML::NodeType::Map));  // no alias left behind
+}
+
+LabConfig& LabConfig::operator=(const LabConfig& other) {
+  if (this == &other) return *this;
+  // reset() rebinds; Node's operator= would write other's tree into the one root_ shares.
+  root_.reset(YAML::Clone(other.root_));
+  source_ = other.source_;
+  folder_ = other.folder_;
+  return *this;
+}
+
+LabConfig& LabConfig::operator=(LabConfig&& other) noexcept {
+  if (this == &other) return *this;
+  root_.reset(other.root_);
+  other.root_.reset(YAML::Node(YAML::NodeType::Map));
+  source_ = std::move(other.source_);
+  folder_ = std::move(other.folder_);
+  return *this;
+}
+
 LabConfig LabConfig::Load(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw ConfigError(path + ": cannot open the lab configuration file");
@@ -43,7 +69,7 @@ LabConfig LabConfig::FromString(const std::string& text, const std::string& sour
       throw ConfigError(source + ":" + std::to_string(root.Mark().line + 1) +
                         ": the lab configuration must be a map of keys");
     }
-    config.root_ = root;
+    config.root_.reset(root);
   } catch (const YAML::Exception& e) {
     throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) + ":" +
                       std::to_string(e.mark.column + 1) + ": " + e.msg);

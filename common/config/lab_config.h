@@ -33,6 +33,14 @@ class ConfigError : public std::runtime_error {
 class LabConfig {
  public:
   LabConfig();  // empty: every Get with a fallback returns it
+  // A copy is a file of its own: yaml-cpp's Node copies share one tree, and assigning one
+  // Node to another rewrites the tree it shared, so a copy's Set (or an assignment to a
+  // copy) would change the original. Copies clone the tree; moves take it over.
+  LabConfig(const LabConfig& other);
+  LabConfig(LabConfig&& other) noexcept;
+  LabConfig& operator=(const LabConfig& other);
+  LabConfig& operator=(LabConfig&& other) noexcept;
+  ~LabConfig() = default;
   // Throws ConfigError for a missing file or bad YAML, naming the file and line.
   static LabConfig Load(const std::string& path);
   static LabConfig FromString(const std::string& text, const std::string& source = "<string>");

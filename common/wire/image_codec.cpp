@@ -6,17 +6,13 @@
 
 namespace igms::wire {
 
-std::optional<cv::Rect> ResolveRegion(const PixelRegion& region, cv::Size size,
-                                      std::string* error) {
+Result<cv::Rect> ResolveRegion(const PixelRegion& region, cv::Size size) {
   if (region.whole()) return cv::Rect(0, 0, size.width, size.height);
-  auto fail = [&](const std::string& why) -> std::optional<cv::Rect> {
-    if (error) {
-      *error = "region x=" + std::to_string(region.x) + " y=" + std::to_string(region.y) +
-               " width=" + std::to_string(region.width) +
-               " height=" + std::to_string(region.height) + " " + why + " (the image is " +
-               std::to_string(size.width) + "x" + std::to_string(size.height) + ")";
-    }
-    return std::nullopt;
+  auto fail = [&](const std::string& why) {
+    return ErrorMessage{"region x=" + std::to_string(region.x) + " y=" + std::to_string(region.y) +
+                        " width=" + std::to_string(region.width) +
+                        " height=" + std::to_string(region.height) + " " + why + " (the image is " +
+                        std::to_string(size.width) + "x" + std::to_string(size.height) + ")"};
   };
   if (region.width <= 0 || region.height <= 0) return fail("is empty");
   if (region.x < 0 || region.y < 0) return fail("starts outside the image");

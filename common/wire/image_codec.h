@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "common/base/result.h"
+
 namespace igms::wire {
 
 enum class ImageEncoding { kRaw, kPng };
@@ -24,10 +26,10 @@ struct PixelRegion {
   bool whole() const { return x == 0 && y == 0 && width == 0 && height == 0; }
 };
 
-// The rectangle `region` names inside an image of `size`, or nullopt with `error` set when
-// it is empty, negative or reaches outside the image (a region is never silently clipped:
-// the caller asked for pixels that do not exist).
-std::optional<cv::Rect> ResolveRegion(const PixelRegion& region, cv::Size size, std::string* error);
+// The rectangle `region` names inside an image of `size`, or an error when it is empty,
+// negative or reaches outside the image (a region is never silently clipped: the caller
+// asked for pixels that do not exist).
+Result<cv::Rect> ResolveRegion(const PixelRegion& region, cv::Size size);
 
 // Encodes an 8-bit 1- or 3-channel image (any view, e.g. a region of a larger image).
 std::string EncodeImage(const cv::Mat& image, ImageEncoding encoding);

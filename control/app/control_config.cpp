@@ -24,8 +24,10 @@ config::Keys ControlKeys(ControlConfig* c) {
             "time-out of ObjectService.Locate (longer than the object server's frame fetch)");
   keys.Bind("stereo", &c->stereo,
             "the window's stereo output: side-by-side, anaglyph, quad-buffer, left, right or mono");
-  keys.Add("export_dir", config::KeyType::kOutputPath, "",
-           "rewrite every export format into this folder as the models change (docs/exports.md)");
+  keys.BindPath("export_dir", &c->export_dir,
+                "rewrite every export format into this folder as the models change "
+                "(docs/exports.md)",
+                "", config::KeyType::kOutputPath);
   for (Peer peer : kAllPeers) {
     const std::string name(PeerName(peer));
     keys.Bind(name, &c->peer_names[static_cast<int>(peer)],

@@ -30,6 +30,7 @@ struct ControlConfig {
   int steps_per_move = 0;
   std::string peer_names[8];            // by Peer; empty: the peer's own name
   std::string stereo = "side-by-side";  // the window's stereo mode (control/render/stereo.h)
+  std::string export_dir;               // absolute; empty: no exports (docs/exports.md)
 };
 
 config::Keys ControlKeys(ControlConfig* config);

@@ -15,6 +15,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <filesystem>
+#include <optional>
 #include <thread>
 #include <utility>
 
@@ -94,15 +95,13 @@ igms::Result<std::unique_ptr<igms::control::Window>> OpenWindow(
 // The exports (processes.control.export_dir): rewritten on their own thread as the models
 // change, and once at start. Null when the lab file names no folder.
 std::unique_ptr<igms::control::ExportWriter> StartExports(
-    const igms::config::ProcessOptions& process, const igms::control::ControlConfig& config,
-    igms::control::ControlAppOptions* options) {
-  const auto dir = process.Get<std::string>("export_dir", "");
-  if (dir.empty()) return nullptr;
+    const igms::control::ControlConfig& config, igms::control::ControlAppOptions* options) {
+  if (config.export_dir.empty()) return nullptr;
   igms::control::ExportOptions export_options;  // into metres
   const double per_inch = config.session.world_units_per_inch;
   export_options.world_units = {per_inch == 1 ? "in" : "world units", 0.0254 / per_inch};
   auto exports = std::make_unique<igms::control::ExportWriter>(
-      process.config.ResolvePath(dir), export_options, [](bool ok, const std::string& what) {
+      config.export_dir, export_options, [](bool ok, const std::string& what) {
         if (ok) {
           spdlog::info("exports: {}", what);
         } else {
@@ -116,226 +115,259 @@ std::unique_ptr<igms::control::ExportWriter> StartExports(
   return exports;
 }
 
+po::options_description ControlFlags() {
+  po::options_description extra("Control client options");
+  extra.add_options()("database", po::value<std::string>(),
+                      "the geometric database to write or continue (default: lab.database, "
+                      "else the operator's data folder)")(
+      "wait", po::bool_switch(), "wait for required peers instead of exiting 1")(
+      "take-control", po::bool_switch(),
+      "take control of the platform from the client holding it (one obeyed at a time)")(
+      "script", po::value<std::string>(), "play this operator script, then exit (docs/scripts.md)")(
+      "window", po::bool_switch(), "open the window (default: when a display is there)")(
+      "no-window", po::bool_switch(), "draw nothing: no window, no offscreen screenshots")(
+      "samples", po::value<int>()->default_value(4),
+      "multisampling of the graphics' edges (1: none, the cheaper frame in software GL)")(
+      "xvfb", po::bool_switch(),
+      "open the window on a private virtual X server (Xvfb) started for this session")(
+      "screenshots", po::value<std::string>()->default_value("."),
+      "the folder of the window's screenshots (key P, --screenshot-every)")(
+      "screenshot-every", po::value<double>()->default_value(0),
+      "a screenshot every SECONDS (igms-every-NNNN.png in --screenshots), with a window or "
+      "offscreen; 0: none");
+  return extra;
+}
+
+// Everything the session needs that the configuration and flags say, checked before anything
+// is opened (--check-config stops after it).
+struct Startup {
+  igms::calibration::StereoCalibration calibration;
+  igms::control::ControlAppOptions options;
+  std::string database;
+  std::optional<igms::control::Script> script;
+  igms::control::render::StereoMode stereo{};
+  bool want_window = false;  // --window or --xvfb: a window or nothing
+  bool want_xvfb = false;
+  bool on_screen = false;  // a window where there is a display
+  bool offscreen = false;  // else drawing for screenshots only
+  double screenshot_every = 0;
+};
+
+igms::Result<Startup> Prepare(const igms::config::ProcessOptions& process,
+                              const igms::control::ControlConfig& config) {
+  using igms::ErrorMessage;
+  Startup s;
+  const auto& f = process.flags;
+  const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
+  if (calibration_file.empty()) {
+    return ErrorMessage{"lab.calibration: the control client needs the cameras' calibration"};
+  }
+  auto calibration =
+      igms::calibration::LoadCalibration(process.config.ResolvePath(calibration_file));
+  if (!calibration.ok()) return ErrorMessage{"lab.calibration: " + calibration.error()};
+  s.calibration = std::move(*calibration);
+  auto options = igms::control::MakeControlAppOptions(process, config);
+  if (!options.ok()) return ErrorMessage{options.error()};
+  s.options = std::move(*options);
+  s.options.calibration_hash = igms::calibration::CalibrationHash(s.calibration);
+  s.options.session.wait_for_peers = f["wait"].as<bool>();
+  s.options.session.take_control = f["take-control"].as<bool>();
+  if (std::string problem; !s.options.Check(&problem)) {
+    return ErrorMessage{process.Key("") + ": " + problem};
+  }
+  const std::string database_flag = f.count("database") ? f["database"].as<std::string>() : "";
+  auto path = igms::control::ResolveDatabasePath(process.config, database_flag,
+                                                 igms::control::UserFolders::FromEnvironment());
+  if (!path.ok()) return ErrorMessage{"the database: " + path.error()};
+  s.database = *path;
+  if (f.count("script")) {
+    auto loaded = igms::control::LoadScript(f["script"].as<std::string>());
+    if (!loaded.ok()) return ErrorMessage{loaded.error()};
+    s.script = std::move(*loaded);
+  }
+  const auto stereo = igms::control::render::ParseStereoMode(config.stereo);
+  if (!stereo) {
+    return ErrorMessage{process.Key("stereo") + ": stereo '" + config.stereo + "' is none of " +
+                        igms::control::render::StereoModeNames()};
+  }
+  s.stereo = *stereo;
+  const bool window = f["window"].as<bool>();
+  const bool no_window = f["no-window"].as<bool>();
+  if (window && no_window) return ErrorMessage{"--window and --no-window: choose one"};
+  s.screenshot_every = f["screenshot-every"].as<double>();
+  if (!(s.screenshot_every >= 0) || (s.screenshot_every > 0 && no_window)) {
+    return ErrorMessage{fmt::format(
+        "--screenshot-every {}: a number of seconds (0: none), and not with --no-window, which "
+        "draws nothing",
+        s.screenshot_every)};
+  }
+  s.want_xvfb = f["xvfb"].as<bool>();
+  if (s.want_xvfb && no_window) return ErrorMessage{"--xvfb and --no-window: choose one"};
+  s.want_window = window || s.want_xvfb;
+  s.on_screen = s.want_window || (!no_window && igms::control::DisplayAvailable());
+  s.offscreen = !s.on_screen && !no_window;
+  return s;
+}
+
+// What the session draws on: the window (or offscreen drawing), the private Xvfb under it,
+// the live video in it.
+struct Display {
+  // Declared before the window, so it ends after it.
+  std::unique_ptr<igms::control::PrivateXvfb> xvfb;
+  std::unique_ptr<igms::control::Window> window;
+  std::unique_ptr<igms::control::LiveVideo> live;
+};
+
+igms::Result<bool> OpenDisplay(const igms::config::ProcessOptions& process, Startup& s,
+                               Display* display) {
+  if (s.want_xvfb) {
+    if (auto started = StartXvfb(s.calibration, &display->xvfb); !started.ok()) {
+      return igms::ErrorMessage{"--xvfb: " + started.error()};
+    }
+  }
+  if (!s.on_screen && !s.offscreen) return true;
+  auto opened = OpenWindow(s.calibration, s.stereo, s.want_window, s.on_screen, &s.offscreen,
+                           &display->xvfb, process.flags["samples"].as<int>());
+  if (!opened.ok()) return igms::ErrorMessage{"--window: " + opened.error()};
+  display->window = std::move(*opened);
+  const auto it = s.options.peers.find(igms::control::Peer::kVideo);
+  if (display->window && it != s.options.peers.end()) {
+    igms::control::LiveVideoOptions live_options;
+    live_options.address = it->second;
+    live_options.token = s.options.token;
+    live_options.client_name = process.name + "-window";
+    // Offscreen the video is only looked at for screenshots: a few frames a second do.
+    if (s.offscreen) live_options.fps = 5;
+    display->live = igms::control::LiveVideo::Start(live_options);
+  }
+  return true;
+}
+
+// The script's player: the devices to inject into, and screenshots taken by the display loop
+// (a relative name is the script's folder's).
+igms::control::ScriptPlayerOptions PlayerOptions(const Startup& s, bool window,
+                                                 igms::control::ScreenshotQueue* shots) {
+  igms::control::ScriptPlayerOptions player;
+  player.token = s.options.token;
+  for (const auto& [peer, address] : s.options.peers) {
+    if (igms::control::IsDaemon(peer)) player.devices[peer] = address;
+  }
+  if (window) {
+    const std::filesystem::path folder =
+        s.script ? std::filesystem::path(s.script->source).parent_path() : std::filesystem::path();
+    player.screenshot = [shots, folder](const std::string& file) {
+      const std::filesystem::path path(file);
+      return shots->Request(path.is_absolute() ? file : (folder / path).string());
+    };
+  }
+  return player;
+}
+
+// Plays the script on its own thread once the session has started (every required peer
+// answered), then ends the session.
+std::thread PlayScript(igms::control::ControlApp& app, const igms::control::Script& script,
+                       igms::control::ScriptPlayerOptions player_options) {
+  return std::thread([&app, &script, player_options = std::move(player_options)] {
+    const bool started = app.board().WaitFor(
+        [](const igms::control::SessionView& v) {
+          return v.mode != igms::control::Mode::kStarting || v.exit_code;
+        },
+        std::chrono::hours(24));
+    if (!started || app.board().Get().exit_code) return;
+    igms::control::ScriptPlayer player(app, player_options);
+    auto played = player.Play(script);
+    if (played.ok()) {
+      spdlog::info("script {}: {} actions played", script.source, *played);
+      app.Stop(0);
+    } else {
+      spdlog::error("script {}", played.error());
+      app.Stop(1);
+    }
+  });
+}
+
+// Runs the session to its end: signals end it, the script plays on its own thread, and the
+// display loop keeps the main thread (GLFW's) until the session ends, whoever ends it.
+int RunSession(const igms::config::ProcessOptions& process, igms::control::ControlApp& app,
+               const Startup& s, Display& display, igms::control::ScreenshotQueue& shots,
+               igms::control::ScriptPlayerOptions player_options) {
+  boost::asio::io_context signals_io;
+  boost::asio::signal_set signals(signals_io, SIGINT, SIGTERM);
+  signals.async_wait([&](const boost::system::error_code& ec, int signal) {
+    if (ec) return;
+    spdlog::info("signal {}: ending the session", signal);
+    app.Stop(0);
+  });
+  std::thread signal_thread([&] { signals_io.run(); });
+  app.Start();
+  std::thread script_thread;
+  if (s.script) script_thread = PlayScript(app, *s.script, std::move(player_options));
+  if (display.window) {
+    std::atomic<bool> ended = false;
+    std::thread display_stopper([&] {
+      app.board().WaitFor(
+          [](const igms::control::SessionView& v) { return v.exit_code.has_value(); },
+          std::chrono::hours(24 * 365));
+      ended = true;
+    });
+    igms::control::DisplayLoopOptions loop_options;
+    loop_options.screenshot_folder = process.flags["screenshots"].as<std::string>();
+    loop_options.screenshot_every_s = s.screenshot_every;
+    igms::control::RunDisplayLoop(app, *display.window, display.live.get(), shots, ended,
+                                  loop_options, s.offscreen);
+    display_stopper.join();
+  }
+  if (script_thread.joinable()) script_thread.join();
+  const int code = app.Wait();
+  signals.cancel();
+  signals_io.stop();
+  signal_thread.join();
+  return code;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
-    po::options_description extra("Control client options");
-    extra.add_options()("database", po::value<std::string>(),
-                        "the geometric database to write or continue (default: lab.database, "
-                        "else the operator's data folder)")(
-        "wait", po::bool_switch(), "wait for required peers instead of exiting 1")(
-        "take-control", po::bool_switch(),
-        "take control of the platform from the client holding it (one obeyed at a time)")(
-        "script", po::value<std::string>(),
-        "play this operator script, then exit (docs/scripts.md)")(
-        "window", po::bool_switch(), "open the window (default: when a display is there)")(
-        "no-window", po::bool_switch(), "draw nothing: no window, no offscreen screenshots")(
-        "samples", po::value<int>()->default_value(4),
-        "multisampling of the graphics' edges (1: none, the cheaper frame in software GL)")(
-        "xvfb", po::bool_switch(),
-        "open the window on a private virtual X server (Xvfb) started for this session")(
-        "screenshots", po::value<std::string>()->default_value("."),
-        "the folder of the window's screenshots (key P, --screenshot-every)")(
-        "screenshot-every", po::value<double>()->default_value(0),
-        "a screenshot every SECONDS (igms-every-NNNN.png in --screenshots), with a window or "
-        "offscreen; 0: none");
     igms::control::ControlConfig control_config;
     int exit_code = 0;
     auto process = igms::config::ParseProcessOptions(
-        argc, argv, "control", "igms-control: the operator's modelling session", extra,
+        argc, argv, "control", "igms-control: the operator's modelling session", ControlFlags(),
         igms::control::ControlKeys(&control_config), &exit_code);
     if (!process) return exit_code;
-
-    const std::string calibration_file = process->config.Get<std::string>("lab.calibration", "");
-    if (calibration_file.empty()) {
-      spdlog::critical("lab.calibration: the control client needs the cameras' calibration");
+    auto startup = Prepare(*process, control_config);
+    if (!startup.ok()) {
+      spdlog::critical("{}", startup.error());
       return igms::kExitUsage;
     }
-    std::string error;
-    const auto calibration =
-        igms::calibration::LoadCalibration(process->config.ResolvePath(calibration_file), &error);
-    if (!calibration) {
-      spdlog::critical("lab.calibration: {}", error);
-      return igms::kExitUsage;
-    }
-    auto options = igms::control::MakeControlAppOptions(*process, control_config);
-    if (!options.ok()) {
-      spdlog::critical("{}", options.error());
-      return igms::kExitUsage;
-    }
-    options->calibration_hash = igms::calibration::CalibrationHash(*calibration);
-    options->session.wait_for_peers = process->flags["wait"].as<bool>();
-    options->session.take_control = process->flags["take-control"].as<bool>();
-    if (std::string problem; !options->Check(&problem)) {
-      spdlog::critical("{}: {}", process->Key(""), problem);
-      return igms::kExitUsage;
-    }
-    const std::string database_flag =
-        process->flags.count("database") ? process->flags["database"].as<std::string>() : "";
-    auto path = igms::control::ResolveDatabasePath(process->config, database_flag,
-                                                   igms::control::UserFolders::FromEnvironment());
-    if (!path.ok()) {
-      spdlog::critical("the database: {}", path.error());
-      return igms::kExitUsage;
-    }
-    std::optional<igms::control::Script> script;
-    if (process->flags.count("script")) {
-      auto loaded = igms::control::LoadScript(process->flags["script"].as<std::string>());
-      if (!loaded.ok()) {
-        spdlog::critical("{}", loaded.error());
-        return igms::kExitUsage;
-      }
-      script = std::move(*loaded);
-    }
-    const auto stereo = igms::control::render::ParseStereoMode(control_config.stereo);
-    if (!stereo) {
-      spdlog::critical("{}: stereo '{}' is none of {}", process->Key("stereo"),
-                       control_config.stereo, igms::control::render::StereoModeNames());
-      return igms::kExitUsage;
-    }
-    const bool want_window = process->flags["window"].as<bool>();
-    const bool no_window = process->flags["no-window"].as<bool>();
-    if (want_window && no_window) {
-      spdlog::critical("--window and --no-window: choose one");
-      return igms::kExitUsage;
-    }
-    const double screenshot_every = process->flags["screenshot-every"].as<double>();
-    if (!(screenshot_every >= 0) || (screenshot_every > 0 && no_window)) {
-      spdlog::critical(
-          "--screenshot-every {}: a number of seconds (0: none), and not with "
-          "--no-window, which draws nothing",
-          screenshot_every);
-      return igms::kExitUsage;
-    }
-    const bool want_xvfb = process->flags["xvfb"].as<bool>();
-    if (want_xvfb && no_window) {
-      spdlog::critical("--xvfb and --no-window: choose one");
-      return igms::kExitUsage;
-    }
-    // A window where there is a display; offscreen (screenshots only) where there is none.
-    const bool on_screen =
-        want_window || want_xvfb || (!no_window && igms::control::DisplayAvailable());
-    bool offscreen = !on_screen && !no_window;
     if (process->check_only) return igms::config::CheckPassed(*process);
-    igms::control::ScriptPlayerOptions player_options;
-    player_options.token = options->token;
-    for (const auto& [peer, address] : options->peers) {
-      if (igms::control::IsDaemon(peer)) player_options.devices[peer] = address;
-    }
-
+    Startup& s = *startup;
     auto database =
-        igms::control::GeometricDatabase::Open(*path, {"igms-control", igms::version::Full()});
+        igms::control::GeometricDatabase::Open(s.database, {"igms-control", igms::version::Full()});
     if (!database.ok()) {
       // Another session holds it, or it is not ours: refuse, and leave the file as it was.
-      spdlog::critical("the database {}: {}", *path, database.error());
+      spdlog::critical("the database {}: {}", s.database, database.error());
       return igms::kExitFailure;
     }
-    spdlog::info("database {}", *path);
-    // Declared before the window, so it ends after it.
-    std::unique_ptr<igms::control::PrivateXvfb> xvfb;
-    if (want_xvfb) {
-      if (auto started = StartXvfb(*calibration, &xvfb); !started.ok()) {
-        spdlog::critical("--xvfb: {}", started.error());
-        return igms::kExitFailure;
-      }
-    }
-    std::unique_ptr<igms::control::Window> window;
-    if (on_screen || offscreen) {
-      auto opened = OpenWindow(*calibration, *stereo, want_window || want_xvfb, on_screen,
-                               &offscreen, &xvfb, process->flags["samples"].as<int>());
-      if (!opened.ok()) {
-        spdlog::critical("--window: {}", opened.error());
-        return igms::kExitFailure;
-      }
-      window = std::move(*opened);
-    }
-    std::unique_ptr<igms::control::LiveVideo> live;
-    if (window) {
-      if (auto it = options->peers.find(igms::control::Peer::kVideo); it != options->peers.end()) {
-        igms::control::LiveVideoOptions live_options;
-        live_options.address = it->second;
-        live_options.token = options->token;
-        live_options.client_name = process->name + "-window";
-        // Offscreen the video is only looked at for screenshots: a few frames a second do.
-        if (offscreen) live_options.fps = 5;
-        live = igms::control::LiveVideo::Start(live_options);
-      }
+    spdlog::info("database {}", s.database);
+    Display display;
+    if (auto opened = OpenDisplay(*process, s, &display); !opened.ok()) {
+      spdlog::critical("{}", opened.error());
+      return igms::kExitFailure;
     }
     igms::control::ScreenshotQueue shots;
-    if (window) {
-      // A script's screenshots land beside it (a relative name is the script's folder's).
-      const std::filesystem::path folder =
-          script ? std::filesystem::path(script->source).parent_path() : std::filesystem::path();
-      player_options.screenshot = [&shots, folder](const std::string& file) {
-        const std::filesystem::path path(file);
-        return shots.Request(path.is_absolute() ? file : (folder / path).string());
-      };
-    }
+    auto player_options = PlayerOptions(s, display.window != nullptr, &shots);
     // Destroyed after the app, so the session's last change is written.
-    auto exports = StartExports(*process, control_config, &*options);
+    auto exports = StartExports(control_config, &s.options);
     auto app =
-        igms::control::ControlApp::Make(std::move(*options), *calibration, std::move(*database));
+        igms::control::ControlApp::Make(std::move(s.options), s.calibration, std::move(*database));
     if (!app.ok()) {
       spdlog::critical("{}", app.error());
       return igms::kExitUsage;
     }
-
-    boost::asio::io_context signals_io;
-    boost::asio::signal_set signals(signals_io, SIGINT, SIGTERM);
-    signals.async_wait([&](const boost::system::error_code& ec, int signal) {
-      if (ec) return;
-      spdlog::info("signal {}: ending the session", signal);
-      (*app)->Stop(0);
-    });
-    std::thread signal_thread([&] { signals_io.run(); });
-    (*app)->Start();
-    // The script plays on its own thread: the display loop keeps the main thread (GLFW's).
-    std::thread script_thread;
-    if (script) {
-      script_thread = std::thread([&] {
-        // The script starts once the session has: every required peer answered.
-        const bool started = (*app)->board().WaitFor(
-            [](const igms::control::SessionView& v) {
-              return v.mode != igms::control::Mode::kStarting || v.exit_code;
-            },
-            std::chrono::hours(24));
-        if (!started || (*app)->board().Get().exit_code) return;
-        igms::control::ScriptPlayer player(**app, player_options);
-        auto played = player.Play(*script);
-        if (played.ok()) {
-          spdlog::info("script {}: {} actions played", script->source, *played);
-          (*app)->Stop(0);
-        } else {
-          spdlog::error("script {}", played.error());
-          (*app)->Stop(1);
-        }
-      });
-    }
-    std::atomic<bool> ended = false;
-    std::thread display_stopper;
-    if (window) {
-      // Ends the display loop when the session ends, whoever ends it.
-      display_stopper = std::thread([&] {
-        (*app)->board().WaitFor(
-            [](const igms::control::SessionView& v) { return v.exit_code.has_value(); },
-            std::chrono::hours(24 * 365));
-        ended = true;
-      });
-      igms::control::DisplayLoopOptions loop_options;
-      loop_options.screenshot_folder = process->flags["screenshots"].as<std::string>();
-      loop_options.screenshot_every_s = screenshot_every;
-      igms::control::RunDisplayLoop(**app, *window, live.get(), shots, ended, loop_options,
-                                    offscreen);
-      display_stopper.join();
-    }
-    if (script_thread.joinable()) script_thread.join();
-    const int code = (*app)->Wait();
-    signals.cancel();
-    signals_io.stop();
-    signal_thread.join();
-    live.reset();
-    window.reset();
+    const int code = RunSession(*process, **app, s, display, shots, std::move(player_options));
+    display.live.reset();
+    display.window.reset();
     app->reset();  // closes the connections, then the database (recording the session's end)
     return code;
   } catch (const std::exception& e) {

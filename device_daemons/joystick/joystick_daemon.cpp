@@ -28,8 +28,9 @@ config::Keys JoystickKeys(JoystickDaemonOptions* options) {
   config::Keys keys = DaemonKeys();
   keys.Bind("continuous", &options->continuous, "let the box stream ('C') instead of polling",
             "continuous");
-  keys.Add("gamepad", KeyType::kString, "",
-           "read a Linux joystick or gamepad (e.g. /dev/input/js0) instead of a FlyBox");
+  keys.Bind("gamepad", &options->gamepad_device,
+            "read a Linux joystick or gamepad (e.g. /dev/input/js0) instead of a FlyBox",
+            "gamepad");
   keys.Add("gamepad_map.axes", KeyType::kList, "",
            "device axes of x, y, twist, lever 0, lever 1 (-1: unmapped)");
   keys.Add("gamepad_map.invert", KeyType::kList, "", "5 booleans: which axes are inverted");

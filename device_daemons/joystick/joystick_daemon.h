@@ -15,13 +15,14 @@
 namespace igms::devices {
 
 struct JoystickDaemonOptions {
-  bool continuous = false;  // the FlyBox streams ('C') instead of being polled
-  bool gamepad = false;     // the port is a Linux joystick device, not a FlyBox
+  bool continuous = false;     // the FlyBox streams ('C') instead of being polled
+  bool gamepad = false;        // the port is a Linux joystick device, not a FlyBox
+  std::string gamepad_device;  // the gamepad key or flag: that device stands for the serial port
   GamepadMapping mapping;
 };
 
 // The joystick's keys (processes.NAME): the daemon's shared ones (DaemonKeys), continuous
-// (bound to `options`), gamepad and gamepad_map (read by the main and ReadGamepadMapping).
+// and gamepad (bound to `options`), gamepad_map (read by ReadGamepadMapping).
 config::Keys JoystickKeys(JoystickDaemonOptions* options);
 
 // The gamepad mapping from the configuration (keys under processes.NAME.gamepad_map, each

@@ -29,8 +29,8 @@ int main(int argc, char** argv) {
     igms::config::ProcessOptions source = *process;
     const auto& f = process->flags;
     const bool other_flag = f.count("serial") || f["simulate"].as<bool>() || f.count("replay");
-    std::string gamepad = f.count("gamepad") ? f["gamepad"].as<std::string>() : "";
-    if (gamepad.empty() && !other_flag) gamepad = process->Get<std::string>("gamepad", "");
+    std::string gamepad = joystick.gamepad_device;  // the flag, else the key
+    if (other_flag && !f.count("gamepad")) gamepad.clear();
     if (!gamepad.empty()) {
       std::string quoted;
       for (char c : gamepad) quoted += c == '\'' ? std::string("''") : std::string(1, c);

@@ -40,15 +40,11 @@ int main(int argc, char** argv) {
       return igms::kExitUsage;
     }
     const auto& f = process->flags;
-    const auto path = [&](const char* flag, const std::string& key) {
-      if (f.count(flag)) return f[flag].as<std::string>();
-      return process->config.ResolvePath(process->config.Get<std::string>(key, ""));
-    };
-    ranger.scene_file = path("scene", process->Key("scene"));
-    ranger.calibration_file = path("calibration", process->Key("calibration"));
-    if (ranger.calibration_file.empty())
-      ranger.calibration_file = path("calibration", "lab.calibration");
-    const std::string platform_name = process->Get<std::string>("platform", "");
+    if (ranger.calibration_file.empty() && !f.count("calibration")) {
+      ranger.calibration_file =
+          process->config.ResolvePath(process->config.Get<std::string>("lab.calibration", ""));
+    }
+    const std::string& platform_name = ranger.platform;
     if (f.count("follow-platform")) {
       ranger.follow_platform_port = f["follow-platform"].as<uint16_t>();
     } else if (!platform_name.empty() && options.source == igms::devices::SourceKind::kSimulate) {

@@ -8,11 +8,13 @@ config::Keys RangerKeys(RangerDaemonOptions* options) {
   config::Keys keys = DaemonKeys();
   keys.Bind("poll_hz", &options->poll_hz,
             "also range continuously at this rate, at most 6 Hz (0: on request only)", "poll-hz");
-  keys.Path("scene", "simulator: the site's scene file (default: the thesis testbed)");
-  keys.Path("calibration",
-            "simulator: the ranger's mount and the platform model (default: lab.calibration)");
-  keys.Add("platform", config::KeyType::kString, "",
-           "simulator: the platform process whose pose turns the beam");
+  keys.BindPath("scene", &options->scene_file,
+                "simulator: the site's scene file (default: the thesis testbed)", "scene");
+  keys.BindPath("calibration", &options->calibration_file,
+                "simulator: the ranger's mount and the platform model (default: lab.calibration)",
+                "calibration");
+  keys.Bind("platform", &options->platform,
+            "simulator: the platform process whose pose turns the beam");
   return keys;
 }
 
@@ -28,8 +30,11 @@ RangerDaemon::~RangerDaemon() {
 
 std::unique_ptr<SimulatedDevice> RangerDaemon::MakeSimulator(std::string* error) {
   RangerSimOptions sim_options;
-  auto world = LoadRangerWorld(ranger_.scene_file, ranger_.calibration_file, error);
-  if (!world) return nullptr;
+  auto world = LoadRangerWorld(ranger_.scene_file, ranger_.calibration_file);
+  if (!world.ok()) {
+    *error = world.error();
+    return nullptr;
+  }
   sim_options.world = std::move(*world);
   if (!sim_options.world.mount.platform && ranger_.follow_platform_port != 0) {
     spdlog::warn("ranger simulator: the calibration has no platform model, so the beam stays put");

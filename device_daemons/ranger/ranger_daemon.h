@@ -21,13 +21,14 @@ struct RangerDaemonOptions {
   double poll_hz = 0;
   std::string scene_file;        // empty: the thesis testbed (common/sim/testbed.h)
   std::string calibration_file;  // empty: the sensor between the scene's cameras, no platform
+  std::string platform;          // the platform process whose pose turns the beam (simulator)
   std::string platform_host = "127.0.0.1";
   uint16_t follow_platform_port = 0;  // 0: the beam stays where it is
   std::string token;                  // the lab token, for the platform daemon
 };
 
-// The ranger's keys (processes.NAME): the daemon's shared ones (DaemonKeys) and poll_hz
-// (bound to `options`), scene, calibration and platform (read by the main).
+// The ranger's keys (processes.NAME): the daemon's shared ones (DaemonKeys), and poll_hz,
+// scene, calibration and platform bound to `options` (the main finds the platform's port).
 config::Keys RangerKeys(RangerDaemonOptions* options);
 
 class RangerDaemon : public DaemonBase<RangerState> {

@@ -63,16 +63,14 @@ RangerWorldLoader& Loader() {
 
 void RegisterRangerWorld(RangerWorldLoader loader) { Loader() = std::move(loader); }
 
-std::optional<RangerWorld> LoadRangerWorld(const std::string& scene_file,
-                                           const std::string& calibration_file,
-                                           std::string* error) {
+Result<RangerWorld> LoadRangerWorld(const std::string& scene_file,
+                                    const std::string& calibration_file) {
   if (!Loader()) {
-    *error =
+    return ErrorMessage{
         "the ranger simulator has no world to range: this program was built without the "
-        "simulated site (common/sim/ranger)";
-    return std::nullopt;
+        "simulated site (common/sim/ranger)"};
   }
-  return Loader()(scene_file, calibration_file, error);
+  return Loader()(scene_file, calibration_file);
 }
 
 }  // namespace igms::devices

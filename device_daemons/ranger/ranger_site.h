@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/result.h"
 #include "common/calibration/calibration_file.h"
 #include "common/geometry/platform.h"
 #include "common/geometry/ranger_beam.h"
@@ -61,16 +62,16 @@ struct RangerWorld {
 };
 
 // Makes the world from the daemon's scene file and calibration file (either may be empty
-// for a default); nullopt with a message naming the file on failure.
-using RangerWorldLoader = std::function<std::optional<RangerWorld>(
-    const std::string& scene_file, const std::string& calibration_file, std::string* error)>;
+// for a default); an error naming the file on failure.
+using RangerWorldLoader = std::function<Result<RangerWorld>(const std::string& scene_file,
+                                                            const std::string& calibration_file)>;
 
 // Sets the loader LoadRangerWorld uses. Call before starting a simulator, from one thread.
 void RegisterRangerWorld(RangerWorldLoader loader);
 
-// The registered loader's world; nullopt with an error saying so when the program registered
-// none (it was built without the simulated site).
-std::optional<RangerWorld> LoadRangerWorld(const std::string& scene_file,
-                                           const std::string& calibration_file, std::string* error);
+// The registered loader's world; an error saying so when the program registered none (it was
+// built without the simulated site).
+Result<RangerWorld> LoadRangerWorld(const std::string& scene_file,
+                                    const std::string& calibration_file);
 
 }  // namespace igms::devices

@@ -2,7 +2,6 @@
 #include <spdlog/spdlog.h>
 
 #include <boost/asio/io_context.hpp>
-#include <sstream>
 #include <tuple>
 #include <vector>
 
@@ -36,13 +35,7 @@ int main(int argc, char** argv) {
       spdlog::error("{}", error);
       return igms::kExitUsage;
     }
-    const auto& f = process->flags;
-    std::vector<double> power_up = process->Get<std::vector<double>>("power_up", {});
-    if (f.count("power-up")) {
-      std::istringstream in(f["power-up"].as<std::string>());
-      power_up.clear();
-      for (double v; in >> v;) power_up.push_back(v);
-    }
+    const std::vector<double>& power_up = viewer.power_up;
     if (!power_up.empty()) {
       if (power_up.size() != 6) {
         spdlog::error("the power-up pose takes 6 numbers: x y z (metres) yaw pitch roll (degrees)");

@@ -11,9 +11,10 @@ config::Keys ViewerKeys(ViewerDaemonOptions* options) {
             "stream");
   keys.Bind("poll_hz", &options->poll_hz, "polling rate, at most 70 Hz", "poll-hz");
   keys.Bind("path", &options->path_file, "simulator: a head-motion path file", "path");
-  keys.Add("power_up", config::KeyType::kList, "",
-           "simulator: the head's power-up pose in the site, [x, y, z, yaw, pitch, roll] "
-           "(metres, degrees)");
+  keys.Bind("power_up", &options->power_up,
+            "simulator: the head's power-up pose in the site, [x, y, z, yaw, pitch, roll] "
+            "(metres, degrees)",
+            "power-up");
   return keys;
 }
 

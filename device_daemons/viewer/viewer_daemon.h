@@ -15,10 +15,13 @@ struct ViewerDaemonOptions {
   double poll_hz = boom::kMaxRateHz;
   std::string path_file;  // simulator: scripted head motion
   ViewerSimOptions sim;   // simulator: the head's power-up pose in the site
+  // The power_up key or flag: x y z (metres) yaw pitch roll (degrees), or empty; the main
+  // checks it and sets sim.power_up from it.
+  std::vector<double> power_up;
 };
 
-// The viewer's keys (processes.NAME): the daemon's shared ones (DaemonKeys), stream, poll_hz
-// and path (bound to `options`) and power_up (read by the main).
+// The viewer's keys (processes.NAME): the daemon's shared ones (DaemonKeys), stream, poll_hz,
+// path and power_up (bound to `options`).
 config::Keys ViewerKeys(ViewerDaemonOptions* options);
 
 class ViewerDaemon : public DaemonBase<ViewerState> {

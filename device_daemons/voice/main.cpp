@@ -31,23 +31,23 @@ int main(int argc, char** argv) {
       "recogniser: reject commands below this confidence (0..1; default 0.2, 0.01 with an "
       "adapted model)")("model-dir", po::value<std::string>(),
                         "recogniser: pocketsphinx en-us model folder");
+  voice::VoiceConfig config;
   int exit_code = 0;
   const auto process = config::ParseProcessOptions(
       argc, argv, "voice", "The voice daemon: spoken commands as two-digit codes over TCP.", flags,
-      voice::VoiceKeys(), &exit_code);
+      voice::VoiceKeys(&config), &exit_code);
   if (!process) return exit_code;
   try {
     const auto& f = process->flags;
     voice::VoiceDaemonOptions voice;
-    const std::string state = f.count("state") ? f["state"].as<std::string>()
-                                               : process->Get<std::string>("state", "verification");
-    const auto initial = voice::StateFromName(state);
+    const auto initial = voice::StateFromName(config.state);
     if (!initial) {
-      spdlog::error("unknown state '{}' (verification, model_building, awaiting_type)", state);
+      spdlog::error("unknown state '{}' (verification, model_building, awaiting_type)",
+                    config.state);
       return kExitUsage;
     }
     voice.initial_state = *initial;
-    const bool microphone = f["microphone"].as<bool>() || process->Get<bool>("microphone", false);
+    const bool microphone = config.microphone;
     const auto wav =
         f.count("wav") ? f["wav"].as<std::vector<std::string>>() : std::vector<std::string>();
     devices::DaemonOptions options;
@@ -60,17 +60,13 @@ int main(int argc, char** argv) {
       }
       voice::SpeechListenerOptions listen;
       listen.microphone = microphone;
-      listen.device = f.count("device") ? f["device"].as<std::string>()
-                                        : process->Get<std::string>("device", "");
+      listen.device = config.device;
       listen.files = wav;
       listen.file_interval = std::chrono::milliseconds(
           f.count("wav-interval-ms") ? f["wav-interval-ms"].as<int>() : 1000);
       // An operator's adapted model (igms-voice-adapt) is named here or in the lab file, and
       // brings the settings chosen for enrolled operators (adaptation.h).
-      listen.recognizer = voice::RecognizerOptionsFor(
-          f.count("model-dir")
-              ? f["model-dir"].as<std::string>()
-              : process->Get<std::string>("model_dir", listen.recognizer.model_dir));
+      listen.recognizer = voice::RecognizerOptionsFor(config.model_dir);
       if (voice::IsAdaptedModel(listen.recognizer.model_dir)) {
         spdlog::info(
             "adapted model {}: {} decoys per command, min_confidence {}, {} common words at {}",
@@ -86,8 +82,7 @@ int main(int argc, char** argv) {
       }
       voice.listen = listen;
       options.source = devices::SourceKind::kSerial;  // the recogniser stands in for the line
-      options.record_file = f.count("record") ? f["record"].as<std::string>()
-                                              : process->Get<std::string>("record", "");
+      options.record_file = config.record;
     } else if (!devices::ReadDaemonOptions(*process, "voice", &options, &error)) {
       spdlog::error("{} (or --microphone, --wav FILE...)", error);
       return kExitUsage;

@@ -8,18 +8,20 @@
 
 namespace igms::voice {
 
-config::Keys VoiceKeys() {
-  using config::KeyType;
+config::Keys VoiceKeys(VoiceConfig* c) {
   config::Keys keys = devices::DaemonKeys();
-  keys.Choice("state", {"verification", "model_building", "awaiting_type"}, "verification",
-              "the operator's state at start");
-  keys.Add("microphone", KeyType::kBool, "false",
-           "recognise speech from a microphone instead of a Dragon on a serial line");
-  keys.Add("device", KeyType::kString, "",
-           "capture device for the microphone (default: the system's)");
-  keys.Path("model_dir",
-            "recogniser: the pocketsphinx en-us model folder, or an operator's "
-            "adapted model (igms-voice-adapt)");
+  keys.BindChoice("state", &c->state, {"verification", "model_building", "awaiting_type"},
+                  "the operator's state at start", "state");
+  keys.Bind("microphone", &c->microphone,
+            "recognise speech from a microphone instead of a Dragon on a serial line",
+            "microphone");
+  keys.Bind("device", &c->device, "capture device for the microphone (default: the system's)",
+            "device");
+  keys.BindPath("model_dir", &c->model_dir,
+                "recogniser: the pocketsphinx en-us model folder, or an operator's "
+                "adapted model (igms-voice-adapt)",
+                "model-dir");
+  keys.Bind("record", &c->record, "also write every reading to this file", "record");
   return keys;
 }
 

@@ -30,9 +30,19 @@ struct VoiceDaemonOptions {
   std::optional<SpeechListenerOptions> listen;
 };
 
-// The voice daemon's keys (processes.NAME), read by its main: the daemon's shared ones
-// (DaemonKeys), state, microphone, device and model_dir.
-config::Keys VoiceKeys();
+// What the voice daemon's own keys and flags say, from which its main builds
+// VoiceDaemonOptions.
+struct VoiceConfig {
+  std::string state = "verification";  // the operator's state at start
+  bool microphone = false;             // the recogniser on a microphone
+  std::string device;                  // the microphone's capture device; empty: the system's
+  std::string model_dir = RecognizerOptions().model_dir;  // the key's made absolute
+  std::string record;                                     // with the recogniser: readings to
+};
+
+// The voice daemon's keys (processes.NAME): the daemon's shared ones (DaemonKeys), and state,
+// microphone, device, model_dir and record bound to `config` with their flags.
+config::Keys VoiceKeys(VoiceConfig* config);
 
 class VoiceDaemon : public devices::DaemonBase<devices::VoiceState> {
  public:

@@ -70,7 +70,7 @@ TEST(ObjectServerPlatformPose, LocatesAFrameGrabbedWithThePlatformTurned) {
   })) << video.Log();
 
   const auto calibration = calibration::LoadCalibration(igms::testing::ThesisCalibration());
-  ASSERT_TRUE(calibration && calibration->platform);
+  ASSERT_TRUE(calibration.ok() && calibration->platform);
   const std::vector<double> q(grab.pose().joints_rad().begin(), grab.pose().joints_rad().end());
   const geometry::ProjectiveCamera left =
       CameraAtPose(calibration->left.Camera(), *calibration->platform, q);

@@ -250,9 +250,8 @@ TEST_F(ObjectServerTest, VideoServerGoneIsUnavailableAndItsReturnIsNoticed) {
 // Both servers report the hash of the calibration file they loaded, the library's, and the
 // object server names the video server it fetches from.
 TEST_F(ObjectServerTest, BothServersReportTheHashOfTheirCalibration) {
-  std::string why;
-  const auto calibration = calibration::LoadCalibration(Calibration(), &why);
-  ASSERT_TRUE(calibration) << why;
+  const auto calibration = calibration::LoadCalibration(Calibration());
+  ASSERT_TRUE(calibration.ok()) << calibration.error();
   const std::string hash = calibration::CalibrationHash(*calibration);
   ASSERT_EQ(hash.size(), 64u);
 

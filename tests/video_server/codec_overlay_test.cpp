@@ -21,16 +21,16 @@ using testing::OpenCvData;
 
 TEST(PixelRegion, WholeImageAndBoundsChecks) {
   const cv::Size size(640, 480);
-  std::string error;
-  EXPECT_EQ(*ResolveRegion({}, size, &error), cv::Rect(0, 0, 640, 480));
-  EXPECT_EQ(*ResolveRegion({10, 20, 30, 40}, size, &error), cv::Rect(10, 20, 30, 40));
-  EXPECT_EQ(*ResolveRegion({0, 0, 640, 480}, size, &error), cv::Rect(0, 0, 640, 480));
-  EXPECT_FALSE(ResolveRegion({600, 0, 41, 10}, size, &error));
-  EXPECT_NE(error.find("outside"), std::string::npos) << error;
-  EXPECT_NE(error.find("640x480"), std::string::npos) << error;
-  EXPECT_FALSE(ResolveRegion({-1, 0, 10, 10}, size, &error));
-  EXPECT_FALSE(ResolveRegion({5, 5, 0, 10}, size, &error));
-  EXPECT_FALSE(ResolveRegion({1, 1, 2147483647, 10}, size, &error));
+  EXPECT_EQ(*ResolveRegion({}, size), cv::Rect(0, 0, 640, 480));
+  EXPECT_EQ(*ResolveRegion({10, 20, 30, 40}, size), cv::Rect(10, 20, 30, 40));
+  EXPECT_EQ(*ResolveRegion({0, 0, 640, 480}, size), cv::Rect(0, 0, 640, 480));
+  const auto outside = ResolveRegion({600, 0, 41, 10}, size);
+  EXPECT_FALSE(outside.ok());
+  EXPECT_NE(outside.error().find("outside"), std::string::npos) << outside.error();
+  EXPECT_NE(outside.error().find("640x480"), std::string::npos) << outside.error();
+  EXPECT_FALSE(ResolveRegion({-1, 0, 10, 10}, size).ok());
+  EXPECT_FALSE(ResolveRegion({5, 5, 0, 10}, size).ok());
+  EXPECT_FALSE(ResolveRegion({1, 1, 2147483647, 10}, size).ok());
 }
 
 TEST(Codec, RawAndPngRoundTripARegionOfARealImage) {

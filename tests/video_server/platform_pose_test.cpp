@@ -151,7 +151,7 @@ TEST(PlatformPose, GrabsFollowThePlatformAndTheImageMovesAsTheModelSays) {
   const uint16_t port = server.WaitPort();
   ASSERT_NE(port, 0) << server.Log();
   const auto calibration = calibration::LoadCalibration(CalibrationPath());
-  ASSERT_TRUE(calibration && calibration->platform);
+  ASSERT_TRUE(calibration.ok() && calibration->platform);
   const geometry::PlatformModel& model = *calibration->platform;
 
   TestClient platform(platform_port);
@@ -329,7 +329,7 @@ TEST(PlatformPose, FilesBackendPassesThePoseThrough) {
     return !s.moving() && s.yaw_ticks() == -2714 && s.roll_ticks() == 30;
   }));
   const auto calibration = calibration::LoadCalibration(CalibrationPath());
-  ASSERT_TRUE(calibration && calibration->platform);
+  ASSERT_TRUE(calibration.ok() && calibration->platform);
   TestClient video(port);
   Grabbed grabbed;
   ASSERT_TRUE(WaitFor("a grab at that pose", [&] {

@@ -55,7 +55,7 @@ TEST(SimBackend, DefaultTestbedThroughTheLabCalibration) {
 
   site::Scene scene = site::DefaultTestbedScene();
   auto cal = calibration::LoadCalibration(calibration);
-  ASSERT_TRUE(cal);
+  ASSERT_TRUE(cal.ok()) << cal.error();
   scene.cameras.left = cal->left.Camera();
   scene.cameras.right = cal->right.Camera();
   scene.sensor.seed = 7;

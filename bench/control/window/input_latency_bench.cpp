@@ -82,10 +82,9 @@ int main(int argc, char** argv) {
                                                    igms::control::ControlKeys(&config), &exit_code);
   if (!process) return 1;
   const auto calibration = igms::calibration::LoadCalibration(
-      process->config.ResolvePath(process->config.Get<std::string>("lab.calibration", "")),
-      nullptr);
+      process->config.ResolvePath(process->config.Get<std::string>("lab.calibration", "")));
   auto options = igms::control::MakeControlAppOptions(*process, config);
-  if (!calibration || !options.ok()) {
+  if (!calibration.ok() || !options.ok()) {
     std::fprintf(stderr, "bench_input_latency: the lab file: %s\n",
                  options.ok() ? "no calibration" : options.error().c_str());
     return 1;

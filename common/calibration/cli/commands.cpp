@@ -286,9 +286,8 @@ int Decompose(int argc, const char* const argv[], std::ostream& out, std::ostrea
     return 0;
   }
   if (!vm.count("calibration")) throw BadInput("decompose: give a calibration file");
-  std::string why;
-  const auto cal = LoadCalibration(vm["calibration"].as<std::string>(), &why);
-  if (!cal) throw BadInput(why);
+  const auto cal = LoadCalibration(vm["calibration"].as<std::string>());
+  if (!cal.ok()) throw BadInput(cal.error());
   if (vm.count("json")) {
     out << Json::Object()
                .Add("left", DecompositionJson(cal->left.P, cal->left.image_size))
@@ -385,8 +384,8 @@ int Platform(int argc, const char* const argv[], std::ostream& out, std::ostream
   if (!vm.count("calibration") || !vm.count("observations")) {
     throw BadInput("platform: give --calibration and --observations (or --synthetic)");
   }
-  auto cal = LoadCalibration(vm["calibration"].as<std::string>(), &why);
-  if (!cal) throw BadInput(why);
+  auto cal = LoadCalibration(vm["calibration"].as<std::string>());
+  if (!cal.ok()) throw BadInput(cal.error());
   if (!cal->platform) {
     throw BadInput(vm["calibration"].as<std::string>() +
                    ": platform: missing (an initial model is needed; see docs/calibration.md)");

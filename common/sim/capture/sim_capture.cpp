@@ -92,15 +92,24 @@ std::unique_ptr<CaptureBackend> MakeSimCapture(site::Scene scene, std::string or
       });
 }
 
+config::Keys SimCaptureKeys(SimCaptureOptions* options) {
+  config::Keys keys;
+  keys.BindPath("sim.scene", &options->scene_file,
+                "sim: the site's scene file (default: the thesis testbed)");
+  keys.Bind("sim.seed", &options->seed, "sim: the sensor noise seed (default: the scene's)");
+  return keys;
+}
+
 SimSceneChoice ConfiguredSimScene(const config::ProcessOptions& process) {
   SimSceneChoice choice;
+  SimCaptureOptions options;
+  SimCaptureKeys(&options).Read(process);
   const std::string scene_key = process.Key("sim.scene");
-  const std::string scene_file = process.Get<std::string>("sim.scene", "");
-  if (scene_file.empty()) {
+  if (options.scene_file.empty()) {
     choice.scene = site::DefaultTestbedScene();
     choice.origin = "default testbed";
   } else {
-    const std::string path = process.config.ResolvePath(scene_file);
+    const std::string& path = options.scene_file;
     site::SceneLoad load = site::LoadSceneFile(path);
     if (!load.scene) {
       choice.error = scene_key + ": " + load.error;
@@ -111,20 +120,18 @@ SimSceneChoice ConfiguredSimScene(const config::ProcessOptions& process) {
   }
   const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
   if (!calibration_file.empty()) {
-    std::string error;
     const auto calibration =
-        calibration::LoadCalibration(process.config.ResolvePath(calibration_file), &error);
-    if (!calibration) {
+        calibration::LoadCalibration(process.config.ResolvePath(calibration_file));
+    if (!calibration.ok()) {
       choice.scene.reset();
-      choice.error = "lab.calibration: " + error;
+      choice.error = "lab.calibration: " + calibration.error();
       return choice;
     }
     choice.scene->cameras.left = calibration->left.Camera();
     choice.scene->cameras.right = calibration->right.Camera();
     choice.platform = calibration->platform;
   }
-  const int seed = process.Get<int>("sim.seed", -1);
-  if (seed >= 0) choice.scene->sensor.seed = static_cast<uint64_t>(seed);
+  if (options.seed >= 0) choice.scene->sensor.seed = static_cast<uint64_t>(options.seed);
   return choice;
 }
 
@@ -139,6 +146,9 @@ BackendChoice MakeConfiguredSimCapture(const config::ProcessOptions& process) {
   return choice;
 }
 
-void RegisterSimCapture() { RegisterCaptureBackend("sim", MakeConfiguredSimCapture); }
+void RegisterSimCapture() {
+  SimCaptureOptions declared;
+  RegisterCaptureBackend("sim", MakeConfiguredSimCapture, SimCaptureKeys(&declared));
+}
 
 }  // namespace igms::video

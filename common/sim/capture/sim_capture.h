@@ -60,6 +60,13 @@ struct SimSceneChoice {
   std::string error;  // set when scene is empty; names the key at fault
 };
 
+// The sim backend's keys (processes.NAME.sim.*), registered with the backend for VideoKeys.
+struct SimCaptureOptions {
+  std::string scene_file;  // absolute; empty: the thesis testbed
+  int seed = -1;           // the sensor noise seed; negative: the scene's
+};
+config::Keys SimCaptureKeys(SimCaptureOptions* options);
+
 // The scene the lab configuration describes for process `process` (see above): the scene
 // file or the default testbed, the calibration's cameras, the seed override.
 SimSceneChoice ConfiguredSimScene(const config::ProcessOptions& process);

@@ -15,19 +15,15 @@ std::optional<double> SiteRange(const site::Scene& scene, const RangerBeam& beam
   return site::RangeInCone(scene, beam.origin, beam.axis, beam_width_deg / 2 * M_PI / 180.0);
 }
 
-std::optional<RangerWorld> LoadSiteRangerWorld(const std::string& scene_file,
-                                               const std::string& calibration_file,
-                                               std::string* error) {
+Result<RangerWorld> LoadSiteRangerWorld(const std::string& scene_file,
+                                        const std::string& calibration_file) {
   // Shared, so that copies of the world (the simulator's options) share one scene.
   auto scene = std::make_shared<site::Scene>();
   if (scene_file.empty()) {
     *scene = site::DefaultTestbedScene();
   } else {
     site::SceneLoad load = site::LoadSceneFile(scene_file);
-    if (!load.scene) {
-      *error = "ranger scene " + scene_file + ": " + load.error;
-      return std::nullopt;
-    }
+    if (!load.scene) return ErrorMessage{"ranger scene " + scene_file + ": " + load.error};
     *scene = std::move(*load.scene);
   }
   RangerWorld world;
@@ -42,19 +38,15 @@ std::optional<RangerWorld> LoadSiteRangerWorld(const std::string& scene_file,
     world.mount = RangerMount::FromCalibration(c);
     return world;
   }
-  auto calibration = calibration::LoadCalibration(calibration_file, error);
-  if (!calibration) {
-    *error = "ranger calibration: " + *error;
-    return std::nullopt;
-  }
+  auto calibration = calibration::LoadCalibration(calibration_file);
+  if (!calibration.ok()) return ErrorMessage{"ranger calibration: " + calibration.error()};
   world.mount = RangerMount::FromCalibration(*calibration);
   return world;
 }
 
 RangerWorld TestbedRangerWorld() {
-  std::string error;
   // The built-in testbed needs no file, so this cannot fail.
-  return *LoadSiteRangerWorld("", "", &error);
+  return *LoadSiteRangerWorld("", "");
 }
 
 void RegisterSiteRanger() { RegisterRangerWorld(LoadSiteRangerWorld); }

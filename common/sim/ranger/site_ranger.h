@@ -21,10 +21,9 @@ namespace igms::devices {
 std::optional<double> SiteRange(const site::Scene& scene, const RangerBeam& beam,
                                 double beam_width_deg);
 
-// The site world described above; nullopt with a message naming the file on failure.
-std::optional<RangerWorld> LoadSiteRangerWorld(const std::string& scene_file,
-                                               const std::string& calibration_file,
-                                               std::string* error);
+// The site world described above; an error naming the file on failure.
+Result<RangerWorld> LoadSiteRangerWorld(const std::string& scene_file,
+                                        const std::string& calibration_file);
 
 // The thesis's testbed with the sensor between its cameras: LoadSiteRangerWorld("", "").
 RangerWorld TestbedRangerWorld();

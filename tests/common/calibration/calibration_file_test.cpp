@@ -44,15 +44,14 @@ std::string Replace(std::string text, const std::string& from, const std::string
 }
 
 std::string ErrorOf(const std::string& yaml) {
-  std::string why;
-  EXPECT_FALSE(ParseCalibration(yaml, &why)) << yaml;
-  return why;
+  const auto parsed = ParseCalibration(yaml);
+  EXPECT_FALSE(parsed.ok()) << yaml;
+  return parsed.error();
 }
 
 TEST(CalibrationFile, ThesisFileLoads) {
-  std::string why;
-  auto c = LoadCalibration(SourceDir() + "/common/calibration/data/thesis_calibration.yaml", &why);
-  ASSERT_TRUE(c) << why;
+  auto c = LoadCalibration(SourceDir() + "/common/calibration/data/thesis_calibration.yaml");
+  ASSERT_TRUE(c.ok()) << c.error();
   EXPECT_DOUBLE_EQ(c->left.P(0, 0), -232.71);
   EXPECT_DOUBLE_EQ(c->right.P(0, 1), -60.906);
   EXPECT_DOUBLE_EQ(c->right.P(2, 3), 1.0);
@@ -79,8 +78,8 @@ TEST(CalibrationFile, ThesisFileLoads) {
       (c->left.Camera().ViewDirection() + c->right.Camera().ViewDirection()).normalized();
   EXPECT_GT((world_from_end.linear() * c->ranger->axis).dot(view), std::cos(1e-4));
   // The same text inline parses identically.
-  auto inline_c = ParseCalibration(kMinimal, &why);
-  ASSERT_TRUE(inline_c) << why;
+  auto inline_c = ParseCalibration(kMinimal);
+  ASSERT_TRUE(inline_c.ok()) << inline_c.error();
   EXPECT_EQ(inline_c->left.P, c->left.P);
   // Centres sit near the thesis's printed values (section 4.2: about 21, 3, 4 inches).
   const Eigen::Vector3d centre = c->left.Camera().Center();
@@ -104,8 +103,8 @@ TEST(CalibrationFile, RoundTripWithLensPlatformAndRanger) {
   const std::string path = (dir / "cal.yaml").string();
   std::string why;
   ASSERT_TRUE(SaveCalibration(c, path, &why)) << why;
-  auto back = LoadCalibration(path, &why);
-  ASSERT_TRUE(back) << why;
+  auto back = LoadCalibration(path);
+  ASSERT_TRUE(back.ok()) << back.error();
   EXPECT_EQ(back->left.P, c.left.P);  // cv::FileStorage writes doubles exactly
   EXPECT_EQ(back->right.P, c.right.P);
   ASSERT_TRUE(back->left.K);
@@ -131,9 +130,8 @@ TEST(CalibrationFile, DistAsPlainListAndColumnVector) {
               "   image_size: [ 512, 480 ]\n   K: !!opencv-matrix\n      rows: 3\n      cols: 3\n"
               "      dt: d\n      data: [ 500, 0, 256, 0, 500, 240, 0, 0, 1 ]\n"
               "   dist: [ -0.1, 0.01, 0, 0 ]\nright:");
-  std::string why;
-  auto c = ParseCalibration(yaml, &why);
-  ASSERT_TRUE(c) << why;
+  auto c = ParseCalibration(yaml);
+  ASSERT_TRUE(c.ok()) << c.error();
   EXPECT_EQ(c->left.dist.size(), 4u);
   EXPECT_DOUBLE_EQ(c->ranger->axis.z(), 1.0);  // normalised
 }
@@ -176,9 +174,9 @@ TEST(CalibrationFile, ErrorsNameTheKey) {
   EXPECT_FALSE(ErrorOf("left: [unclosed").empty());
   EXPECT_FALSE(ErrorOf("").empty());
   EXPECT_FALSE(ErrorOf("%YAML:1.0\n---\nleft:\n   P: 5\n").empty());
-  std::string why;
-  EXPECT_FALSE(LoadCalibration("/nonexistent/cal.yaml", &why));
-  EXPECT_NE(why.find("cannot open"), std::string::npos);
+  const auto missing = LoadCalibration("/nonexistent/cal.yaml");
+  EXPECT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().find("cannot open"), std::string::npos);
 }
 
 }  // namespace

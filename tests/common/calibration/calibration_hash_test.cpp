@@ -23,10 +23,9 @@ std::string ThesisText() {
 }
 
 StereoCalibration Parse(const std::string& yaml) {
-  std::string why;
-  auto c = ParseCalibration(yaml, &why);
-  EXPECT_TRUE(c) << why;
-  return c ? *c : StereoCalibration();
+  auto c = ParseCalibration(yaml);
+  EXPECT_TRUE(c.ok()) << c.error();
+  return c.ok() ? *c : StereoCalibration();
 }
 
 std::string Replace(std::string text, const std::string& from, const std::string& to) {

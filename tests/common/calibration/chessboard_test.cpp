@@ -63,9 +63,9 @@ TEST(Chessboard, BeatsOpenCvSampleOnRealPairs) {
   const auto path =
       std::filesystem::temp_directory_path() / ("igms_cb_" + std::to_string(getpid()) + ".yaml");
   ASSERT_TRUE(SaveCalibration(ours->calibration, path.string(), &why)) << why;
-  auto loaded = LoadCalibration(path.string(), &why);
+  auto loaded = LoadCalibration(path.string());
   std::filesystem::remove(path);
-  ASSERT_TRUE(loaded) << why;
+  ASSERT_TRUE(loaded.ok()) << loaded.error();
   const auto L = loaded->left.Camera(), R = loaded->right.Camera();
   EXPECT_TRUE(L.has_distortion());
   std::vector<cv::Point2f> cl, cr;

@@ -119,9 +119,8 @@ TEST_F(CalibrateCli, PointsCalibratesAndWritesAFile) {
                                 " --output " + out + " --json");
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_LT(Number(r.out, "rms"), 1e-6);
-    std::string why;
-    const auto cal = LoadCalibration(out, &why);
-    ASSERT_TRUE(cal) << why;
+    const auto cal = LoadCalibration(out);
+    ASSERT_TRUE(cal.ok()) << cal.error();
     const Eigen::Vector3d X(20, 1, 3);
     EXPECT_LT((*cal->right.Camera().Project(X) - *right.Project(X)).norm(), 1e-6);
   }
@@ -176,7 +175,7 @@ TEST_F(CalibrateCli, ChessboardOnRealPairsBeatsTheSample) {
   EXPECT_LT(Number(r.out, "epipolar_error"), 0.445);
   EXPECT_LT(Number(r.out, "left_rms"), 0.5);
   EXPECT_NE(r.err.find("corners 13/13"), std::string::npos) << "progress is shown";
-  EXPECT_TRUE(LoadCalibration(out));
+  EXPECT_TRUE(LoadCalibration(out).ok());
 }
 
 TEST_F(CalibrateCli, PlatformFromObservationFileAndSynthetic) {
@@ -204,9 +203,8 @@ TEST_F(CalibrateCli, PlatformFromObservationFileAndSynthetic) {
   EXPECT_LT(Number(r.out, "rms"), 0.4);
   EXPECT_GT(Number(r.out, "initial_rms"), 2.0);
   EXPECT_NE(r.err.find("iteration 1"), std::string::npos);
-  std::string why;
-  const auto fitted = LoadCalibration(out, &why);
-  ASSERT_TRUE(fitted && fitted->platform) << why;
+  const auto fitted = LoadCalibration(out);
+  ASSERT_TRUE(fitted.ok() && fitted->platform) << fitted.error();
   EXPECT_LT(CompareToTruth(s, *fitted->platform, 1).prediction_rms_px, 0.1);
 
   r = Calibrate("platform --synthetic --estimate-scales --json");

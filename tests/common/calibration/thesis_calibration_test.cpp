@@ -23,9 +23,8 @@ TEST(ThesisCalibration, IsTheLabFileAsBuiltIn) {
   text << in.rdbuf();
   EXPECT_EQ(ThesisCalibrationYaml(), text.str());
 
-  std::string why;
-  const auto file = LoadCalibration(ThesisFilePath(), &why);
-  ASSERT_TRUE(file) << why;
+  const auto file = LoadCalibration(ThesisFilePath());
+  ASSERT_TRUE(file.ok()) << file.error();
   const StereoCalibration& built_in = ThesisCalibration();
   EXPECT_EQ(built_in.left.P, file->left.P);
   EXPECT_EQ(built_in.right.P, file->right.P);

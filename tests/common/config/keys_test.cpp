@@ -168,6 +168,38 @@ TEST(ProcessKeys, BoundFieldsTakeTheFlagOverTheFileOverTheDefault) {
   EXPECT_EQ(Parse("processes:\n  video: {poll_hz: fast}\n", {}, keys, extra).exit_code, 2);
 }
 
+TEST(ProcessKeys, BoundPathsChoicesAndLists) {
+  namespace po = boost::program_options;
+  std::string bank, record, backend = "files";
+  std::vector<double> pose;
+  Keys keys;
+  keys.BindPath("bank", &bank, "sounds", "bank");
+  keys.BindPath("record", &record, "written", "", KeyType::kOutputPath);
+  keys.BindChoice("backend", &backend, {"files", "camera"}, "where from");
+  keys.Bind("pose", &pose, "x y z", "pose");
+  EXPECT_EQ(keys.Find("pose")->type, KeyType::kList);
+  EXPECT_EQ(keys.Find("backend")->default_value, "files");
+  po::options_description extra("extra");
+  extra.add_options()("bank", po::value<std::string>(), "")("pose", po::value<std::string>(), "");
+  const std::string lab =
+      "processes:\n  video: {bank: b/bank.yaml, record: /tmp/r.log, backend: camera, "
+      "pose: [1, 2.5]}\n";
+  ASSERT_TRUE(Parse(lab, {}, keys, extra).process);
+  // Relative to the file's folder; the flag's as given.
+  EXPECT_EQ(bank, (std::filesystem::temp_directory_path() / "igms_keys_parse_test/b/bank.yaml")
+                      .lexically_normal()
+                      .string());
+  EXPECT_EQ(record, "/tmp/r.log");
+  EXPECT_EQ(backend, "camera");
+  EXPECT_EQ(pose, (std::vector<double>{1, 2.5}));
+  ASSERT_TRUE(Parse(lab, {"--bank", "here.yaml", "--pose", "3, 4 5"}, keys, extra).process);
+  EXPECT_EQ(bank, "here.yaml");
+  EXPECT_EQ(pose, (std::vector<double>{3, 4, 5}));
+  EXPECT_EQ(Parse("processes:\n  video: {backend: tape}\n", {}, keys, extra).exit_code, 2);
+  EXPECT_EQ(Parse("processes:\n  video: {pose: 3}\n", {}, keys, extra).exit_code, 2);
+  EXPECT_EQ(Parse(lab, {"--pose", "3 x"}, keys, extra).exit_code, 2);
+}
+
 TEST(ProcessKeys, TheLogLevelIsTheFlagsThenTheProcesssThenTheLabs) {
   const Keys none;
   const std::string lab_only = "lab: {log_level: debug}\nprocesses:\n  video: {port: 1}\n";

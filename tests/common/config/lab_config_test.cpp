@@ -74,6 +74,48 @@ TEST(LabConfig, OverridesCreateAndReplaceKeys) {
   EXPECT_EQ(c.Get<std::string>("processes.video.program"), "igms-video-server");
 }
 
+// yaml-cpp's Node copies share one tree and Node assignment rewrites the shared tree: a
+// copy of a configuration must still be a configuration of its own.
+TEST(LabConfig, CopiesAndAssignmentsLeaveTheOriginalAlone) {
+  const auto original = LabConfig::FromString(kLab, "lab.yaml");
+  LabConfig copy = original;
+  copy.Set("processes.video.port", "7400");
+  EXPECT_EQ(original.Get<int>("processes.video.port"), 7301);
+  EXPECT_EQ(copy.Get<int>("processes.video.port"), 7400);
+
+  LabConfig assigned = original;  // shares nothing with original, so assigning to it...
+  assigned = LabConfig::FromString("lab: {token: other}\n", "other.yaml");
+  EXPECT_EQ(original.Get<std::string>("lab.token"), "abc");  // ...leaves original as it was
+  EXPECT_EQ(assigned.Get<std::string>("lab.token"), "other");
+  EXPECT_EQ(assigned.source(), "other.yaml");
+  const LabConfig from = LabConfig::FromString("lab: {token: third}\n");
+  assigned = from;
+  assigned.Set("lab.token", "changed");
+  EXPECT_EQ(from.Get<std::string>("lab.token"), "third");
+  EXPECT_EQ(original.Get<std::string>("lab.token"), "abc");
+
+  LabConfig moved = std::move(copy);
+  EXPECT_EQ(moved.Get<int>("processes.video.port"), 7400);
+  moved = std::move(assigned);
+  EXPECT_EQ(moved.Get<std::string>("lab.token"), "changed");
+}
+
+TEST(ProcessOptions, CopiesLeaveTheOriginalAlone) {
+  ProcessOptions process;
+  process.name = "video";
+  process.config = LabConfig::FromString(kLab, "lab.yaml");
+  ProcessOptions copy = process;
+  copy.config.Set(copy.Key("port"), "7400");
+  EXPECT_EQ(process.Port(0), 7301);
+  EXPECT_EQ(copy.Port(0), 7400);
+  ProcessOptions assigned = process;
+  assigned = copy;
+  assigned.config.Set(assigned.Key("port"), "7500");
+  EXPECT_EQ(process.Port(0), 7301);
+  EXPECT_EQ(copy.Port(0), 7400);
+  EXPECT_EQ(assigned.Port(0), 7500);
+}
+
 TEST(LabConfig, RelativePathsResolveAgainstTheFilesFolder) {
   const auto dir = std::filesystem::temp_directory_path() / "igms_config_test";
   std::filesystem::create_directories(dir);

@@ -16,8 +16,8 @@ namespace {
 using namespace std::chrono_literals;
 
 TEST(ControlAppExit, TheLoopEndsByItselfEvenWhenATimerFiresDuringShutdown) {
-  const auto calibration = calibration::LoadCalibration(testing::ThesisCalibration(), nullptr);
-  ASSERT_TRUE(calibration);
+  const auto calibration = calibration::LoadCalibration(testing::ThesisCalibration());
+  ASSERT_TRUE(calibration.ok()) << calibration.error();
   for (int run = 0; run < 150; ++run) {
     SCOPED_TRACE("run " + std::to_string(run));
     ControlAppOptions options;

@@ -86,8 +86,8 @@ TEST(LabSession, PlannedSessionModelsEveryObjectWithItsProvenance) {
   for (const auto& m : *models) types.insert(m.record.type);
   EXPECT_EQ(types, (std::set<int>{object::OBJECT_TYPE_CYLINDER, object::OBJECT_TYPE_BOX}));
 
-  const auto calibration = calibration::LoadCalibration(ThesisCalibration(), nullptr);
-  ASSERT_TRUE(calibration);
+  const auto calibration = calibration::LoadCalibration(ThesisCalibration());
+  ASSERT_TRUE(calibration.ok()) << calibration.error();
   TestClient object(lab.port("object"));
   for (const auto& m : *models) {
     const auto& p = m.record.provenance;

@@ -15,10 +15,9 @@ inline calibration::StereoCalibration ThesisCalibration() {
   const char* dir = std::getenv("IGMS_SOURCE_DIR");
   const std::string path =
       std::string(dir ? dir : ".") + "/common/calibration/data/thesis_calibration.yaml";
-  std::string why;
-  auto c = calibration::LoadCalibration(path, &why);
-  if (!c) ADD_FAILURE() << why;
-  return c.value_or(calibration::StereoCalibration{});
+  auto c = calibration::LoadCalibration(path);
+  if (!c.ok()) ADD_FAILURE() << c.error();
+  return c.ok() ? *c : calibration::StereoCalibration{};
 }
 
 }  // namespace igms::control::testing

@@ -52,8 +52,8 @@ RangerWorld TestWorld() {
   igms::testing::WriteFile(scene, testing::TestSceneYaml());
   std::string error;
   EXPECT_TRUE(calibration::SaveCalibration(testing::TestCalibration(), calib, &error)) << error;
-  auto world = LoadSiteRangerWorld(scene, calib, &error);
-  EXPECT_TRUE(world) << error;
+  auto world = LoadSiteRangerWorld(scene, calib);
+  EXPECT_TRUE(world.ok()) << world.error();
   return *world;
 }
 
@@ -104,24 +104,26 @@ TEST(RangerSite, BeamRangesTheNearestSurfaceOfTheScene) {
 }
 
 TEST(RangerSite, BadFilesFailWithTheirNames) {
-  std::string error;
-  EXPECT_FALSE(LoadSiteRangerWorld("/nonexistent/scene.yaml", "", &error));
-  EXPECT_NE(error.find("/nonexistent/scene.yaml"), std::string::npos) << error;
+  const auto no_scene = LoadSiteRangerWorld("/nonexistent/scene.yaml", "");
+  EXPECT_FALSE(no_scene.ok());
+  EXPECT_NE(no_scene.error().find("/nonexistent/scene.yaml"), std::string::npos)
+      << no_scene.error();
   const std::string bad = igms::testing::TempPath("bad.yaml");
   igms::testing::WriteFile(bad, "%YAML:1.0\n---\nleft: {P: [1, 2, 3]}\n");
-  EXPECT_FALSE(LoadSiteRangerWorld("", bad, &error));
-  EXPECT_NE(error.find("left.P"), std::string::npos) << error;
+  const auto bad_calibration = LoadSiteRangerWorld("", bad);
+  EXPECT_FALSE(bad_calibration.ok());
+  EXPECT_NE(bad_calibration.error().find("left.P"), std::string::npos) << bad_calibration.error();
 }
 
 TEST(RangerSite, TheWorldIsWhatTheProgramRegistered) {
   // The ranger's library links no site: without a registered world the simulator cannot start.
   RegisterRangerWorld(nullptr);
-  std::string error;
-  EXPECT_FALSE(LoadRangerWorld("", "", &error));
-  EXPECT_NE(error.find("without the simulated site"), std::string::npos) << error;
+  const auto none = LoadRangerWorld("", "");
+  EXPECT_FALSE(none.ok());
+  EXPECT_NE(none.error().find("without the simulated site"), std::string::npos) << none.error();
   RegisterSiteRanger();
-  auto world = LoadRangerWorld("", "", &error);
-  ASSERT_TRUE(world) << error;
+  auto world = LoadRangerWorld("", "");
+  ASSERT_TRUE(world.ok()) << world.error();
   EXPECT_EQ(world->mount.BeamAt({}).origin, TestbedRangerWorld().mount.BeamAt({}).origin);
   // A simulator without a world hears no echo.
   RangerSim silent;
