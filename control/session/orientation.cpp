@@ -20,11 +20,6 @@ int32_t RoundTicks(double angle_rad, double radians_per_tick, int32_t limit) {
   return static_cast<int32_t>(std::clamp(t, -static_cast<double>(limit), double(limit)));
 }
 
-bool Fail(std::string* error, const std::string& why) {
-  if (error) *error = why;
-  return false;
-}
-
 }  // namespace
 
 Eigen::Matrix3d RotationOf(const ViewerOrientation& o) {
@@ -42,8 +37,8 @@ ViewerOrientation OrientationOf(const Eigen::Matrix3d& R) {
   return o;
 }
 
-std::optional<ViewerToPlatform> ViewerToPlatform::Make(
-    const calibration::StereoCalibration& calibration, bool all_axes, std::string* error) {
+Result<ViewerToPlatform> ViewerToPlatform::Make(const calibration::StereoCalibration& calibration,
+                                                bool all_axes) {
   ViewerToPlatform m;
   m.all_axes_ = all_axes;
   if (!calibration.platform) {
@@ -55,16 +50,14 @@ std::optional<ViewerToPlatform> ViewerToPlatform::Make(
   const geometry::PlatformModel& model = *calibration.platform;
   std::string why;
   if (!model.Check(&why)) {
-    Fail(error, "calibration platform: " + why);
-    return std::nullopt;
+    return ErrorMessage{"calibration platform: " + why};
   }
   m.joints_ = model.joints.size();
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d forward = calibration.left.Camera().ViewDirection();
   const Eigen::Vector3d left_dir = up.cross(forward);
   if (left_dir.norm() < 1e-6) {
-    Fail(error, "the left camera looks straight up or down at the platform's zero pose");
-    return std::nullopt;
+    return ErrorMessage{"the left camera looks straight up or down at the platform's zero pose"};
   }
   const std::array<Eigen::Vector3d, 3> camera_axes = {up, left_dir.normalized(),
                                                       forward.normalized()};
@@ -80,10 +73,9 @@ std::optional<ViewerToPlatform> ViewerToPlatform::Make(
     const double along = axis.dot(camera_axes[i]);
     // A joint more than 60 degrees off the axis it stands for cannot follow the viewer.
     if (std::abs(along) < 0.5) {
-      Fail(error, "calibration platform joint " + std::to_string(i) + " (" + joint.name +
-                      "): its axis is " + std::to_string(std::acos(std::abs(along)) / kDeg) +
-                      " degrees off " + axis_names[i] + "; joints must be pan, tilt, roll");
-      return std::nullopt;
+      return ErrorMessage{"calibration platform joint " + std::to_string(i) + " (" + joint.name +
+                          "): its axis is " + std::to_string(std::acos(std::abs(along)) / kDeg) +
+                          " degrees off " + axis_names[i] + "; joints must be pan, tilt, roll"};
     }
     m.signs_[i] = along > 0 ? 1 : -1;
     m.radians_per_tick_[i] = joint.radians_per_tick;

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/result.h"
 #include "common/calibration/calibration_file.h"
 
 namespace igms::control {
@@ -50,10 +51,10 @@ ViewerOrientation OrientationOf(const Eigen::Matrix3d& R);
 
 class ViewerToPlatform {
  public:
-  // nullopt with `error` when a joint's axis is not near the camera axis it should turn
-  // about (a calibration whose joints are not pan, tilt, roll in that order).
-  static std::optional<ViewerToPlatform> Make(const calibration::StereoCalibration& calibration,
-                                              bool all_axes, std::string* error = nullptr);
+  // An error when a joint's axis is not near the camera axis it should turn about (a
+  // calibration whose joints are not pan, tilt, roll in that order).
+  static Result<ViewerToPlatform> Make(const calibration::StereoCalibration& calibration,
+                                       bool all_axes);
 
   PlatformTicks Ticks(const ViewerOrientation& viewer) const;
   // Joint angles (radians) of a pose in ticks, one per joint of the model (at most three

@@ -20,9 +20,9 @@ std::unique_ptr<Session> Session::Make(const SessionOptions& options,
     if (error) *error = "session options: " + why;
     return nullptr;
   }
-  auto to_platform = ViewerToPlatform::Make(calibration, options.all_axes, &why);
-  if (!to_platform) {
-    if (error) *error = why;
+  auto to_platform = ViewerToPlatform::Make(calibration, options.all_axes);
+  if (!to_platform.ok()) {
+    if (error) *error = to_platform.error();
     return nullptr;
   }
   if (!CameraFrameOf(calibration.left.Camera())) {

@@ -30,9 +30,8 @@ CameraFrame LeftFrameAt(const calibration::StereoCalibration& cal, const ViewerT
 
 TEST(ViewerToPlatform, ThesisSignsFromTheCalibration) {
   const auto cal = testing::ThesisCalibration();
-  std::string why;
-  auto m = ViewerToPlatform::Make(cal, true, &why);
-  ASSERT_TRUE(m) << why;
+  auto m = ViewerToPlatform::Make(cal, true);
+  ASSERT_TRUE(m.ok()) << m.error();
   // Pan turns left with the head; tilt is positive looking up while pitch is positive nose
   // down; roll turns with the head.
   EXPECT_EQ(m->signs(), (std::array<int, 3>{1, -1, 1}));
@@ -43,7 +42,7 @@ TEST(ViewerToPlatform, ThesisSignsFromTheCalibration) {
 TEST(ViewerToPlatform, YawTurnsTheCamerasByTheSameAngle) {
   const auto cal = testing::ThesisCalibration();
   auto m = ViewerToPlatform::Make(cal, false);
-  ASSERT_TRUE(m);
+  ASSERT_TRUE(m.ok()) << m.error();
   const CameraFrame zero = LeftFrameAt(cal, *m, {});
   for (double yaw : {-30.0, -10.0, 10.0, 45.0}) {
     const PlatformTicks t = m->Ticks({yaw, 7.0, 3.0});
@@ -62,7 +61,7 @@ TEST(ViewerToPlatform, YawTurnsTheCamerasByTheSameAngle) {
 TEST(ViewerToPlatform, NoseDownPitchTiltsTheCamerasDown) {
   const auto cal = testing::ThesisCalibration();
   auto m = ViewerToPlatform::Make(cal, true);
-  ASSERT_TRUE(m);
+  ASSERT_TRUE(m.ok()) << m.error();
   const CameraFrame zero = LeftFrameAt(cal, *m, {});
   for (double pitch : {-20.0, -5.0, 5.0, 20.0}) {
     const PlatformTicks t = m->Ticks({0.0, pitch, 0.0});
@@ -79,7 +78,7 @@ TEST(ViewerToPlatform, NoseDownPitchTiltsTheCamerasDown) {
 TEST(ViewerToPlatform, RollTurnsTheImageWithTheHead) {
   const auto cal = testing::ThesisCalibration();
   auto m = ViewerToPlatform::Make(cal, true);
-  ASSERT_TRUE(m);
+  ASSERT_TRUE(m.ok()) << m.error();
   const CameraFrame zero = LeftFrameAt(cal, *m, {});
   // R = Rz Ry Rx: positive roll lifts the head's left side, so the image's right drops.
   const PlatformTicks t = m->Ticks({0.0, 0.0, 10.0});
@@ -94,7 +93,7 @@ TEST(ViewerToPlatform, AFlippedTiltAxisFlipsItsSign) {
   // looks down, and the sign must follow for nose-down to stay down.
   cal.platform->joints[0].alpha = -M_PI / 2;
   auto m = ViewerToPlatform::Make(cal, true);
-  ASSERT_TRUE(m);
+  ASSERT_TRUE(m.ok()) << m.error();
   EXPECT_EQ(m->signs()[1], 1);
   const CameraFrame zero = LeftFrameAt(cal, *m, {});
   const CameraFrame tilted = LeftFrameAt(cal, *m, m->Ticks({0.0, 8.0, 0.0}));
@@ -106,8 +105,9 @@ TEST(ViewerToPlatform, RefusesJointsThatAreNotPanTiltRoll) {
   // A first joint turning about a horizontal axis cannot follow the head's yaw.
   cal.platform->world_from_base.linear() =
       Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  std::string why;
-  EXPECT_FALSE(ViewerToPlatform::Make(cal, false, &why));
+  const auto m = ViewerToPlatform::Make(cal, false);
+  ASSERT_FALSE(m.ok());
+  const std::string why = m.error();
   EXPECT_NE(why.find("joint 0 (pan)"), std::string::npos) << why;
   EXPECT_NE(why.find("the vertical"), std::string::npos) << why;
 }
@@ -116,7 +116,7 @@ TEST(ViewerToPlatform, WithoutAPlatformModelTheThesisScalesAndSigns) {
   auto cal = testing::ThesisCalibration();
   cal.platform.reset();
   auto m = ViewerToPlatform::Make(cal, true);
-  ASSERT_TRUE(m);
+  ASSERT_TRUE(m.ok()) << m.error();
   EXPECT_EQ(m->signs(), (std::array<int, 3>{1, -1, 1}));
   const PlatformTicks t = m->Ticks({10.0, 10.0, 10.0});
   EXPECT_EQ(t.yaw, static_cast<int32_t>(std::round(10.0 / geometry::ThesisPanDegreesPerTick())));
@@ -128,7 +128,7 @@ TEST(ViewerToPlatform, WithoutAPlatformModelTheThesisScalesAndSigns) {
 TEST(ViewerToPlatform, TicksStayInsideTheProtocol) {
   const auto cal = testing::ThesisCalibration();
   auto m = ViewerToPlatform::Make(cal, true);
-  ASSERT_TRUE(m);
+  ASSERT_TRUE(m.ok()) << m.error();
   const PlatformTicks t = m->Ticks({1e9, -1e9, NAN});
   EXPECT_EQ(t.yaw, 1048575);
   EXPECT_EQ(t.pitch, 8191);
@@ -138,7 +138,7 @@ TEST(ViewerToPlatform, TicksStayInsideTheProtocol) {
 TEST(ViewerToPlatform, TicksAndJointAnglesRoundTrip) {
   const auto cal = testing::ThesisCalibration();
   auto m = ViewerToPlatform::Make(cal, true);
-  ASSERT_TRUE(m);
+  ASSERT_TRUE(m.ok()) << m.error();
   const PlatformTicks t{2715, -286, 57};
   EXPECT_EQ(m->TicksOf(m->JointAngles(t)), t);
   EXPECT_EQ(m->JointAngles(t).size(), cal.platform->joints.size());
