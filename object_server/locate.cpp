@@ -77,7 +77,8 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "iterations must be at least 1";
     return false;
   }
-  if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(min_match_zncc > -1 && min_match_zncc < 1)) {
+  if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(score_reference_width_px > 0) ||
+      !(score_width_power >= 0) || !(min_match_zncc > -1 && min_match_zncc < 1)) {
     *error = "thresholds must be positive";
     return false;
   }
@@ -176,7 +177,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   res.rms_left_px = f.rms_px[0];
   res.rms_right_px = f.rms_px[1];
   if (!f.ok) return fail({Failure::kFitFailed, "model fit: " + f.error});
-  res.fit_score = FitScore(f);
+  const double score_scale = ScoreResidualScale(opt, pair->left.cols);
+  res.fit_score = FitScore(f, score_scale);
 
   // 5. Consistency between the views, on the parts of the outline that should show an edge.
   const std::array<OutlineSupport, 2> support = {
@@ -206,7 +208,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                                       : FitCylinder(other_starts, views, fit, opt);
     spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
                   FitScore(f));
-    res.other_type_fit_score = FitScore(other);
+    res.other_type_fit_score = FitScore(other, score_scale);
     if (cylinder && other.ok && !CheckBothViews(other, opt) &&
         opt.other_type_ratio * FitScore(other) < FitScore(f))
       return fail({Failure::kFitFailed, "a box explains the outline much better (score " +

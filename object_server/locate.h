@@ -109,7 +109,13 @@ struct LocateOptions {
   // A fit scoring worse than this explains too little of the outline to be the object: on
   // the site scenes it was a wrong model (another object's edges, the other type) far more
   // often than a right one.
-  double max_fit_score = 1.0;
+  double max_fit_score = 0.9;
+  // The bound holds the same at any resolution: the residuals it counts are taken in pixels of
+  // a camera score_reference_width_px wide (the thesis's, 512), an image w pixels wide
+  // scaling them by (reference / w)^score_width_power. The power is well below 1: a right
+  // fit's residuals in pixels hardly grow with the resolution (blur and noise are per pixel).
+  double score_reference_width_px = 512;
+  double score_width_power = 0.4;
   double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)
   double ranger_accuracy = 0.5;      // world units: the range's own error
   // False, with what is wrong in *error, when invalid.
@@ -190,7 +196,8 @@ struct LocateResult {
   double match_zncc = 0;    // its normalised cross-correlation
   int outline_samples = 0;  // edge measurements in the final fit (both images)
   double rms_left_px = 0, rms_right_px = 0;
-  // FitScore of the fit, and of the other type's when it was tried (-1: not tried).
+  // FitScore of the fit, and of the other type's when it was tried (-1: not tried), with the
+  // residuals in the reference camera's pixels (score_reference_width_px).
   double fit_score = 0, other_type_fit_score = -1;
   double elapsed_ms = 0;
   RangeCheck range;

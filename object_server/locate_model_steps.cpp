@@ -287,10 +287,15 @@ FitOptions FitSettings(const LocateOptions& options, double strongest) {
   return fit;
 }
 
-double FitScore(const FitOutcome& fit) {
+double FitScore(const FitOutcome& fit, double residual_scale) {
   const int sampled = fit.sampled[0] + fit.sampled[1];
   const double miss = sampled ? 1.0 - double(fit.used[0] + fit.used[1]) / sampled : 1.0;
-  return fit.ok ? fit.rms_px[0] + fit.rms_px[1] + 2.0 * miss : 1e18;
+  return fit.ok ? residual_scale * (fit.rms_px[0] + fit.rms_px[1]) + 2.0 * miss : 1e18;
+}
+
+double ScoreResidualScale(const LocateOptions& options, int image_width) {
+  if (image_width <= 0) return 1.0;
+  return std::pow(options.score_reference_width_px / image_width, options.score_width_power);
 }
 
 FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,

@@ -194,9 +194,12 @@ std::vector<Eigen::VectorXd> BoxStartsFrom(const geometry::ProjectiveCamera& lef
                                            const std::vector<cv::Point>& boundary, double depth);
 // The fit's settings from the locator's, given the boundary's strongest gradient.
 FitOptions FitSettings(const LocateOptions& options, double strongest);
-// How well a fit explains both images: the views' RMS residuals plus twice the share of
-// outline samples without an edge; lower is better, 1e18 for a failed fit.
-double FitScore(const FitOutcome& fit);
+// How well a fit explains both images: the views' RMS residuals (times residual_scale) plus
+// twice the share of outline samples without an edge; lower is better, 1e18 for a failed fit.
+double FitScore(const FitOutcome& fit, double residual_scale = 1.0);
+// The residual_scale that puts an image's residuals in the reference camera's pixels
+// (LocateOptions::score_reference_width_px, score_width_power).
+double ScoreResidualScale(const LocateOptions& options, int image_width);
 // Of several starts, the one that explains both images best after two passes goes on to the
 // rest of the passes (one start: all passes at once).
 FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,

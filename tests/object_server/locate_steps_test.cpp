@@ -518,7 +518,22 @@ TEST(LocateStepsFit, FitScoreAddsBothViewsResidualsAndTwiceTheMissedShare) {
   EXPECT_NEAR(FitScore(f), 0.5 + 2 * 0.2, 1e-12);
   f.sampled = {0, 0};
   f.used = {0, 0};
-  EXPECT_NEAR(FitScore(f), 0.5 + 2.0, 1e-12);  // nothing sampled: all missed
+  EXPECT_NEAR(FitScore(f), 0.5 + 2.0, 1e-12);        // nothing sampled: all missed
+  EXPECT_NEAR(FitScore(f, 0.5), 0.25 + 2.0, 1e-12);  // the residuals scaled, not the share
+}
+
+TEST(LocateStepsFit, TheScoresResidualsAreInTheReferenceCamerasPixels) {
+  LocateOptions options;
+  options.score_reference_width_px = 512;
+  options.score_width_power = 0.5;
+  EXPECT_NEAR(ScoreResidualScale(options, 512), 1.0, 1e-12);
+  EXPECT_NEAR(ScoreResidualScale(options, 2048), 0.5, 1e-12);
+  EXPECT_NEAR(ScoreResidualScale(options, 128), 2.0, 1e-12);
+  options.score_width_power = 0;  // plain pixels
+  EXPECT_NEAR(ScoreResidualScale(options, 1920), 1.0, 1e-12);
+  options.score_reference_width_px = 0;
+  std::string error;
+  EXPECT_FALSE(options.Check(&error));
 }
 
 // --- 5. Both views ---

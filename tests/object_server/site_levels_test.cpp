@@ -2,10 +2,11 @@
 // the thesis's cameras (pipes in any direction and on supports, clutter with occlusion and
 // textures, far objects under noise; two lights and shadows), asserting that the objects in
 // full view are found right, few wrong models are reported, and marks around bare table or a gap
-// are refused. The bounds hold the present figures (16 of 30 in full view found right, 3 wrong
+// are refused. The bounds hold the present figures (16 of 30 in full view found right, 2 wrong
 // models of 38 objects, no bare or gap request found, 6 wrong types found) against regression.
 // Before the fit's score was bounded (max_fit_score) and a box had to beat a cylinder
-// (box_over_cylinder), 17 were found right but 15 wrong models and 18 wrong types were reported.
+// (box_over_cylinder), 17 were found right but 15 wrong models and 18 wrong types were reported;
+// with the bound in pixels (1.0) rather than in the reference camera's (0.9), 3 wrong models.
 // The targets (99% found, wrong models rare, wrong types refused) are not met yet:
 // bench_site_accuracy prints how far off.
 #include <gtest/gtest.h>
@@ -57,7 +58,7 @@ TEST(SiteLevels, SeededScenesOfEachLevel) {
   ASSERT_GE(s.full, 25);
   // Found and right: a wrong model counts against, not for.
   EXPECT_GE(s.full_found - s.full_wrong, 16);
-  EXPECT_LE(s.full_wrong + s.hidden_wrong, 4);
+  EXPECT_LE(s.full_wrong + s.hidden_wrong, 3);
   ASSERT_GE(requests, 5);
   EXPECT_EQ(false_finds, 0);
   EXPECT_LE(wrong_types, 7);
