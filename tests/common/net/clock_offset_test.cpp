@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 #include <future>
+#include <optional>
 
 #include "common/net/server.h"
 #include "tests/support/io_thread.h"
@@ -44,14 +45,27 @@ TEST(ClockOffset, FromTheShortestRoundTripWithinHalfOfIt) {
   EXPECT_FALSE(EstimateClockOffset({}));
 }
 
-TEST(ClockOffset, OnLoopbackTheOffsetIsWithinHalfTheRoundTrip) {
+// A server and a client of it on loopback: one clock on both ends.
+class OnLoopback : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    server.Start();
+    ClientOptions o;
+    o.port = server.port();
+    client.emplace(io.io(), o);
+    client->Start();
+  }
+  void TearDown() override {
+    if (client) client->Stop();
+    server.Stop();
+  }
   igms::testing::IoThread io;
-  Server server(io.io(), ServerOptions{});
-  server.Start();
-  ClientOptions o;
-  o.port = server.port();
-  Client client(io.io(), o);
-  client.Start();
+  Server server{io.io(), ServerOptions{}};
+  std::optional<Client> client;
+};
+
+TEST_F(OnLoopback, TheOffsetIsWithinHalfTheRoundTrip) {
+  Client& client = *this->client;
   std::string error;
   const auto offset = MeasureClockOffset(client, 5, 2000ms, &error);
   ASSERT_TRUE(offset) << error;
@@ -61,20 +75,12 @@ TEST(ClockOffset, OnLoopbackTheOffsetIsWithinHalfTheRoundTrip) {
   EXPECT_LE(std::llabs(offset->offset_ns), offset->bound_ns() + 1)
       << offset->Describe();  // +1: rounding
   EXPECT_LT(std::llabs(offset->offset_ns), kClockOffsetLimit.count() * kMs);
-  client.Stop();
-  server.Stop();
 }
 
 // The form a client's own network thread uses (the window's live video): the pings chained
 // from their callbacks, the estimate handed over at the end; a stopped client ends it.
-TEST(ClockOffset, MeasuredWithoutBlockingTheNetworkThread) {
-  igms::testing::IoThread io;
-  Server server(io.io(), ServerOptions{});
-  server.Start();
-  ClientOptions o;
-  o.port = server.port();
-  Client client(io.io(), o);
-  client.Start();
+TEST_F(OnLoopback, MeasuredWithoutBlockingTheNetworkThread) {
+  Client& client = *this->client;
   std::promise<std::pair<std::optional<ClockOffset>, std::string>> got;
   MeasureClockOffsetAsync(client, 4, 2000ms,
                           [&](std::optional<ClockOffset> offset, const std::string& error) {
