@@ -316,6 +316,9 @@ template void ReadBound<std::chrono::milliseconds>(const ProcessOptions&, const 
                                                    std::chrono::milliseconds*);
 template void ReadBound<std::vector<double>>(const ProcessOptions&, const KeySpec&,
                                              std::vector<double>*);
+template void ReadBound<std::vector<int>>(const ProcessOptions&, const KeySpec&, std::vector<int>*);
+template void ReadBound<std::vector<bool>>(const ProcessOptions&, const KeySpec&,
+                                           std::vector<bool>*);
 
 }  // namespace detail
 

@@ -11,11 +11,26 @@
 
 namespace igms::net {
 
+namespace {
+
+// The keys ServerOptionsFor reads, bound to `options` (ServerKeys() declares them unbound).
+config::Keys BoundServerKeys(ServerOptions* options) {
+  config::Keys k;
+  k.Bind("max_frame_bytes", &options->max_frame_bytes, "the largest request accepted, in bytes");
+  return k;
+}
+
+}  // namespace
+
 const config::Keys& ServerKeys() {
+  // Merged into every server's keys: declarations only, so reading them there writes nowhere.
   static const config::Keys keys = [] {
+    ServerOptions defaults;
+    const config::Keys bound = BoundServerKeys(&defaults);
     config::Keys k;
-    k.Add("max_frame_bytes", config::KeyType::kInt, std::to_string(ServerOptions().max_frame_bytes),
-          "the largest request accepted, in bytes");
+    for (const auto& spec : bound.specs()) {
+      k.Add(spec.key, spec.type, spec.default_value, spec.help);
+    }
     return k;
   }();
   return keys;
@@ -59,7 +74,7 @@ ServerOptions ServerOptionsFor(const config::ProcessOptions& process, std::uint1
   options.bind_address = ListenAddress(process);
   options.port = process.Port(default_port);
   options.token = process.Token();
-  options.max_frame_bytes = process.Get<std::size_t>("max_frame_bytes", options.max_frame_bytes);
+  BoundServerKeys(&options).Read(process);
   return options;
 }
 

@@ -7,10 +7,10 @@ namespace igms::devices {
 
 namespace {
 
+// A list key's values into `out`; an empty list leaves `out` as it is.
 template <class T, size_t N>
-bool ReadList(const config::ProcessOptions& p, const std::string& sub, std::array<T, N>* out,
-              std::string* error) {
-  const std::vector<T> values = p.Get<std::vector<T>>(sub, {});
+bool CopyList(const config::ProcessOptions& p, const std::string& sub, const std::vector<T>& values,
+              std::array<T, N>* out, std::string* error) {
   if (values.empty()) return true;
   if (values.size() != N) {
     *error = p.Key(sub) + ": expected " + std::to_string(N) + " values, got " +
@@ -23,36 +23,37 @@ bool ReadList(const config::ProcessOptions& p, const std::string& sub, std::arra
 
 }  // namespace
 
-config::Keys JoystickKeys(JoystickDaemonOptions* options) {
-  using config::KeyType;
-  config::Keys keys = DaemonKeys();
+config::Keys JoystickKeys(JoystickDaemonOptions* options, DaemonConfig* daemon) {
+  config::Keys keys = DaemonKeys(daemon);
   keys.Bind("continuous", &options->continuous, "let the box stream ('C') instead of polling",
             "continuous");
   keys.Bind("gamepad", &options->gamepad_device,
             "read a Linux joystick or gamepad (e.g. /dev/input/js0) instead of a FlyBox",
             "gamepad");
-  keys.Add("gamepad_map.axes", KeyType::kList, "",
-           "device axes of x, y, twist, lever 0, lever 1 (-1: unmapped)");
-  keys.Add("gamepad_map.invert", KeyType::kList, "", "5 booleans: which axes are inverted");
-  keys.Add("gamepad_map.buttons", KeyType::kList, "", "the device buttons of FlyBox buttons 1-8");
-  keys.Add("gamepad_map.trigger", KeyType::kInt, "", "the device button of the trigger");
+  auto& map = options->gamepad_map;
+  keys.Bind("gamepad_map.axes", &map.axes,
+            "device axes of x, y, twist, lever 0, lever 1 (-1: unmapped)");
+  keys.Bind("gamepad_map.invert", &map.invert, "5 booleans: which axes are inverted");
+  keys.Bind("gamepad_map.buttons", &map.buttons, "the device buttons of FlyBox buttons 1-8");
+  keys.Bind("gamepad_map.trigger", &map.trigger, "the device button of the trigger");
   return keys;
 }
 
-bool ReadGamepadMapping(const config::ProcessOptions& p, GamepadMapping* mapping,
+bool ReadGamepadMapping(const config::ProcessOptions& p, JoystickDaemonOptions* options,
                         std::string* error) {
+  const auto& keys = options->gamepad_map;
   GamepadMapping m;
-  if (!ReadList(p, "gamepad_map.axes", &m.axes, error) ||
-      !ReadList(p, "gamepad_map.invert", &m.invert, error) ||
-      !ReadList(p, "gamepad_map.buttons", &m.buttons, error)) {
+  if (!CopyList(p, "gamepad_map.axes", keys.axes, &m.axes, error) ||
+      !CopyList(p, "gamepad_map.invert", keys.invert, &m.invert, error) ||
+      !CopyList(p, "gamepad_map.buttons", keys.buttons, &m.buttons, error)) {
     return false;
   }
-  m.trigger = p.Get<int>("gamepad_map.trigger", m.trigger);
+  m.trigger = keys.trigger;
   if (!m.Check(error)) {
     *error = p.Key("gamepad_map") + ": " + *error;
     return false;
   }
-  *mapping = m;
+  options->mapping = m;
   return true;
 }
 

@@ -18,18 +18,26 @@ struct JoystickDaemonOptions {
   bool continuous = false;     // the FlyBox streams ('C') instead of being polled
   bool gamepad = false;        // the port is a Linux joystick device, not a FlyBox
   std::string gamepad_device;  // the gamepad key or flag: that device stands for the serial port
-  GamepadMapping mapping;
+  // The keys under gamepad_map as read, each optional (an empty list: GamepadMapping's):
+  // axes: [x, y, twist, lever0, lever1] (device axis numbers, -1 unmapped), invert:
+  // [5 booleans], buttons: [the device buttons of FlyBox buttons 1-8], trigger: N.
+  struct MapKeys {
+    static constexpr GamepadMapping kDefaults{};
+    std::vector<int> axes = std::vector<int>(kDefaults.axes.begin(), kDefaults.axes.end());
+    std::vector<bool> invert = std::vector<bool>(kDefaults.invert.begin(), kDefaults.invert.end());
+    std::vector<int> buttons = std::vector<int>(kDefaults.buttons.begin(), kDefaults.buttons.end());
+    int trigger = kDefaults.trigger;
+  } gamepad_map;
+  GamepadMapping mapping;  // from gamepad_map, by ReadGamepadMapping
 };
 
-// The joystick's keys (processes.NAME): the daemon's shared ones (DaemonKeys), continuous
-// and gamepad (bound to `options`), gamepad_map (read by ReadGamepadMapping).
-config::Keys JoystickKeys(JoystickDaemonOptions* options);
+// The joystick's keys (processes.NAME): the daemon's shared ones (DaemonKeys, bound to
+// `daemon`), continuous, gamepad and gamepad_map (bound to `options`).
+config::Keys JoystickKeys(JoystickDaemonOptions* options, DaemonConfig* daemon);
 
-// The gamepad mapping from the configuration (keys under processes.NAME.gamepad_map, each
-// optional, defaults as GamepadMapping's): axes: [x, y, twist, lever0, lever1] (device axis
-// numbers, -1 unmapped), invert: [5 booleans], buttons: [the device buttons of FlyBox
-// buttons 1-8], trigger: N. False with a message naming the key when it is invalid.
-bool ReadGamepadMapping(const config::ProcessOptions& process, GamepadMapping* mapping,
+// Sets options->mapping from options->gamepad_map. False with a message naming the key of
+// `process` at fault when it is invalid.
+bool ReadGamepadMapping(const config::ProcessOptions& process, JoystickDaemonOptions* options,
                         std::string* error);
 
 class JoystickDaemon : public DaemonBase<JoystickState> {

@@ -18,33 +18,31 @@ int main(int argc, char** argv) {
       "gamepad", po::value<std::string>(),
       "read a Linux joystick or gamepad (e.g. /dev/input/js0) instead of a FlyBox");
   igms::devices::JoystickDaemonOptions joystick;
+  igms::devices::DaemonConfig daemon;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
       argc, argv, "joystick", "The FlyBox joystick daemon: CerealBox protocol to TCP readings.",
-      flags, igms::devices::JoystickKeys(&joystick), &exit_code);
+      flags, igms::devices::JoystickKeys(&joystick, &daemon), &exit_code);
   if (!process) return exit_code;
   try {
     // A gamepad is the source when named by the flag, or by the configuration unless a
     // flag names another source; it stands where a serial port would.
-    igms::config::ProcessOptions source = *process;
     const auto& f = process->flags;
     const bool other_flag = f.count("serial") || f["simulate"].as<bool>() || f.count("replay");
     std::string gamepad = joystick.gamepad_device;  // the flag, else the key
     if (other_flag && !f.count("gamepad")) gamepad.clear();
-    if (!gamepad.empty()) {
-      std::string quoted;
-      for (char c : gamepad) quoted += c == '\'' ? std::string("''") : std::string(1, c);
-      source.config.Set(process->Key("serial"), "'" + quoted + "'");
-      source.config.Set(process->Key("replay"), "''");
+    if (!gamepad.empty()) {  // over the keys; a source flag still counts (and is one too many)
+      if (!f.count("serial")) daemon.serial = gamepad;
+      if (!f.count("replay")) daemon.replay.clear();
     }
     igms::devices::DaemonOptions options;
     std::string error;
-    if (!igms::devices::ReadDaemonOptions(source, "joystick", &options, &error)) {
+    if (!igms::devices::ReadDaemonOptions(*process, daemon, "joystick", &options, &error)) {
       spdlog::error("{}", error);
       return igms::kExitUsage;
     }
     joystick.gamepad = !gamepad.empty();
-    if (!igms::devices::ReadGamepadMapping(*process, &joystick.mapping, &error)) {
+    if (!igms::devices::ReadGamepadMapping(*process, &joystick, &error)) {
       spdlog::error("{}", error);
       return igms::kExitUsage;
     }

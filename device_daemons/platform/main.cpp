@@ -19,16 +19,17 @@ int main(int argc, char** argv) {
       "simulator: gear backlash on pitch and roll (thesis: 1.59)");
   igms::devices::MollySimOptions sim;
   double poll_hz = 50;
+  igms::devices::DaemonConfig daemon;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
       argc, argv, "platform",
       "The MOLLY camera platform daemon: orientation commands and readings over TCP.", flags,
-      igms::devices::PlatformKeys(&sim, &poll_hz), &exit_code);
+      igms::devices::PlatformKeys(&sim, &poll_hz, &daemon), &exit_code);
   if (!process) return exit_code;
   try {
     igms::devices::DaemonOptions options;
     std::string error;
-    if (!igms::devices::ReadDaemonOptions(*process, "platform", &options, &error)) {
+    if (!igms::devices::ReadDaemonOptions(*process, daemon, "platform", &options, &error)) {
       spdlog::error("{}", error);
       return igms::kExitUsage;
     }

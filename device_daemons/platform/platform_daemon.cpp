@@ -2,8 +2,8 @@
 
 namespace igms::devices {
 
-config::Keys PlatformKeys(MollySimOptions* sim, double* poll_hz) {
-  config::Keys keys = DaemonKeys();
+config::Keys PlatformKeys(MollySimOptions* sim, double* poll_hz, DaemonConfig* daemon) {
+  config::Keys keys = DaemonKeys(daemon);
   keys.Bind("poll_hz", poll_hz, "orientation polling rate, at most 80 Hz", "poll-hz");
   keys.Bind("backlash_deg", &sim->backlash_deg,
             "simulator: gear backlash on pitch and roll (thesis: 1.59)", "backlash-deg");

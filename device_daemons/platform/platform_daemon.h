@@ -12,9 +12,9 @@
 
 namespace igms::devices {
 
-// The platform's keys (processes.NAME): the daemon's shared ones (DaemonKeys), poll_hz and
-// backlash_deg (bound to `poll_hz` and `sim`).
-config::Keys PlatformKeys(MollySimOptions* sim, double* poll_hz);
+// The platform's keys (processes.NAME): the daemon's shared ones (DaemonKeys, bound to
+// `daemon`), poll_hz and backlash_deg (bound to `poll_hz` and `sim`).
+config::Keys PlatformKeys(MollySimOptions* sim, double* poll_hz, DaemonConfig* daemon);
 
 class PlatformDaemon : public DaemonBase<PlatformState> {
  public:

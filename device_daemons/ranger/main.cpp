@@ -27,15 +27,16 @@ int main(int argc, char** argv) {
                           "simulator: turn the beam with the platform daemon on this port "
                           "(default: the process named by processes.NAME.platform)");
   igms::devices::RangerDaemonOptions ranger;
+  igms::devices::DaemonConfig daemon;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
       argc, argv, "ranger", "The ultrasonic ranger daemon: ranges on request over TCP.", flags,
-      igms::devices::RangerKeys(&ranger), &exit_code);
+      igms::devices::RangerKeys(&ranger, &daemon), &exit_code);
   if (!process) return exit_code;
   try {
     igms::devices::DaemonOptions options;
     std::string error;
-    if (!igms::devices::ReadDaemonOptions(*process, "ranger", &options, &error)) {
+    if (!igms::devices::ReadDaemonOptions(*process, daemon, "ranger", &options, &error)) {
       spdlog::error("{}", error);
       return igms::kExitUsage;
     }

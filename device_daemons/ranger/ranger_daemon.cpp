@@ -4,8 +4,8 @@
 
 namespace igms::devices {
 
-config::Keys RangerKeys(RangerDaemonOptions* options) {
-  config::Keys keys = DaemonKeys();
+config::Keys RangerKeys(RangerDaemonOptions* options, DaemonConfig* daemon) {
+  config::Keys keys = DaemonKeys(daemon);
   keys.Bind("poll_hz", &options->poll_hz,
             "also range continuously at this rate, at most 6 Hz (0: on request only)", "poll-hz");
   keys.BindPath("scene", &options->scene_file,

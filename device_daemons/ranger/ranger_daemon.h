@@ -27,9 +27,10 @@ struct RangerDaemonOptions {
   std::string token;                  // the lab token, for the platform daemon
 };
 
-// The ranger's keys (processes.NAME): the daemon's shared ones (DaemonKeys), and poll_hz,
-// scene, calibration and platform bound to `options` (the main finds the platform's port).
-config::Keys RangerKeys(RangerDaemonOptions* options);
+// The ranger's keys (processes.NAME): the daemon's shared ones (DaemonKeys, bound to
+// `daemon`), and poll_hz, scene, calibration and platform bound to `options` (the main finds
+// the platform's port).
+config::Keys RangerKeys(RangerDaemonOptions* options, DaemonConfig* daemon);
 
 class RangerDaemon : public DaemonBase<RangerState> {
  public:

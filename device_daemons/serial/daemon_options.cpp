@@ -25,19 +25,21 @@ bool DaemonOptions::Check(std::string* error) const {
   return link.Check(error);
 }
 
-config::Keys DaemonKeys() {
-  using config::KeyType;
+config::Keys DaemonKeys(DaemonConfig* c) {
   config::Keys keys = net::ServerKeys();
-  keys.Add("serial", KeyType::kString, "", "serial port of the device, or simulate");
-  keys.Add("baud", KeyType::kInt, "9600", "baud rate");
-  keys.Add("sim_port", KeyType::kString, "",
-           "link path of the simulator's pseudo-terminal (default: a fresh temporary one)");
-  keys.Path("replay", "publish readings from this recording");
-  keys.Add("replay_speed", KeyType::kNumber, "1",
-           "replay at this many times the original rate; 0 = at once");
-  keys.Add("loop", KeyType::kBool, "false", "repeat the replay");
-  keys.Add("record", KeyType::kOutputPath, "", "record every reading to this file");
-  keys.Add("silence_ms", KeyType::kInt, "500", "watchdog: the device is stale after this silence");
+  keys.Bind("serial", &c->serial, "serial port of the device, or simulate", "serial");
+  keys.Bind("baud", &c->baud, "baud rate", "baud");
+  keys.Bind("sim_port", &c->sim_port,
+            "link path of the simulator's pseudo-terminal (default: a fresh temporary one)",
+            "sim-port");
+  keys.BindPath("replay", &c->replay, "publish readings from this recording", "replay");
+  keys.Bind("replay_speed", &c->replay_speed,
+            "replay at this many times the original rate; 0 = at once", "replay-speed");
+  keys.Bind("loop", &c->loop, "repeat the replay", "loop");
+  keys.BindPath("record", &c->record, "record every reading to this file", "record",
+                config::KeyType::kOutputPath);
+  keys.Bind("silence_ms", &c->silence, "watchdog: the device is stale after this silence",
+            "silence-ms");
   return keys;
 }
 
@@ -57,16 +59,13 @@ void AddDaemonFlags(po::options_description* flags) {
       "silence-ms", po::value<int>(), "watchdog: the device is stale after this silence");
 }
 
-bool ReadDaemonOptions(const config::ProcessOptions& p, const std::string& device,
-                       DaemonOptions* out, std::string* error) {
+bool ReadDaemonOptions(const config::ProcessOptions& p, const DaemonConfig& c,
+                       const std::string& device, DaemonOptions* out, std::string* error) {
   const auto& f = p.flags;
-  std::string serial =
-      f.count("serial") ? f["serial"].as<std::string>() : p.Get<std::string>("serial", "");
-  std::string replay =
-      f.count("replay") ? f["replay"].as<std::string>() : p.Get<std::string>("replay", "");
+  std::string serial = c.serial;
   const bool simulate = (f.count("simulate") && f["simulate"].as<bool>()) || serial == "simulate";
   if (simulate && serial == "simulate") serial.clear();
-  const int sources = (simulate ? 1 : 0) + (!serial.empty() ? 1 : 0) + (!replay.empty() ? 1 : 0);
+  const int sources = (simulate ? 1 : 0) + (!serial.empty() ? 1 : 0) + (!c.replay.empty() ? 1 : 0);
   if (sources != 1) {
     *error = sources == 0
                  ? "name where the " + device + " is: --serial PORT, --simulate or --replay FILE"
@@ -77,14 +76,11 @@ bool ReadDaemonOptions(const config::ProcessOptions& p, const std::string& devic
   o.source = simulate          ? SourceKind::kSimulate
              : !serial.empty() ? SourceKind::kSerial
                                : SourceKind::kReplay;
-  o.link.baud = f.count("baud") ? f["baud"].as<unsigned>() : p.Get<unsigned>("baud", 9600);
-  const int silence =
-      f.count("silence-ms") ? f["silence-ms"].as<int>() : p.Get<int>("silence_ms", 500);
-  o.link.silence_timeout = std::chrono::milliseconds(silence);
+  o.link.baud = c.baud;
+  o.link.silence_timeout = c.silence;
   if (o.source == SourceKind::kSerial) o.link.port = serial;
   if (o.source == SourceKind::kSimulate) {
-    o.link.port =
-        f.count("sim-port") ? f["sim-port"].as<std::string>() : p.Get<std::string>("sim_port", "");
+    o.link.port = c.sim_port;
     if (o.link.port.empty()) {
       o.link.port = (std::filesystem::temp_directory_path() /
                      ("igms-" + device + "-sim-" + std::to_string(::getpid())))
@@ -96,12 +92,10 @@ bool ReadDaemonOptions(const config::ProcessOptions& p, const std::string& devic
     *error = "--sim-only runs the simulator alone: it needs --simulate";
     return false;
   }
-  o.replay_file = replay;
-  o.replay_speed =
-      f.count("replay-speed") ? f["replay-speed"].as<double>() : p.Get<double>("replay_speed", 1.0);
-  o.loop = (f.count("loop") && f["loop"].as<bool>()) || p.Get<bool>("loop", false);
-  o.record_file =
-      f.count("record") ? f["record"].as<std::string>() : p.Get<std::string>("record", "");
+  o.replay_file = c.replay;
+  o.replay_speed = c.replay_speed;
+  o.loop = c.loop;
+  o.record_file = c.record;
   if (!o.Check(error)) return false;
   *out = o;
   return true;

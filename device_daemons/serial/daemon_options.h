@@ -38,16 +38,31 @@ struct DaemonOptions {
   bool Check(std::string* error) const;
 };
 
+// What the keys and flags above say (flags over keys over these defaults), from which
+// ReadDaemonOptions picks the source. --simulate and --sim-only are flags only.
+struct DaemonConfig {
+  std::string serial;  // a port, or "simulate"
+  unsigned baud = SerialLinkOptions().baud;
+  std::string sim_port;  // empty: a fresh temporary link
+  std::string replay;    // the key's made absolute
+  double replay_speed = DaemonOptions().replay_speed;
+  bool loop = false;
+  std::string record;  // the key's made absolute
+  std::chrono::milliseconds silence = SerialLinkOptions().silence_timeout;
+};
+
 // The keys above (processes.NAME.serial, .baud, .sim_port, .replay, .replay_speed, .loop,
-// .record, .silence_ms), which ReadDaemonOptions reads.
-config::Keys DaemonKeys();
+// .record, .silence_ms) and max_frame_bytes (net::ServerKeys), bound to `config` with
+// their flags.
+config::Keys DaemonKeys(DaemonConfig* config);
 
 // Adds the flags above to `flags`.
 void AddDaemonFlags(boost::program_options::options_description* flags);
 
-// Reads them (flags over configuration keys) for the process named in `process`.
-// False with a message when they do not name exactly one source, or a value is invalid.
-bool ReadDaemonOptions(const config::ProcessOptions& process, const std::string& device,
-                       DaemonOptions* out, std::string* error);
+// The daemon's options from what DaemonKeys read into `config` and the --simulate and
+// --sim-only flags of `process`. False with a message when they do not name exactly one
+// source, or a value is invalid.
+bool ReadDaemonOptions(const config::ProcessOptions& process, const DaemonConfig& config,
+                       const std::string& device, DaemonOptions* out, std::string* error);
 
 }  // namespace igms::devices

@@ -23,15 +23,16 @@ int main(int argc, char** argv) {
       "simulator: the head's power-up pose in the site, \"x y z yaw pitch roll\" (metres, "
       "degrees)");
   igms::devices::ViewerDaemonOptions viewer;
+  igms::devices::DaemonConfig daemon;
   int exit_code = 0;
   const auto process = igms::config::ParseProcessOptions(
       argc, argv, "viewer", "The BOOM viewer daemon: head pose and buttons to TCP readings.", flags,
-      igms::devices::ViewerKeys(&viewer), &exit_code);
+      igms::devices::ViewerKeys(&viewer, &daemon), &exit_code);
   if (!process) return exit_code;
   try {
     igms::devices::DaemonOptions options;
     std::string error;
-    if (!igms::devices::ReadDaemonOptions(*process, "viewer", &options, &error)) {
+    if (!igms::devices::ReadDaemonOptions(*process, daemon, "viewer", &options, &error)) {
       spdlog::error("{}", error);
       return igms::kExitUsage;
     }

@@ -5,8 +5,8 @@
 
 namespace igms::devices {
 
-config::Keys ViewerKeys(ViewerDaemonOptions* options) {
-  config::Keys keys = DaemonKeys();
+config::Keys ViewerKeys(ViewerDaemonOptions* options, DaemonConfig* daemon) {
+  config::Keys keys = DaemonKeys(daemon);
   keys.Bind("stream", &options->stream, "let the viewer stream ('S') instead of polling it",
             "stream");
   keys.Bind("poll_hz", &options->poll_hz, "polling rate, at most 70 Hz", "poll-hz");

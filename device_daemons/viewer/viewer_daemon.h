@@ -20,9 +20,9 @@ struct ViewerDaemonOptions {
   std::vector<double> power_up;
 };
 
-// The viewer's keys (processes.NAME): the daemon's shared ones (DaemonKeys), stream, poll_hz,
-// path and power_up (bound to `options`).
-config::Keys ViewerKeys(ViewerDaemonOptions* options);
+// The viewer's keys (processes.NAME): the daemon's shared ones (DaemonKeys, bound to
+// `daemon`), stream, poll_hz, path and power_up (bound to `options`).
+config::Keys ViewerKeys(ViewerDaemonOptions* options, DaemonConfig* daemon);
 
 class ViewerDaemon : public DaemonBase<ViewerState> {
  public:

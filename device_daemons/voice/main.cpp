@@ -32,10 +32,11 @@ int main(int argc, char** argv) {
       "adapted model)")("model-dir", po::value<std::string>(),
                         "recogniser: pocketsphinx en-us model folder");
   voice::VoiceConfig config;
+  devices::DaemonConfig daemon;
   int exit_code = 0;
   const auto process = config::ParseProcessOptions(
       argc, argv, "voice", "The voice daemon: spoken commands as two-digit codes over TCP.", flags,
-      voice::VoiceKeys(&config), &exit_code);
+      voice::VoiceKeys(&config, &daemon), &exit_code);
   if (!process) return exit_code;
   try {
     const auto& f = process->flags;
@@ -82,8 +83,8 @@ int main(int argc, char** argv) {
       }
       voice.listen = listen;
       options.source = devices::SourceKind::kSerial;  // the recogniser stands in for the line
-      options.record_file = config.record;
-    } else if (!devices::ReadDaemonOptions(*process, "voice", &options, &error)) {
+      options.record_file = daemon.record;
+    } else if (!devices::ReadDaemonOptions(*process, daemon, "voice", &options, &error)) {
       spdlog::error("{} (or --microphone, --wav FILE...)", error);
       return kExitUsage;
     }

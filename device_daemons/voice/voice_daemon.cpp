@@ -8,8 +8,8 @@
 
 namespace igms::voice {
 
-config::Keys VoiceKeys(VoiceConfig* c) {
-  config::Keys keys = devices::DaemonKeys();
+config::Keys VoiceKeys(VoiceConfig* c, devices::DaemonConfig* daemon) {
+  config::Keys keys = devices::DaemonKeys(daemon);
   keys.BindChoice("state", &c->state, {"verification", "model_building", "awaiting_type"},
                   "the operator's state at start", "state");
   keys.Bind("microphone", &c->microphone,
@@ -21,7 +21,6 @@ config::Keys VoiceKeys(VoiceConfig* c) {
                 "recogniser: the pocketsphinx en-us model folder, or an operator's "
                 "adapted model (igms-voice-adapt)",
                 "model-dir");
-  keys.Bind("record", &c->record, "also write every reading to this file", "record");
   return keys;
 }
 

@@ -37,12 +37,11 @@ struct VoiceConfig {
   bool microphone = false;             // the recogniser on a microphone
   std::string device;                  // the microphone's capture device; empty: the system's
   std::string model_dir = RecognizerOptions().model_dir;  // the key's made absolute
-  std::string record;                                     // with the recogniser: readings to
 };
 
-// The voice daemon's keys (processes.NAME): the daemon's shared ones (DaemonKeys), and state,
-// microphone, device, model_dir and record bound to `config` with their flags.
-config::Keys VoiceKeys(VoiceConfig* config);
+// The voice daemon's keys (processes.NAME): the daemon's shared ones (DaemonKeys, bound to
+// `daemon`), and state, microphone, device and model_dir bound to `config` with their flags.
+config::Keys VoiceKeys(VoiceConfig* config, devices::DaemonConfig* daemon);
 
 class VoiceDaemon : public devices::DaemonBase<devices::VoiceState> {
  public:

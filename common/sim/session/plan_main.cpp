@@ -10,6 +10,7 @@
 #include "common/config/process_options.h"
 #include "common/sim/capture/sim_capture.h"
 #include "common/sim/session/plan.h"
+#include "video_server/video_config.h"
 
 namespace po = boost::program_options;
 
@@ -31,7 +32,7 @@ int main(int argc, char** argv) {
     if (!process) return exit_code;
     igms::config::ProcessOptions video = *process;
     video.name = process->flags["video"].as<std::string>();
-    if (video.Get<std::string>("backend", "files") != "sim") {
+    if (igms::video::ReadVideoConfig(video).backend != "sim") {
       std::cerr << "igms-plan: processes." << video.name
                 << ".backend must be sim: only the simulated site has a truth to plan from\n";
       return igms::kExitUsage;

@@ -27,6 +27,7 @@
 #include "object_server/object_service.h"
 #include "object_server/result_json.h"
 #include "object_server/solid_models.h"
+#include "video_server/video_config.h"
 
 namespace po = boost::program_options;
 using namespace std::chrono_literals;
@@ -66,7 +67,7 @@ int Run(int argc, char** argv) {
   // The ground truth: the scene the video server's configuration names, as it renders it.
   igms::config::ProcessOptions video_process = *process;
   video_process.name = video_name;
-  if (video_process.Get<std::string>("backend", "files") != "sim") {
+  if (igms::video::ReadVideoConfig(video_process).backend != "sim") {
     std::cerr << "igms-vision-demo: processes." << video_name
               << ".backend must be sim: the demo compares with the simulated site's truth\n";
     return 2;

@@ -17,6 +17,7 @@
 #include "device_daemons/serial/recording.h"
 #include "igms/devices.pb.h"
 #include "tests/device_daemons/ranger/test_site.h"
+#include "tests/support/child_process.h"
 #include "tests/support/daemon_process.h"
 #include "tests/support/files.h"
 #include "tests/support/io_thread.h"
@@ -543,6 +544,21 @@ TEST(JoystickDaemon, BadGamepadMappingFailsWithAMessage) {
   DaemonProcess daemon("igms-joystickd", {"--config", lab, "--name", "joystick"});
   EXPECT_EQ(daemon.WaitExit(), 2);
   EXPECT_NE(daemon.Log().find("gamepad_map.axes"), std::string::npos) << daemon.Log();
+}
+
+// A relative path in the lab file is relative to the file's folder (docs/configuration.md),
+// not to the daemon's working folder.
+TEST(Daemons, RecordKeyIsRelativeToTheLabFile) {
+  igms::testing::ScratchDir dir;
+  const std::string lab = dir.File("lab.yaml");
+  igms::testing::WriteFile(
+      lab, "processes:\n  platform: {port: 0, serial: simulate, record: platform.rec}\n");
+  DaemonProcess daemon("igms-platformd", {"--config", lab, "--name", "platform"});
+  ASSERT_NE(daemon.WaitForPort(), 0) << daemon.Log();
+  EXPECT_TRUE(WaitFor("the recording beside the lab file", [&] {
+    return std::filesystem::exists(dir.File("platform.rec"));
+  })) << daemon.Log();
+  EXPECT_EQ(daemon.Stop(), 0);
 }
 
 TEST(Daemons, BadCommandLinesFailWithAMessage) {
