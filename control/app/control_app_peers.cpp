@@ -24,7 +24,9 @@ void ControlApp::Impl::Connect() {
     if (peer == Peer::kVideo) client.max_frame_bytes = 64u << 20;
     link.client = std::make_unique<net::Client>(io, client);
     link.client->OnStateChange(
-        [weak = weak_from_this(), peer](net::ConnectionState state, const std::string& why) {
+        // Captured by name, not as the structured binding (which clang before 16 refuses).
+        [weak = weak_from_this(), peer = link.peer](net::ConnectionState state,
+                                                    const std::string& why) {
           // Already on the network thread.
           if (auto self = weak.lock()) self->OnConnection(peer, state, why);
         });
