@@ -22,6 +22,38 @@ LocateResult Fail(LocateResult r, const StepFailure& failure) {
   return r;
 }
 
+// The other type's fit against this one's: a cylinder is refused when a box explains the
+// outline much better, a box unless it clearly beats a cylinder.
+std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
+                                          const FitOutcome& other, const LocateOptions& opt) {
+  if (!other.ok) return std::nullopt;
+  if (cylinder && !CheckBothViews(other, opt) &&
+      opt.other_type_ratio * FitScore(other) < FitScore(f))
+    return StepFailure{Failure::kFitFailed, "a box explains the outline much better (score " +
+                                                FormatFixed(FitScore(other)) + " against " +
+                                                FormatFixed(FitScore(f)) +
+                                                "): is the object a box?"};
+  if (!cylinder && FitScore(f) > opt.box_over_cylinder * FitScore(other))
+    return StepFailure{Failure::kFitFailed,
+                       "a cylinder explains the outline about as well as a box (score " +
+                           FormatFixed(FitScore(other)) + " against " + FormatFixed(FitScore(f)) +
+                           "): is the object a cylinder?"};
+  return std::nullopt;
+}
+
+// A size the images leave open (a block's depth behind a pipe resting on it, read off the
+// pipe's far limb) would be a guess, however well the outline fits.
+std::optional<StepFailure> CheckBoxSizesDetermined(const BoxResult& box, const LocateOptions& opt) {
+  const char* axis_names[3] = {"width", "depth", "height"};
+  for (int k = 0; k < 3; ++k)
+    if (box.size_sigma[k] > opt.max_box_size_sigma)
+      return StepFailure{Failure::kFitFailed,
+                         std::string("the images do not determine the box's ") + axis_names[k] +
+                             " (" + FormatFixed(box.size[k]) + " +/- " +
+                             FormatFixed(box.size_sigma[k]) + ")"};
+  return std::nullopt;
+}
+
 }  // namespace
 
 const char* FailureName(Failure f) {
@@ -209,16 +241,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
                   FitScore(f));
     res.other_type_fit_score = FitScore(other, score_scale);
-    if (cylinder && other.ok && !CheckBothViews(other, opt) &&
-        opt.other_type_ratio * FitScore(other) < FitScore(f))
-      return fail({Failure::kFitFailed, "a box explains the outline much better (score " +
-                                            FormatFixed(FitScore(other)) + " against " +
-                                            FormatFixed(FitScore(f)) + "): is the object a box?"});
-    if (!cylinder && other.ok && FitScore(f) > opt.box_over_cylinder * FitScore(other))
-      return fail(
-          {Failure::kFitFailed, "a cylinder explains the outline about as well as a box (score " +
-                                    FormatFixed(FitScore(other)) + " against " +
-                                    FormatFixed(FitScore(f)) + "): is the object a cylinder?"});
+    if (const auto failure = CheckOtherType(cylinder, f, other, opt)) return fail(*failure);
   }
 
   // The result.
@@ -230,14 +253,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     res.box = BoxFromFit(f.params, f.covariance);
     if (res.box.size.minCoeff() < 1e-6)
       return fail({Failure::kFitFailed, "the fitted box has no size"});
-    // A size the images leave open (a block's depth behind a pipe resting on it, read off
-    // the pipe's far limb) would be a guess, however well the outline fits.
-    const char* axis_names[3] = {"width", "depth", "height"};
-    for (int k = 0; k < 3; ++k)
-      if (res.box.size_sigma[k] > opt.max_box_size_sigma)
-        return fail({Failure::kFitFailed, std::string("the images do not determine the box's ") +
-                                              axis_names[k] + " (" + FormatFixed(res.box.size[k]) +
-                                              " +/- " + FormatFixed(res.box.size_sigma[k]) + ")"});
+    if (const auto failure = CheckBoxSizesDetermined(res.box, opt)) return fail(*failure);
     const StepResult<cv::Rect> rect = BoxTextureRect(f.params, in.left_camera, image_rect);
     if (!rect.ok()) return fail(rect.failure());
     res.box.texture_rect = *rect;
