@@ -111,12 +111,10 @@ template <class T>
 KeyType TypeOf() {
   if constexpr (IsVector<T>::value)
     return KeyType::kList;
-  else if constexpr (std::is_same_v<T, std::chrono::milliseconds>)
-    return KeyType::kInt;
   else if constexpr (std::is_same_v<T, bool>)
     return KeyType::kBool;
-  else if constexpr (std::is_integral_v<T>)
-    return KeyType::kInt;
+  else if constexpr (std::is_integral_v<T> || std::is_same_v<T, std::chrono::milliseconds>)
+    return KeyType::kInt;  // milliseconds: an integer key ("..._ms")
   else if constexpr (std::is_floating_point_v<T>)
     return KeyType::kNumber;
   else

@@ -20,20 +20,24 @@ std::vector<std::string> SplitKey(const std::string& key) {
 
 }  // namespace
 
-LabConfig::LabConfig() : root_(YAML::NodeType::Map), source_("<defaults>") {}
+LabConfig::LabConfig() : root_(std::in_place, YAML::NodeType::Map), source_("<defaults>") {}
 
 LabConfig::LabConfig(const LabConfig& other)
-    : root_(YAML::Clone(other.root_)), source_(other.source_), folder_(other.folder_) {}
+    : root_(YAML::Clone(*other.root_)), source_(other.source_), folder_(other.folder_) {}
 
+// The moves rebind through std::optional (a Node's copy constructor rebinds and cannot fail)
+// rather than Node::reset, which checks that both nodes are valid and may throw.
 LabConfig::LabConfig(LabConfig&& other) noexcept
-    : root_(other.root_), source_(std::move(other.source_)), folder_(std::move(other.folder_)) {
-  other.root_.reset(YAML::Node(YAML::NodeType::Map));  // no alias left behind
+    : root_(std::move(other.root_)),
+      source_(std::move(other.source_)),
+      folder_(std::move(other.folder_)) {
+  other.root_.emplace(YAML::NodeType::Map);  // no alias left behind
 }
 
 LabConfig& LabConfig::operator=(const LabConfig& other) {
   if (this == &other) return *this;
-  // reset() rebinds; Node's operator= would write other's tree into the one root_ shares.
-  root_.reset(YAML::Clone(other.root_));
+  // emplace() rebinds; Node's operator= would write other's tree into the one root_ shares.
+  root_.emplace(YAML::Clone(*other.root_));
   source_ = other.source_;
   folder_ = other.folder_;
   return *this;
@@ -41,8 +45,8 @@ LabConfig& LabConfig::operator=(const LabConfig& other) {
 
 LabConfig& LabConfig::operator=(LabConfig&& other) noexcept {
   if (this == &other) return *this;
-  root_.reset(other.root_);
-  other.root_.reset(YAML::Node(YAML::NodeType::Map));
+  root_.emplace(*other.root_);
+  other.root_.emplace(YAML::NodeType::Map);
   source_ = std::move(other.source_);
   folder_ = std::move(other.folder_);
   return *this;
@@ -69,7 +73,7 @@ LabConfig LabConfig::FromString(const std::string& text, const std::string& sour
       throw ConfigError(source + ":" + std::to_string(root.Mark().line + 1) +
                         ": the lab configuration must be a map of keys");
     }
-    config.root_.reset(root);
+    config.root_.emplace(root);
   } catch (const YAML::Exception& e) {
     throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) + ":" +
                       std::to_string(e.mark.column + 1) + ": " + e.msg);
@@ -80,7 +84,7 @@ LabConfig LabConfig::FromString(const std::string& text, const std::string& sour
 YAML::Node LabConfig::Find(const std::string& key) const {
   // YAML::Node assignment rebinds in yaml-cpp only through reset(); walk with copies.
   YAML::Node node;
-  node.reset(root_);
+  node.reset(*root_);
   for (const auto& part : SplitKey(key)) {
     if (!node.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
     YAML::Node child = node[part];
@@ -105,7 +109,7 @@ void LabConfig::Set(const std::string& key, const std::string& value) {
     throw ConfigError("--set " + key + "=" + value + ": " + e.msg);
   }
   YAML::Node node;
-  node.reset(root_);
+  node.reset(*root_);
   for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
     YAML::Node child = node[parts[i]];
     if (!child.IsDefined() || !child.IsMap()) {
@@ -133,7 +137,7 @@ std::string LabConfig::ResolvePath(const std::string& path) const {
 
 std::string LabConfig::Dump() const {
   YAML::Emitter out;
-  out << root_;
+  out << *root_;
   return out.c_str();
 }
 

@@ -90,7 +90,9 @@ class LabConfig {
   static std::string TypeName();
   static std::string Text(const YAML::Node& node);
 
-  YAML::Node root_;
+  // Always engaged; an optional so that a move can rebind it without Node::reset (which may
+  // throw) and without Node's operator= (which writes into the shared tree).
+  std::optional<YAML::Node> root_;
   std::string source_;
   std::string folder_;
 };
