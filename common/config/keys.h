@@ -70,8 +70,9 @@ class Keys {
   // Binds a key to a field: Read() sets the field from the flag when it is given, else from
   // the key when it is set, else leaves the field's value (the default). A bool flag is a
   // switch that can only turn the field on. T: bool, int, unsigned, double, float,
-  // std::string, std::size_t, std::chrono::milliseconds (an integer key, "..._ms"),
-  // std::vector<double> (a list; its flag a string of numbers separated by spaces or commas).
+  // std::string, std::size_t, std::chrono::milliseconds (an integer key, "..._ms"), and the
+  // lists std::vector<double>, std::vector<int> and std::vector<bool> (a YAML list; the flag
+  // a string of numbers separated by spaces or commas, 0 or 1 for a bool).
   template <class T>
   Keys& Bind(const std::string& key, T* field, const std::string& help,
              const std::string& flag = "");
