@@ -7,7 +7,15 @@ namespace igms::net {
 Client::Client(asio::io_context& io, ClientOptions options)
     : impl_(std::make_shared<Impl>(io, std::move(options))) {}
 
-Client::~Client() { Stop(); }
+Client::~Client() {
+  // Stop locks and posts; should either fail, the client goes without its orderly stop
+  // rather than the process with it.
+  try {
+    Stop();
+  } catch (const std::exception& e) {
+    spdlog::error("{}: stopping the client: {}", impl_->options.name, e.what());
+  }
+}
 
 void Client::Start() {
   const TlsOptions tls = impl_->options.tls ? *impl_->options.tls : TlsOptions::ForProcess();

@@ -123,7 +123,7 @@ class Client {
   template <class Msg, class Req>
   std::uint64_t Subscribe(const std::string& method, const Req& req,
                           std::function<void(const Msg&)> on_message,
-                          std::function<void(const Status&)> on_error = nullptr) {
+                          const std::function<void(const Status&)>& on_error = nullptr) {
     const std::uint64_t id = NextId();
     SendSubscribe(
         id, FrameFor(igms::Envelope::SUBSCRIBE, id, method, req),
@@ -131,7 +131,7 @@ class Client {
           Msg m;
           if (m.ParseFromArray(payload.data(), static_cast<int>(payload.size()))) on_message(m);
         },
-        std::move(on_error));
+        on_error);
     return id;
   }
 

@@ -21,7 +21,15 @@ Server::Server(asio::io_context& io, ServerOptions options)
             });
 }
 
-Server::~Server() { Stop(); }
+Server::~Server() {
+  // Stop locks, posts and waits; should either fail, the server goes without its orderly
+  // stop rather than the process with it.
+  try {
+    Stop();
+  } catch (const std::exception& e) {
+    spdlog::error("{}: stopping the server: {}", options_.name, e.what());
+  }
+}
 
 void Server::AddMethod(const std::string& method, MethodFn fn) {
   impl_->methods[method] = std::move(fn);

@@ -125,7 +125,7 @@ struct Server::Impl : std::enable_shared_from_this<Server::Impl> {
               if (announce) {
                 spdlog::warn("{}: {} failed {} times in a row: refusing its connections for {} s",
                              self->options.name, remote.address().to_string(), failures,
-                             self->options.failures.block.count() / 1000.0);
+                             std::chrono::duration<double>(self->options.failures.block).count());
               }
               socket.close(e);
               self->Accept();
