@@ -34,13 +34,12 @@ int main(int argc, char** argv) {
         extra, igms::object::ObjectKeys(&options), &exit_code);
     if (!process) return exit_code;
 
-    const std::string calibration_file = process->config.Get<std::string>("lab.calibration", "");
+    const std::string& calibration_file = process->lab.calibration;
     if (calibration_file.empty()) {
       spdlog::critical("lab.calibration: the object server needs the cameras' calibration");
       return igms::kExitUsage;
     }
-    const auto calibration =
-        igms::calibration::LoadCalibration(process->config.ResolvePath(calibration_file));
+    const auto calibration = igms::calibration::LoadCalibration(calibration_file);
     if (!calibration.ok()) {
       spdlog::critical("lab.calibration: {}", calibration.error());
       return igms::kExitUsage;
@@ -48,7 +47,7 @@ int main(int argc, char** argv) {
     options.ranger = igms::object::RangerInWorld(*calibration);
     options.platform = calibration->platform;
     options.ranger_mount = calibration->ranger;
-    options.calibration_file = process->config.ResolvePath(calibration_file);
+    options.calibration_file = calibration_file;
     options.calibration_sha256 = igms::calibration::CalibrationHash(*calibration);
     if (std::string problem; !options.Check(&problem)) {
       spdlog::critical("{}: {}", process->Key(""), problem);
@@ -64,7 +63,7 @@ int main(int argc, char** argv) {
     video_options.name = process->name;
     video_options.host = video_host;
     video_options.port = video_port;
-    video_options.token = process->Token();
+    video_options.token = process->lab.token;
     video_options.max_frame_bytes = 64u << 20;  // a raw colour pair is about 1.5 MB
     // Locates fail at once while the video server is down, so a restarted one is retried
     // within a second rather than the client's default 5 s.

@@ -37,7 +37,7 @@ Result<std::optional<PlatformFollowOptions>> ConfiguredPlatformFollow(
   PlatformFollowOptions options;
   options.process = name;
   options.client.name = process.name;
-  options.client.token = process.Token();
+  options.client.token = process.lab.token;
   options.client.host = process.HostOf(name);
   try {
     options.client.port = process.PortOf(name);
@@ -45,10 +45,8 @@ Result<std::optional<PlatformFollowOptions>> ConfiguredPlatformFollow(
     return ErrorMessage{process.Key("platform") + " names '" + name + "': " + e.what()};
   }
   // A model mismatch is better found at start than as a wrong pose later.
-  const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
-  if (!calibration_file.empty()) {
-    const auto calibration =
-        calibration::LoadCalibration(process.config.ResolvePath(calibration_file));
+  if (!process.lab.calibration.empty()) {
+    const auto calibration = calibration::LoadCalibration(process.lab.calibration);
     if (!calibration.ok()) return ErrorMessage{"lab.calibration: " + calibration.error()};
     options.model = calibration->platform;
   }

@@ -113,9 +113,8 @@ VideoServiceOptions ConfiguredServiceOptions(const config::ProcessOptions& proce
   // The calibration's identity for GetStatus. The sim backend and the platform pose read
   // the file themselves and refuse a bad one; the other backends do not need it, so a file
   // that does not load only goes unreported.
-  const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
-  if (!calibration_file.empty()) {
-    const std::string path = process.config.ResolvePath(calibration_file);
+  if (!process.lab.calibration.empty()) {
+    const std::string& path = process.lab.calibration;
     if (const auto calibration = calibration::LoadCalibration(path); calibration.ok()) {
       options.calibration_file = path;
       options.calibration_sha256 = calibration::CalibrationHash(*calibration);

@@ -113,14 +113,14 @@ Keys& Keys::BindPath(const std::string& key, std::string* field, const std::stri
                      const std::string& flag, KeyType type) {
   KeySpec& spec = Declare(key, type, *field, help);
   spec.flag = flag;
-  readers_.push_back([spec = spec, field](const ProcessOptions& process) {
-    if (!spec.flag.empty() && process.flags.count(spec.flag)) {
-      *field = process.flags[spec.flag].as<std::string>();
+  readers_.push_back([spec = spec, field](const detail::KeySource& source) {
+    if (source.flags && !spec.flag.empty() && source.flags->count(spec.flag)) {
+      *field = (*source.flags)[spec.flag].as<std::string>();
       return;
     }
-    const std::string full = FullKey(process.name, spec.key);
-    if (process.config.Has(full)) {
-      *field = process.config.ResolvePath(process.config.Get<std::string>(full));
+    const std::string full = FullKey(source.name, spec.key);
+    if (source.config.Has(full)) {
+      *field = source.config.ResolvePath(source.config.Get<std::string>(full));
     }
   });
   return *this;
@@ -133,8 +133,20 @@ Keys& Keys::Merge(const Keys& other) {
   return *this;
 }
 
+Keys Keys::Declarations() const {
+  Keys declared;
+  declared.specs_ = specs_;
+  return declared;
+}
+
 void Keys::Read(const ProcessOptions& process) const {
-  for (const auto& read : readers_) read(process);
+  const detail::KeySource source{process.config, process.name, &process.flags};
+  for (const auto& read : readers_) read(source);
+}
+
+void Keys::Read(const LabConfig& config, const std::string& name) const {
+  const detail::KeySource source{config, name};
+  for (const auto& read : readers_) read(source);
 }
 
 const KeySpec* Keys::Find(const std::string& key) const {
@@ -144,34 +156,72 @@ const KeySpec* Keys::Find(const std::string& key) const {
   return nullptr;
 }
 
+namespace {
+
+const std::vector<std::string>& LogLevels() {
+  static const std::vector<std::string> levels = {"trace", "debug",    "info", "warn",
+                                                  "error", "critical", "off"};
+  return levels;
+}
+
+Keys LabKeys(LabOptions* lab) {
+  Keys k;
+  k.Bind("lab.token", &lab->token,
+         "a shared secret every client must present; empty: none (a closed lab network)");
+  k.BindChoice("lab.tls", &lab->tls, {"off", "on"},
+               "on: TLS 1.3 with mutual certificates on every connection (docs/security.md)");
+  // Not a kPath: the folder need not exist (tls off, or systemd's credentials instead).
+  k.BindPath("lab.certs", &lab->certs,
+             "the folder of ca.crt, NAME.crt, NAME.key (empty: $CREDENTIALS_DIRECTORY, else certs "
+             "beside the file)",
+             "", KeyType::kString);
+  k.Add("lab.permissions", KeyType::kMap, "",
+        "method (or Service.*) to the certificate names that may call it, over the built-in "
+        "table (docs/security.md)");
+  k.BindPath("lab.calibration", &lab->calibration,
+             "the cameras' calibration file (docs/calibration.md)");
+  // Bound as written ("~/" is the home, not a folder beside the file), declared as the file
+  // it names.
+  k.Bind("lab.database", &lab->database, "the geometric database");
+  k.Add("lab.database", KeyType::kOutputPath, "", "the geometric database");
+  k.BindChoice("lab.log_level", &lab->log_level, LogLevels(),
+               "every process's log level, under its own log_level and --log-level");
+  return k;
+}
+
+Keys EntryKeys(ProcessEntry* entry) {
+  Keys k;
+  k.Bind("program", &entry->program, "the program that runs this process");
+  k.Bind("host", &entry->host, "where the others find this process");
+  k.Bind("port", &entry->port, "the port it listens on (0: any free port)");
+  k.Bind("bind", &entry->bind,
+         "the address it listens on; default: its host's (where the others reach it)");
+  k.BindChoice("log_level", &entry->log_level, LogLevels(),
+               "this process's log level, over lab.log_level", "log-level");
+  return k;
+}
+
+}  // namespace
+
+Keys CommonKeys(LabOptions* lab, ProcessEntry* entry) {
+  Keys k = LabKeys(lab);
+  k.Merge(EntryKeys(entry));
+  return k;
+}
+
 const Keys& CommonKeys() {
   static const Keys keys = [] {
-    Keys k;
-    k.Add("lab.token", KeyType::kString, "",
-          "a shared secret every client must present; empty: none (a closed lab network)");
-    k.Choice("lab.tls", {"off", "on"}, "off",
-             "on: TLS 1.3 with mutual certificates on every connection (docs/security.md)");
-    k.Add("lab.certs", KeyType::kString, "",
-          "the folder of ca.crt, NAME.crt, NAME.key (empty: $CREDENTIALS_DIRECTORY, else certs "
-          "beside the file)");
-    k.Add("lab.permissions", KeyType::kMap, "",
-          "method (or Service.*) to the certificate names that may call it, over the built-in "
-          "table (docs/security.md)");
-    k.Path("lab.calibration", "the cameras' calibration file (docs/calibration.md)");
-    k.Add("lab.database", KeyType::kOutputPath, "", "the geometric database");
-    const std::vector<std::string> levels = {"trace", "debug",    "info", "warn",
-                                             "error", "critical", "off"};
-    k.Choice("lab.log_level", levels, "info",
-             "every process's log level, under its own log_level and --log-level");
-    k.Add("program", KeyType::kString, "", "the program that runs this process");
-    k.Add("host", KeyType::kString, "127.0.0.1", "where the others find this process");
-    k.Add("port", KeyType::kInt, "", "the port it listens on (0: any free port)");
-    k.Add("bind", KeyType::kString, "",
-          "the address it listens on; default: its host's (where the others reach it)");
-    k.Choice("log_level", levels, "", "this process's log level, over lab.log_level");
-    return k;
+    LabOptions lab;
+    ProcessEntry entry;
+    return CommonKeys(&lab, &entry).Declarations();
   }();
   return keys;
+}
+
+LabOptions LabOptionsOf(const LabConfig& config) {
+  LabOptions lab;
+  LabKeys(&lab).Read(config);
+  return lab;
 }
 
 std::string ClosestKey(const std::string& key, const std::vector<std::string>& declared) {
@@ -263,9 +313,9 @@ std::vector<KeyProblem> BadValues(const LabConfig& config, const std::string& na
 namespace detail {
 
 template <class T>
-void ReadBound(const ProcessOptions& process, const KeySpec& spec, T* field) {
-  const auto& flags = process.flags;
-  if (!spec.flag.empty() && flags.count(spec.flag)) {
+void ReadBound(const KeySource& source, const KeySpec& spec, T* field) {
+  if (source.flags && !spec.flag.empty() && source.flags->count(spec.flag)) {
+    const auto& flags = *source.flags;
     if constexpr (IsVector<T>::value) {
       // "1 2 3" or "1,2,3" on the command line.
       const auto& value = flags[spec.flag].value();
@@ -286,6 +336,9 @@ void ReadBound(const ProcessOptions& process, const KeySpec& spec, T* field) {
     } else if constexpr (std::is_same_v<T, std::chrono::milliseconds>) {
       *field = std::chrono::milliseconds(flags[spec.flag].as<int>());
       return;
+    } else if constexpr (IsOptional<T>::value) {
+      *field = flags[spec.flag].as<typename T::value_type>();
+      return;
     } else if constexpr (std::is_same_v<T, bool>) {
       // A switch: on when given; off leaves the file its say.
       if (flags[spec.flag].as<bool>()) {
@@ -297,28 +350,30 @@ void ReadBound(const ProcessOptions& process, const KeySpec& spec, T* field) {
       return;
     }
   }
-  const std::string key = FullKey(process.name, spec.key);
+  const std::string key = FullKey(source.name, spec.key);
   if constexpr (std::is_same_v<T, std::chrono::milliseconds>) {
-    *field = std::chrono::milliseconds(process.config.Get<long long>(key, field->count()));
+    *field = std::chrono::milliseconds(source.config.Get<long long>(key, field->count()));
+  } else if constexpr (IsOptional<T>::value) {
+    if (source.config.Has(key)) *field = source.config.Get<typename T::value_type>(key);
   } else {
-    *field = process.config.Get<T>(key, *field);
+    *field = source.config.Get<T>(key, *field);
   }
 }
 
-template void ReadBound<bool>(const ProcessOptions&, const KeySpec&, bool*);
-template void ReadBound<int>(const ProcessOptions&, const KeySpec&, int*);
-template void ReadBound<unsigned>(const ProcessOptions&, const KeySpec&, unsigned*);
-template void ReadBound<unsigned long>(const ProcessOptions&, const KeySpec&, unsigned long*);
-template void ReadBound<double>(const ProcessOptions&, const KeySpec&, double*);
-template void ReadBound<float>(const ProcessOptions&, const KeySpec&, float*);
-template void ReadBound<std::string>(const ProcessOptions&, const KeySpec&, std::string*);
-template void ReadBound<std::chrono::milliseconds>(const ProcessOptions&, const KeySpec&,
+template void ReadBound<bool>(const KeySource&, const KeySpec&, bool*);
+template void ReadBound<int>(const KeySource&, const KeySpec&, int*);
+template void ReadBound<unsigned>(const KeySource&, const KeySpec&, unsigned*);
+template void ReadBound<unsigned long>(const KeySource&, const KeySpec&, unsigned long*);
+template void ReadBound<double>(const KeySource&, const KeySpec&, double*);
+template void ReadBound<float>(const KeySource&, const KeySpec&, float*);
+template void ReadBound<std::string>(const KeySource&, const KeySpec&, std::string*);
+template void ReadBound<std::chrono::milliseconds>(const KeySource&, const KeySpec&,
                                                    std::chrono::milliseconds*);
-template void ReadBound<std::vector<double>>(const ProcessOptions&, const KeySpec&,
+template void ReadBound<std::vector<double>>(const KeySource&, const KeySpec&,
                                              std::vector<double>*);
-template void ReadBound<std::vector<int>>(const ProcessOptions&, const KeySpec&, std::vector<int>*);
-template void ReadBound<std::vector<bool>>(const ProcessOptions&, const KeySpec&,
-                                           std::vector<bool>*);
+template void ReadBound<std::vector<int>>(const KeySource&, const KeySpec&, std::vector<int>*);
+template void ReadBound<std::vector<bool>>(const KeySource&, const KeySpec&, std::vector<bool>*);
+template void ReadBound<std::optional<int>>(const KeySource&, const KeySpec&, std::optional<int>*);
 
 }  // namespace detail
 

@@ -18,10 +18,15 @@
 
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <type_traits>
 #include <vector>
+
+namespace boost::program_options {
+class variables_map;
+}  // namespace boost::program_options
 
 namespace igms::config {
 
@@ -55,6 +60,16 @@ struct KeyProblem {
   std::string Text() const { return where.empty() ? message : where + ": " + message; }
 };
 
+namespace detail {
+// Where bound keys are read from: a lab file, the process's section in it, and its flags
+// (none for a tool that reads the file without being one of its processes).
+struct KeySource {
+  const LabConfig& config;
+  const std::string& name;
+  const boost::program_options::variables_map* flags = nullptr;
+};
+}  // namespace detail
+
 class Keys {
  public:
   // A key the component reads with its own code.
@@ -70,9 +85,10 @@ class Keys {
   // Binds a key to a field: Read() sets the field from the flag when it is given, else from
   // the key when it is set, else leaves the field's value (the default). A bool flag is a
   // switch that can only turn the field on. T: bool, int, unsigned, double, float,
-  // std::string, std::size_t, std::chrono::milliseconds (an integer key, "..._ms"), and the
+  // std::string, std::size_t, std::chrono::milliseconds (an integer key, "..._ms"), the
   // lists std::vector<double>, std::vector<int> and std::vector<bool> (a YAML list; the flag
-  // a string of numbers separated by spaces or commas, 0 or 1 for a bool).
+  // a string of numbers separated by spaces or commas, 0 or 1 for a bool), and
+  // std::optional<int> (empty when neither the flag nor the key is given).
   template <class T>
   Keys& Bind(const std::string& key, T* field, const std::string& help,
              const std::string& flag = "");
@@ -87,10 +103,15 @@ class Keys {
                  const std::string& flag = "", KeyType type = KeyType::kPath);
   // Another component's keys (a daemon's own keys after the ones every daemon shares).
   Keys& Merge(const Keys& other);
+  // The declarations alone, bound to nothing: Read() on them sets no field.
+  Keys Declarations() const;
 
   // Fills every bound field (flags over the file over the defaults). Throws ConfigError,
   // naming file, line and key, for a value of the wrong type.
   void Read(const ProcessOptions& process) const;
+  // The same from a lab file alone, without flags, for a tool that reads the file without
+  // being one of its processes (`name`: the section its own keys are read from).
+  void Read(const LabConfig& config, const std::string& name = "") const;
 
   const KeySpec* Find(const std::string& key) const;
   const std::vector<KeySpec>& specs() const { return specs_; }
@@ -100,7 +121,7 @@ class Keys {
                    const std::string& help);
 
   std::vector<KeySpec> specs_;
-  std::vector<std::function<void(const ProcessOptions&)>> readers_;
+  std::vector<std::function<void(const detail::KeySource&)>> readers_;
 };
 
 namespace detail {
@@ -109,8 +130,14 @@ struct IsVector : std::false_type {};
 template <class T>
 struct IsVector<std::vector<T>> : std::true_type {};
 template <class T>
+struct IsOptional : std::false_type {};
+template <class T>
+struct IsOptional<std::optional<T>> : std::true_type {};
+template <class T>
 KeyType TypeOf() {
-  if constexpr (IsVector<T>::value)
+  if constexpr (IsOptional<T>::value)
+    return TypeOf<typename T::value_type>();
+  else if constexpr (IsVector<T>::value)
     return KeyType::kList;
   else if constexpr (std::is_same_v<T, bool>)
     return KeyType::kBool;
@@ -123,7 +150,9 @@ KeyType TypeOf() {
 }
 template <class T>
 std::string DefaultText(const T& value) {
-  if constexpr (IsVector<T>::value) {
+  if constexpr (IsOptional<T>::value) {
+    return value ? DefaultText(*value) : "";
+  } else if constexpr (IsVector<T>::value) {
     if (value.empty()) return "";
     std::ostringstream out;
     out << "[";
@@ -144,7 +173,7 @@ std::string DefaultText(const T& value) {
 }
 // Defined in keys.cpp for the types Bind takes.
 template <class T>
-void ReadBound(const ProcessOptions& process, const KeySpec& spec, T* field);
+void ReadBound(const KeySource& source, const KeySpec& spec, T* field);
 }  // namespace detail
 
 template <class T>
@@ -152,15 +181,42 @@ Keys& Keys::Bind(const std::string& key, T* field, const std::string& help,
                  const std::string& flag) {
   KeySpec& spec = Declare(key, detail::TypeOf<T>(), detail::DefaultText(*field), help);
   spec.flag = flag;
-  readers_.push_back([spec = spec, field](const ProcessOptions& process) {
-    detail::ReadBound(process, spec, field);
+  readers_.push_back([spec = spec, field](const detail::KeySource& source) {
+    detail::ReadBound(source, spec, field);
   });
   return *this;
 }
 
-// lab.token, lab.calibration, lab.database, lab.log_level, and the keys every process has:
-// program, host, port, bind, log_level.
+// The keys in `lab` every process shares. ParseProcessOptions reads them into
+// ProcessOptions::lab; a tool that reads a lab file without running as one of its processes
+// calls LabOptionsOf.
+struct LabOptions {
+  std::string token;        // every client presents it; empty: none
+  std::string tls = "off";  // on or off (SecurityOf)
+  std::string certs;        // absolute; empty: $CREDENTIALS_DIRECTORY, else certs beside the file
+  std::string calibration;  // the cameras' calibration file, absolute; empty: none given
+  // As written: "~/" and the operator's data folder when empty are ResolveDatabasePath's
+  // (control/database), which reads it.
+  std::string database;
+  std::string log_level = "info";  // under each process's own
+};
+
+// The keys every process has in its own section, processes.NAME. ParseProcessOptions reads
+// them into ProcessOptions::entry (after --host, --port, --bind and --log-level).
+struct ProcessEntry {
+  std::string program;             // the program that runs it (igms run, igms config check)
+  std::string host = "127.0.0.1";  // where the others find it
+  std::optional<int> port;         // empty: the program's own default port
+  std::string bind;                // the address it listens on; empty: its host
+  std::string log_level;           // empty: lab.log_level
+};
+
+// The keys above, bound to `lab` and `entry`, and lab.permissions (read by SecurityOf).
+Keys CommonKeys(LabOptions* lab, ProcessEntry* entry);
+// The same declarations bound to nothing (for checking a file and for help).
 const Keys& CommonKeys();
+// `lab`'s shared keys of a lab file; throws ConfigError for a value of the wrong type.
+LabOptions LabOptionsOf(const LabConfig& config);
 
 // Every key in `lab` and in processes.NAME that `keys` does not declare, with file and line
 // and, when one is close, the declared key that was likely meant.

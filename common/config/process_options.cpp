@@ -16,7 +16,7 @@ namespace igms::config {
 namespace po = boost::program_options;
 
 std::uint16_t ProcessOptions::Port(std::uint16_t fallback) const {
-  const int port = Get<int>("port", fallback);
+  const int port = entry.port.value_or(fallback);
   if (port < 0 || port > 65535) {
     throw config.Error(Key("port"), config.Find(Key("port")), "must be a port number (0-65535)");
   }
@@ -24,7 +24,7 @@ std::uint16_t ProcessOptions::Port(std::uint16_t fallback) const {
 }
 
 std::string ProcessOptions::HostOf(const std::string& process) const {
-  return config.Get<std::string>("processes." + process + ".host", "127.0.0.1");
+  return config.Get<std::string>("processes." + process + ".host", ProcessEntry().host);
 }
 
 std::uint16_t ProcessOptions::PortOf(const std::string& process) const {
@@ -35,18 +35,21 @@ std::uint16_t ProcessOptions::PortOf(const std::string& process) const {
 }
 
 LabSecurity SecurityOf(const LabConfig& config, const std::string& name) {
+  return SecurityOf(LabOptionsOf(config), config, name);
+}
+
+LabSecurity SecurityOf(const LabOptions& lab, const LabConfig& config, const std::string& name) {
   LabSecurity s;
   s.name = name;
-  const std::string tls = config.Get<std::string>("lab.tls", "off");
+  const std::string& tls = lab.tls;
   if (tls == "on" || tls == "true") {
     s.tls = true;
   } else if (tls != "off" && tls != "false") {
     throw config.Error("lab.tls", config.Find("lab.tls"), "must be on or off");
   }
-  const std::string dir = config.Get<std::string>("lab.certs", "");
   const char* credentials = std::getenv("CREDENTIALS_DIRECTORY");  // systemd LoadCredential=
-  if (!dir.empty()) {
-    s.certs_dir = config.ResolvePath(dir);
+  if (!lab.certs.empty()) {
+    s.certs_dir = lab.certs;
   } else if (credentials && *credentials) {
     s.certs_dir = credentials;
   } else {
@@ -166,7 +169,8 @@ std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
     *exit_code = kExitUsage;
     return std::nullopt;
   }
-  Keys keys = CommonKeys();
+  const Keys common_keys = CommonKeys(&out.lab, &out.entry);
+  Keys keys = common_keys;
   keys.Merge(component_keys);
   if (out.flags.count("help")) {
     std::cout << summary << "\n\n" << all << "\n" << KeysHelp(keys) << "\n";
@@ -223,19 +227,15 @@ std::optional<ProcessOptions> ParseProcessOptions(int argc, char** argv,
       }
     }
     if (!problems.empty()) return fail(problems);
-    if (out.flags.count("log-level")) {
-      out.log_level = out.flags["log-level"].as<std::string>();
-    } else {
-      out.log_level =
-          out.Get<std::string>("log_level", out.config.Get<std::string>("lab.log_level", "info"));
-    }
+    common_keys.Read(out);
+    out.log_level = out.entry.log_level.empty() ? out.lab.log_level : out.entry.log_level;
     // A check prints its result, not the process's chatter.
     igms::log::Init(out.name, out.check_only ? "warn" : out.log_level);
     for (const auto& p : unknown) {
       if (!out.check_only) spdlog::warn("{} (going on: --allow-unknown-keys)", p.Text());
     }
-    keys.Read(out);
-    SetProcessSecurity(SecurityOf(out.config, out.name));
+    component_keys.Read(out);
+    SetProcessSecurity(SecurityOf(out.lab, out.config, out.name));
   } catch (const ConfigError& e) {
     std::cerr << program << ": " << e.what() << "\n";
     *exit_code = kExitUsage;

@@ -30,7 +30,9 @@ namespace igms::config {
 struct ProcessOptions {
   LabConfig config;
   std::string name;       // the process's entry under "processes"
-  std::string log_level;  // already applied by Parse
+  LabOptions lab;         // lab.token, lab.calibration, ...: the keys every process shares
+  ProcessEntry entry;     // processes.NAME.host, .port, ...: the keys every process has
+  std::string log_level;  // already applied by Parse: entry's, else lab's
   boost::program_options::variables_map flags;
   bool check_only = false;  // --check-config: validate, report, and do not start
 
@@ -39,10 +41,9 @@ struct ProcessOptions {
   T Get(const std::string& sub, const T& fallback) const {
     return config.Get<T>(Key(sub), fallback);
   }
-  // Where this process listens (bind address and port).
-  std::string BindAddress() const { return Get<std::string>("bind", "127.0.0.1"); }
+  // The port this process listens on: entry.port, else `fallback`. Throws ConfigError for
+  // one outside 0-65535.
   std::uint16_t Port(std::uint16_t fallback) const;
-  std::string Token() const { return config.Get<std::string>("lab.token", ""); }
   // Host and port of another process of the lab, for clients.
   std::string HostOf(const std::string& process) const;
   std::uint16_t PortOf(const std::string& process) const;
@@ -56,7 +57,10 @@ struct LabSecurity {
   // lab.permissions: method or "Service.*" pattern -> certificate names.
   std::vector<std::pair<std::string, std::vector<std::string>>> permissions;
 };
-// Reads lab.tls, lab.certs and lab.permissions; throws ConfigError for a bad value.
+// From lab.tls, lab.certs and lab.permissions (of `config`, whose lab keys `lab` holds);
+// throws ConfigError for a bad value.
+LabSecurity SecurityOf(const LabOptions& lab, const LabConfig& config, const std::string& name);
+// The same for a lab file alone.
 LabSecurity SecurityOf(const LabConfig& config, const std::string& name);
 // The process-wide settings every server and client of common/net takes unless told
 // otherwise: ParseProcessOptions sets them, so no component has to pass them on.
@@ -68,8 +72,9 @@ void SetProcessSecurity(LabSecurity security);
 void TuneAllocator();
 
 // Parses the shared flags plus `extra`, loads the configuration, applies overrides, refuses
-// keys that neither CommonKeys() nor `keys` declare, fills the fields `keys` binds and starts
-// logging (level: --log-level, else processes.NAME.log_level, else lab.log_level, else info).
+// keys that neither CommonKeys() nor `keys` declare, fills `lab`, `entry` and the fields
+// `keys` binds and starts logging (level: --log-level, else processes.NAME.log_level, else
+// lab.log_level, else info).
 // Returns nullopt after printing help or the version (exit 0) or an error (exit 2):
 // *exit_code says which.
 std::optional<ProcessOptions> ParseProcessOptions(

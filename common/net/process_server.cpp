@@ -42,9 +42,8 @@ namespace {
 // (a server whose host is another workstation's address and that listened on loopback could
 // not be reached). A host name (compose's service names, localhost) is resolved here.
 std::string ListenAddress(const config::ProcessOptions& process) {
-  const std::string bind = process.Get<std::string>("bind", "");
-  if (!bind.empty()) return bind;
-  const std::string host = process.Get<std::string>("host", "127.0.0.1");
+  if (!process.entry.bind.empty()) return process.entry.bind;
+  const std::string& host = process.entry.host;
   addrinfo hints{};
   hints.ai_family = AF_UNSPEC;
   hints.ai_socktype = SOCK_STREAM;
@@ -73,7 +72,7 @@ ServerOptions ServerOptionsFor(const config::ProcessOptions& process, std::uint1
   options.name = process.name;
   options.bind_address = ListenAddress(process);
   options.port = process.Port(default_port);
-  options.token = process.Token();
+  options.token = process.lab.token;
   BoundServerKeys(&options).Read(process);
   return options;
 }

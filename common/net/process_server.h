@@ -18,8 +18,8 @@ namespace igms::net {
 // The keys ServerOptionsFor reads besides the common ones (config::CommonKeys): max_frame_bytes.
 const config::Keys& ServerKeys();
 
-// name, bind address, port (default_port when the configuration has none), token and
-// max_frame_bytes from processes.NAME and lab.token.
+// name, bind address, port (default_port when the configuration has none) and token from
+// what ParseProcessOptions read (process.entry, process.lab), and max_frame_bytes.
 ServerOptions ServerOptionsFor(const config::ProcessOptions& process, std::uint16_t default_port);
 
 // When the process was given --port-file PATH, writes the port there atomically (a reader

@@ -251,8 +251,9 @@ std::optional<net::ClientOptions> ConnectionOptions(const std::string& command,
   try {
     if (vm.count("config")) {
       const auto config = config::LabConfig::Load(vm["config"].as<std::string>());
-      co.token = config.Get<std::string>("lab.token", "");
-      const config::LabSecurity security = config::SecurityOf(config, as);
+      const config::LabOptions lab = config::LabOptionsOf(config);
+      co.token = lab.token;
+      const config::LabSecurity security = config::SecurityOf(lab, config, as);
       if (security.tls && !vm.count("certs"))
         co.tls = net::TlsOptions::FromFolder(security.certs_dir, as);
       if (!vm.count("to")) {

@@ -50,7 +50,7 @@ Result<ControlAppOptions> MakeControlAppOptions(const config::ProcessOptions& pr
   options.call_timeout = std::chrono::milliseconds(c.call_timeout_ms);
   options.grab_timeout = std::chrono::milliseconds(c.grab_timeout_ms);
   options.locate_timeout = std::chrono::milliseconds(c.locate_timeout_ms);
-  options.token = process.Token();
+  options.token = process.lab.token;
   options.client_name = process.name;
   for (Peer peer : kAllPeers) {
     std::string name = c.peer_names[static_cast<int>(peer)];

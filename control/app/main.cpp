@@ -158,12 +158,10 @@ igms::Result<Startup> Prepare(const igms::config::ProcessOptions& process,
   using igms::ErrorMessage;
   Startup s;
   const auto& f = process.flags;
-  const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
-  if (calibration_file.empty()) {
+  if (process.lab.calibration.empty()) {
     return ErrorMessage{"lab.calibration: the control client needs the cameras' calibration"};
   }
-  auto calibration =
-      igms::calibration::LoadCalibration(process.config.ResolvePath(calibration_file));
+  auto calibration = igms::calibration::LoadCalibration(process.lab.calibration);
   if (!calibration.ok()) return ErrorMessage{"lab.calibration: " + calibration.error()};
   s.calibration = std::move(*calibration);
   auto options = igms::control::MakeControlAppOptions(process, config);

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "common/config/keys.h"
+
 namespace igms::control {
 
 namespace fs = std::filesystem;
@@ -41,7 +43,7 @@ DatabaseResult<std::string> ResolveDatabasePath(const config::LabConfig& config,
   if (!flag.empty()) return fs::absolute(flag).lexically_normal().string();
   std::string from_file;
   try {
-    from_file = config.Get<std::string>("lab.database", "");
+    from_file = config::LabOptionsOf(config).database;
   } catch (const config::ConfigError& e) {
     return DatabaseError{DatabaseErrorCode::kStorage, e.what()};
   }

@@ -42,8 +42,7 @@ int main(int argc, char** argv) {
     }
     const auto& f = process->flags;
     if (ranger.calibration_file.empty() && !f.count("calibration")) {
-      ranger.calibration_file =
-          process->config.ResolvePath(process->config.Get<std::string>("lab.calibration", ""));
+      ranger.calibration_file = process->lab.calibration;
     }
     const std::string& platform_name = ranger.platform;
     if (f.count("follow-platform")) {
@@ -57,7 +56,7 @@ int main(int argc, char** argv) {
       ranger.platform_host = process->HostOf(platform_name);
       ranger.follow_platform_port = process->PortOf(platform_name);
     }
-    ranger.token = process->Token();
+    ranger.token = process->lab.token;
     if (process->check_only) return igms::config::CheckPassed(*process);
     boost::asio::io_context io;
     igms::devices::RangerDaemon daemon(

@@ -170,8 +170,7 @@ std::unique_ptr<igms::control::ControlApp> MakeControlApp(const LabOnLoopback& l
       static_cast<int>(argv_control.size()), argv_control.data(), "control", "bench", no_flags,
       igms::control::ControlKeys(&control_config), &exit_code);
   if (!process) return nullptr;
-  const auto calibration = igms::calibration::LoadCalibration(
-      process->config.ResolvePath(process->config.Get<std::string>("lab.calibration", "")));
+  const auto calibration = igms::calibration::LoadCalibration(process->lab.calibration);
   if (!calibration.ok()) {
     std::fprintf(stderr, "bench_reading_to_state: lab.calibration: %s\n",
                  calibration.error().c_str());

@@ -81,8 +81,7 @@ int main(int argc, char** argv) {
                                                    "control", "bench", none,
                                                    igms::control::ControlKeys(&config), &exit_code);
   if (!process) return 1;
-  const auto calibration = igms::calibration::LoadCalibration(
-      process->config.ResolvePath(process->config.Get<std::string>("lab.calibration", "")));
+  const auto calibration = igms::calibration::LoadCalibration(process->lab.calibration);
   auto options = igms::control::MakeControlAppOptions(*process, config);
   if (!calibration.ok() || !options.ok()) {
     std::fprintf(stderr, "bench_input_latency: the lab file: %s\n",

@@ -118,10 +118,8 @@ SimSceneChoice ConfiguredSimScene(const config::ProcessOptions& process) {
     choice.scene = std::move(load.scene);
     choice.origin = path;
   }
-  const std::string calibration_file = process.config.Get<std::string>("lab.calibration", "");
-  if (!calibration_file.empty()) {
-    const auto calibration =
-        calibration::LoadCalibration(process.config.ResolvePath(calibration_file));
+  if (!process.lab.calibration.empty()) {
+    const auto calibration = calibration::LoadCalibration(process.lab.calibration);
     if (!calibration.ok()) {
       choice.scene.reset();
       choice.error = "lab.calibration: " + calibration.error();

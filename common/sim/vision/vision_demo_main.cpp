@@ -85,7 +85,7 @@ int Run(int argc, char** argv) {
     options.name = "vision-demo";
     options.host = process->HostOf(name);
     options.port = process->PortOf(name);
-    options.token = process->Token();
+    options.token = process->lab.token;
     options.max_frame_bytes = 64u << 20;
     auto client = std::make_unique<igms::net::Client>(io, options);
     client->Start();

@@ -210,6 +210,43 @@ TEST(ProcessKeys, TheLogLevelIsTheFlagsThenTheProcesssThenTheLabs) {
   EXPECT_EQ(Parse("processes: {}\n", {}, none).process->log_level, "info");
 }
 
+TEST(ProcessKeys, TheSharedKeysAreReadIntoLabAndEntry) {
+  const Keys none;
+  const std::string lab =
+      "lab: {token: t0k, tls: 'off', certs: keys, calibration: cal/thesis.yaml, "
+      "database: ~/models/igms.db}\n"
+      "processes:\n  video: {program: igms-video-server, host: 10.0.0.2, bind: 0.0.0.0}\n";
+  const Parsed parsed = Parse(lab, {}, none);
+  ASSERT_TRUE(parsed.process);
+  const ProcessOptions& p = *parsed.process;
+  const auto folder = std::filesystem::temp_directory_path() / "igms_keys_parse_test";
+  EXPECT_EQ(p.lab.token, "t0k");
+  EXPECT_EQ(p.lab.tls, "off");
+  // Paths beside the lab file; the database as written ("~/" is the home's, resolved later).
+  EXPECT_EQ(p.lab.calibration, (folder / "cal/thesis.yaml").lexically_normal().string());
+  EXPECT_EQ(p.lab.certs, (folder / "keys").lexically_normal().string());
+  EXPECT_EQ(p.lab.database, "~/models/igms.db");
+  EXPECT_EQ(p.entry.program, "igms-video-server");
+  EXPECT_EQ(p.entry.host, "10.0.0.2");
+  EXPECT_EQ(p.entry.bind, "0.0.0.0");
+  // No port in the file: the program's own.
+  EXPECT_FALSE(p.entry.port.has_value());
+  EXPECT_EQ(p.Port(7301), 7301);
+  // --port is a shorthand for the key.
+  const Parsed flagged = Parse(lab, {"--port", "7400"}, none);
+  ASSERT_TRUE(flagged.process);
+  EXPECT_EQ(flagged.process->Port(7301), 7400);
+  const Parsed far = Parse("processes:\n  video: {port: 70000}\n", {}, none);
+  ASSERT_TRUE(far.process);
+  EXPECT_THROW(far.process->Port(7301), ConfigError);
+
+  // A tool that reads the file without being one of its processes reads the same keys.
+  const LabOptions alone = LabOptionsOf(LabConfig::FromString(lab, "lab.yaml"));
+  EXPECT_EQ(alone.token, "t0k");
+  EXPECT_EQ(alone.database, "~/models/igms.db");
+  EXPECT_EQ(alone.log_level, "info");
+}
+
 TEST(ProcessKeys, CheckConfigMarksTheProcessAndNeedsAFile) {
   const Keys none;
   Parsed check = Parse("processes:\n  video: {port: 1}\n", {"--check-config"}, none);

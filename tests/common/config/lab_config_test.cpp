@@ -104,16 +104,17 @@ TEST(ProcessOptions, CopiesLeaveTheOriginalAlone) {
   ProcessOptions process;
   process.name = "video";
   process.config = LabConfig::FromString(kLab, "lab.yaml");
+  const auto port = [](const ProcessOptions& p) { return p.config.Get<int>(p.Key("port")); };
   ProcessOptions copy = process;
   copy.config.Set(copy.Key("port"), "7400");
-  EXPECT_EQ(process.Port(0), 7301);
-  EXPECT_EQ(copy.Port(0), 7400);
+  EXPECT_EQ(port(process), 7301);
+  EXPECT_EQ(port(copy), 7400);
   ProcessOptions assigned = process;
   assigned = copy;
   assigned.config.Set(assigned.Key("port"), "7500");
-  EXPECT_EQ(process.Port(0), 7301);
-  EXPECT_EQ(copy.Port(0), 7400);
-  EXPECT_EQ(assigned.Port(0), 7500);
+  EXPECT_EQ(port(process), 7301);
+  EXPECT_EQ(port(copy), 7400);
+  EXPECT_EQ(port(assigned), 7500);
 }
 
 TEST(LabConfig, RelativePathsResolveAgainstTheFilesFolder) {
@@ -146,8 +147,12 @@ TEST(ProcessOptions, FlagsOverrideTheFile) {
   ASSERT_TRUE(p);
   EXPECT_EQ(rc, 0);
   EXPECT_EQ(p->Port(9), 0);
+  EXPECT_EQ(p->entry.port, 0);
+  EXPECT_EQ(p->entry.program, "igms-video-server");
   EXPECT_DOUBLE_EQ(p->Get<double>("edges.sigma", 0), 1.5);
-  EXPECT_EQ(p->Token(), "abc");
+  EXPECT_EQ(p->lab.token, "abc");
+  // Relative to the lab file's folder.
+  EXPECT_EQ(p->lab.calibration, (dir / "cal/thesis.yaml").string());
   EXPECT_THROW(p->PortOf("video"), ConfigError) << "port 0 is no address for a client";
   EXPECT_EQ(p->HostOf("sound"), "127.0.0.1");
 
