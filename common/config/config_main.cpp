@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/environment.h"
 #include "common/config/exit_codes.h"
 #include "common/config/keys.h"
 #include "common/config/lab_config.h"
@@ -124,7 +125,7 @@ int Check(const igms::config::LabConfig& config, const std::string& file) {
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  std::string file = std::getenv("IGMS_CONFIG") ? std::getenv("IGMS_CONFIG") : "";
+  std::string file = igms::EnvironmentVariable("IGMS_CONFIG").value_or("");
   std::vector<std::string> positional;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--config" && i + 1 < args.size()) {

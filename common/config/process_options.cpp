@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "common/base/environment.h"
 #include "common/config/exit_codes.h"
 #include "common/log/log.h"
 #include "common/version/version.h"
@@ -44,10 +45,11 @@ LabSecurity SecurityOf(const LabConfig& config, const std::string& name) {
     throw config.Error("lab.tls", config.Find("lab.tls"), "must be on or off");
   }
   const std::string dir = config.Get<std::string>("lab.certs", "");
-  const char* credentials = std::getenv("CREDENTIALS_DIRECTORY");  // systemd LoadCredential=
+  // systemd's LoadCredential=
+  const std::string credentials = EnvironmentVariable("CREDENTIALS_DIRECTORY").value_or("");
   if (!dir.empty()) {
     s.certs_dir = config.ResolvePath(dir);
-  } else if (credentials && *credentials) {
+  } else if (!credentials.empty()) {
     s.certs_dir = credentials;
   } else {
     s.certs_dir = config.ResolvePath("certs");

@@ -4,14 +4,14 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdlib>
-#include <cstring>
+
+#include "common/base/environment.h"
 
 namespace igms::log {
 
 bool Init(const std::string& process_name, const std::string& level) {
   auto logger = spdlog::stderr_logger_mt(process_name + "-" + std::to_string(std::rand()));
-  const char* ts = std::getenv("IGMS_LOG_TIMESTAMPS");
-  const bool timestamps = !(ts && std::strcmp(ts, "0") == 0);
+  const bool timestamps = EnvironmentVariable("IGMS_LOG_TIMESTAMPS") != "0";
   logger->set_pattern(timestamps ? "%Y-%m-%d %H:%M:%S.%e [" + process_name + "] [%l] %v"
                                  : "[" + process_name + "] [%l] %v");
   spdlog::set_default_logger(logger);
