@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -93,7 +94,8 @@ int Table(const igms::config::LabConfig& config) {
 }
 
 int Check(const igms::config::LabConfig& config, const std::string& file) {
-  ::setenv("IGMS_LOG_TIMESTAMPS", "0", 1);
+  // The checked programs' log lines are compared without their time.
+  ::setenv("IGMS_LOG_TIMESTAMPS", "0", 1);  // NOLINT(concurrency-mt-unsafe): one thread here
   bool ok = true;
   std::vector<igms::config::KeyProblem> lab =
       igms::config::UnknownKeys(config, "", igms::config::CommonKeys());
@@ -183,5 +185,8 @@ int main(int argc, char** argv) {
   } catch (const igms::config::ConfigError& e) {
     std::cerr << "igms config: " << e.what() << "\n";
     return igms::kExitUsage;
+  } catch (const std::exception& e) {  // a file that cannot be read or removed, say
+    std::cerr << "igms config: " << e.what() << "\n";
+    return igms::kExitFailure;
   }
 }
