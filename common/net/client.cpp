@@ -7,7 +7,13 @@ namespace igms::net {
 Client::Client(asio::io_context& io, ClientOptions options)
     : impl_(std::make_shared<Impl>(io, std::move(options))) {}
 
-Client::~Client() { Stop(); }
+Client::~Client() {
+  try {
+    Stop();
+  } catch (const std::exception& e) {  // a destructor must not throw: say so and go on
+    spdlog::error("{}: cannot stop the client: {}", impl_->options.name, e.what());
+  }
+}
 
 void Client::Start() {
   const TlsOptions tls = impl_->options.tls ? *impl_->options.tls : TlsOptions::ForProcess();

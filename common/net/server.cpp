@@ -17,11 +17,17 @@ Server::Server(asio::io_context& io, ServerOptions options)
               r.set_uptime_ms(std::chrono::duration_cast<std::chrono::milliseconds>(
                                   std::chrono::steady_clock::now() - impl_->started)
                                   .count());
-              Reply<igms::PingResponse>(s, id, "igms.Server.Ping")(Status::Ok(), r);
+              Reply<igms::PingResponse>(std::move(s), id, "igms.Server.Ping")(Status::Ok(), r);
             });
 }
 
-Server::~Server() { Stop(); }
+Server::~Server() {
+  try {
+    Stop();
+  } catch (const std::exception& e) {  // a destructor must not throw: say so and go on
+    spdlog::error("{}: cannot stop the server: {}", options_.name, e.what());
+  }
+}
 
 void Server::AddMethod(const std::string& method, MethodFn fn) {
   impl_->methods[method] = std::move(fn);
