@@ -96,7 +96,7 @@ Result<geometry::Matrix34> SolveNormalized(std::span<const Correspondence> point
     A.block<1, 4>(2 * i + 1, 8) = -xn.y() * Xn;
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
-  const Eigen::VectorXd sv = svd.singularValues();
+  const Eigen::VectorXd& sv = svd.singularValues();
   // One null direction is the answer; a second (near-)null one means the points do not pin P.
   if (!(sv[10] > 1e-9 * sv[0])) {
     return ErrorMessage{"the linear system is rank deficient (degenerate point configuration)"};
@@ -141,7 +141,7 @@ Result<DltResult> CalibrateDlt(std::span<const Correspondence> points, DltMethod
     sum += r * r;
     result.max = std::max(result.max, r);
   }
-  result.rms = std::sqrt(sum / result.residuals.size());
+  result.rms = std::sqrt(sum / static_cast<double>(result.residuals.size()));
   return result;
 }
 
