@@ -60,8 +60,7 @@ void RunSide(const std::shared_ptr<PairJob>& job, bool left, const EdgeOptions& 
 
 }  // namespace
 
-EdgePipeline::EdgePipeline(EdgeOptions options, int threads)
-    : options_(std::move(options)), pool_(threads) {
+EdgePipeline::EdgePipeline(EdgeOptions options, int threads) : options_(options), pool_(threads) {
   if (std::string problem; !options_.Check(&problem)) {
     throw std::invalid_argument(problem);
   }

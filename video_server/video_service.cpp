@@ -198,7 +198,7 @@ void VideoService::GetEdges(const GetEdgesRequest& request,
   const uint64_t id = request.frame_id();
   const cv::Rect region = *rect;
   lookup.record->OnEdgesReady(
-      [this, pending, encoding, side, id, region](std::shared_ptr<const StereoEdges> edges) {
+      [this, pending, encoding, side, id, region](const std::shared_ptr<const StereoEdges>& edges) {
         encode_pool_.Post([pending, edges, encoding, side, id, region] {
           if (pending->answered.exchange(true)) return;
           boost::asio::post(pending->strand, [pending] { pending->timer.cancel(); });
@@ -305,7 +305,8 @@ void VideoService::Register(net::Server& server) {
       });
   server.HandleStream<LiveRequest, LiveFrame>(
       prefix + "Live",
-      [this](const LiveRequest& request, std::shared_ptr<net::Publisher<LiveFrame>> publisher) {
+      [this](const LiveRequest& request,
+             const std::shared_ptr<net::Publisher<LiveFrame>>& publisher) {
         std::string error = live_.Add(
             request, [publisher](const LiveFrame& frame) { return publisher->Send(frame); });
         if (!error.empty()) return net::Status::Error(igms::BAD_REQUEST, error);

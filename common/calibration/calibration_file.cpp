@@ -165,7 +165,9 @@ void WriteCamera(cv::FileStorage& fs, const std::string& key, const CameraCalibr
      << "[:" << c.image_size.width << c.image_size.height << "]";
   if (c.K) fs << "K" << ToCv(*c.K);
   if (!c.dist.empty()) {
-    fs << "dist" << ToCv(Eigen::Map<const Eigen::RowVectorXd>(c.dist.data(), c.dist.size()));
+    fs << "dist"
+       << ToCv(Eigen::Map<const Eigen::RowVectorXd>(c.dist.data(),
+                                                    static_cast<Eigen::Index>(c.dist.size())));
   }
   fs << "}";
 }

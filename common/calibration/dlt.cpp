@@ -22,7 +22,7 @@ bool CheckInput(std::span<const Correspondence> points, std::string* error) {
     }
     mean += points[i].world;
   }
-  mean /= points.size();
+  mean /= static_cast<double>(points.size());
   Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
   for (const auto& p : points) spread += (p.world - mean) * (p.world - mean).transpose();
   const Eigen::Vector3d sv = Eigen::JacobiSVD<Eigen::Matrix3d>(spread).singularValues();
@@ -33,10 +33,10 @@ bool CheckInput(std::span<const Correspondence> points, std::string* error) {
 }
 
 Result<geometry::Matrix34> SolveThesis(std::span<const Correspondence> points) {
-  const int n = static_cast<int>(points.size());
+  const auto n = static_cast<Eigen::Index>(points.size());
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 11);
   Eigen::VectorXd b(2 * n);
-  for (int i = 0; i < n; ++i) {
+  for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d& X = points[i].world;
     const double U = points[i].pixel.x(), V = points[i].pixel.y();
     A.block<1, 3>(2 * i, 0) = X.transpose();
@@ -85,9 +85,9 @@ Result<geometry::Matrix34> SolveNormalized(std::span<const Correspondence> point
   }
   const Eigen::Matrix4d T = Normalizer<3>(X, std::sqrt(3.0));
   const Eigen::Matrix3d S = Normalizer<2>(x, std::sqrt(2.0));
-  const int n = static_cast<int>(points.size());
+  const auto n = static_cast<Eigen::Index>(points.size());
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 12);
-  for (int i = 0; i < n; ++i) {
+  for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::RowVector4d Xn = (T * X[i].homogeneous()).transpose();
     const Eigen::Vector3d xn = S * x[i].homogeneous();
     A.block<1, 4>(2 * i, 0) = Xn;
@@ -96,7 +96,7 @@ Result<geometry::Matrix34> SolveNormalized(std::span<const Correspondence> point
     A.block<1, 4>(2 * i + 1, 8) = -xn.y() * Xn;
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
-  const Eigen::VectorXd sv = svd.singularValues();
+  const Eigen::VectorXd& sv = svd.singularValues();
   // One null direction is the answer; a second (near-)null one means the points do not pin P.
   if (!(sv[10] > 1e-9 * sv[0])) {
     return ErrorMessage{"the linear system is rank deficient (degenerate point configuration)"};
@@ -141,7 +141,7 @@ Result<DltResult> CalibrateDlt(std::span<const Correspondence> points, DltMethod
     sum += r * r;
     result.max = std::max(result.max, r);
   }
-  result.rms = std::sqrt(sum / result.residuals.size());
+  result.rms = std::sqrt(sum / static_cast<double>(result.residuals.size()));
   return result;
 }
 

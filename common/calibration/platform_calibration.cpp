@@ -59,12 +59,15 @@ Eigen::VectorXd Residuals(const geometry::Matrix34 P0[2], const PlatformModel& m
     const auto q = geometry::AnglesFromTicks(model, obs[i].ticks);
     const geometry::Matrix34 P = geometry::CameraAtPose(P0[obs[i].camera], model, q);
     const Eigen::Vector3d h = P * obs[i].world.homogeneous();
-    r.segment<2>(2 * i) = h.head<2>() / h.z() - obs[i].pixel;
+    r.segment<2>(2 * static_cast<Eigen::Index>(i)) = h.head<2>() / h.z() - obs[i].pixel;
   }
   return r;
 }
 
-double Rms(const Eigen::VectorXd& r) { return std::sqrt(r.squaredNorm() / (r.size() / 2)); }
+// r holds an x and a y residual per point.
+double Rms(const Eigen::VectorXd& r) {
+  return std::sqrt(r.squaredNorm() / (static_cast<double>(r.size()) / 2));
+}
 
 }  // namespace
 
@@ -80,7 +83,9 @@ std::vector<double> PlatformResiduals(const geometry::Matrix34& left_P0,
   const geometry::Matrix34 P0[2] = {left_P0, right_P0};
   const Eigen::VectorXd r = Residuals(P0, model, observations);
   std::vector<double> out(observations.size());
-  for (size_t i = 0; i < out.size(); ++i) out[i] = r.segment<2>(2 * i).norm();
+  for (size_t i = 0; i < out.size(); ++i) {
+    out[i] = r.segment<2>(2 * static_cast<Eigen::Index>(i)).norm();
+  }
   return out;
 }
 
@@ -197,7 +202,7 @@ Result<PlatformCalibrationResult> CalibratePlatform(
   result.rms = Rms(r);
   result.residuals.resize(observations.size());
   for (size_t i = 0; i < observations.size(); ++i) {
-    result.residuals[i] = r.segment<2>(2 * i).norm();
+    result.residuals[i] = r.segment<2>(2 * static_cast<Eigen::Index>(i)).norm();
     result.max = std::max(result.max, result.residuals[i]);
   }
   return result;
@@ -225,7 +230,8 @@ Result<std::vector<PlatformObservation>> ParsePlatformObservations(const std::st
     } else if (camera == "right" || camera == "1") {
       o.camera = 1;
     } else {
-      return ErrorMessage{where + "camera must be left, right, 0 or 1, got '" + camera + "'"};
+      return ErrorMessage{
+          (where + "camera must be left, right, 0 or 1, got '").append(camera).append("'")};
     }
     std::vector<double> v;
     std::string token;
@@ -233,7 +239,7 @@ Result<std::vector<PlatformObservation>> ParsePlatformObservations(const std::st
       char* end = nullptr;
       const double value = std::strtod(token.c_str(), &end);
       if (end == token.c_str() || *end != '\0' || !std::isfinite(value)) {
-        return ErrorMessage{where + "'" + token + "' is not a finite number"};
+        return ErrorMessage{(where + "'").append(token).append("' is not a finite number")};
       }
       v.push_back(value);
     }

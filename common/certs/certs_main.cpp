@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/environment.h"
 #include "common/certs/certs.h"
 #include "common/config/exit_codes.h"
 #include "common/config/lab_config.h"
@@ -116,7 +117,7 @@ int main(int argc, char** argv) {
   const std::string verb = positional[0];
   try {
     std::optional<igms::config::LabConfig> config;
-    if (config_file.empty() && std::getenv("IGMS_CONFIG")) config_file = std::getenv("IGMS_CONFIG");
+    if (config_file.empty()) config_file = igms::EnvironmentVariable("IGMS_CONFIG").value_or("");
     if (!config_file.empty()) config = igms::config::LabConfig::Load(config_file);
     if (dir.empty()) {
       dir = config ? igms::config::SecurityOf(*config, "").certs_dir : "certs";

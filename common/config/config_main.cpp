@@ -11,12 +11,14 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "common/base/environment.h"
 #include "common/config/exit_codes.h"
 #include "common/config/keys.h"
 #include "common/config/lab_config.h"
@@ -92,7 +94,8 @@ int Table(const igms::config::LabConfig& config) {
 }
 
 int Check(const igms::config::LabConfig& config, const std::string& file) {
-  ::setenv("IGMS_LOG_TIMESTAMPS", "0", 1);
+  // The checked programs' log lines are compared without their time.
+  ::setenv("IGMS_LOG_TIMESTAMPS", "0", 1);  // NOLINT(concurrency-mt-unsafe): one thread here
   bool ok = true;
   std::vector<igms::config::KeyProblem> lab =
       igms::config::UnknownKeys(config, "", igms::config::CommonKeys());
@@ -124,7 +127,7 @@ int Check(const igms::config::LabConfig& config, const std::string& file) {
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  std::string file = std::getenv("IGMS_CONFIG") ? std::getenv("IGMS_CONFIG") : "";
+  std::string file = igms::EnvironmentVariable("IGMS_CONFIG").value_or("");
   std::vector<std::string> positional;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--config" && i + 1 < args.size()) {
@@ -182,5 +185,8 @@ int main(int argc, char** argv) {
   } catch (const igms::config::ConfigError& e) {
     std::cerr << "igms config: " << e.what() << "\n";
     return igms::kExitUsage;
+  } catch (const std::exception& e) {  // a file that cannot be read or removed, say
+    std::cerr << "igms config: " << e.what() << "\n";
+    return igms::kExitFailure;
   }
 }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "common/base/environment.h"
 #include "common/config/exit_codes.h"
 #include "common/log/log.h"
 #include "common/version/version.h"
@@ -47,10 +48,11 @@ LabSecurity SecurityOf(const LabOptions& lab, const LabConfig& config, const std
   } else if (tls != "off" && tls != "false") {
     throw config.Error("lab.tls", config.Find("lab.tls"), "must be on or off");
   }
-  const char* credentials = std::getenv("CREDENTIALS_DIRECTORY");  // systemd LoadCredential=
+  // systemd's LoadCredential=
+  const std::string credentials = EnvironmentVariable("CREDENTIALS_DIRECTORY").value_or("");
   if (!lab.certs.empty()) {
     s.certs_dir = lab.certs;
-  } else if (credentials && *credentials) {
+  } else if (!credentials.empty()) {
     s.certs_dir = credentials;
   } else {
     s.certs_dir = config.ResolvePath("certs");
@@ -87,8 +89,9 @@ void TuneAllocator() {
   // Frames of images and large requests are allocated and freed many times a second; above
   // glibc's default mmap threshold each one is a fresh mapping whose pages fault in on every
   // copy. Keeping them on the heap more than halved the time of a 500 KB request.
-  mallopt(M_MMAP_THRESHOLD, 64 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  // It runs before the program starts a thread: mallopt races only with a concurrent malloc.
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);   // NOLINT(concurrency-mt-unsafe): no thread yet
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);  // NOLINT(concurrency-mt-unsafe): no thread yet
 }
 
 namespace {

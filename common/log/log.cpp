@@ -3,15 +3,18 @@
 #include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
-#include <cstdlib>
-#include <cstring>
+#include <atomic>
+#include <string>
+
+#include "common/base/environment.h"
 
 namespace igms::log {
 
 bool Init(const std::string& process_name, const std::string& level) {
-  auto logger = spdlog::stderr_logger_mt(process_name + "-" + std::to_string(std::rand()));
-  const char* ts = std::getenv("IGMS_LOG_TIMESTAMPS");
-  const bool timestamps = !(ts && std::strcmp(ts, "0") == 0);
+  // spdlog's registry refuses a name twice, and a process (a test) may call Init again.
+  static std::atomic<int> loggers_made{0};
+  auto logger = spdlog::stderr_logger_mt(process_name + "-" + std::to_string(++loggers_made));
+  const bool timestamps = EnvironmentVariable("IGMS_LOG_TIMESTAMPS") != "0";
   logger->set_pattern(timestamps ? "%Y-%m-%d %H:%M:%S.%e [" + process_name + "] [%l] %v"
                                  : "[" + process_name + "] [%l] %v");
   spdlog::set_default_logger(logger);

@@ -33,7 +33,7 @@ void Client::Impl::Connect() {
   resolver.async_resolve(
       options.host, std::to_string(options.port),
       [self = shared_from_this(), gen](boost::system::error_code ec,
-                                       tcp::resolver::results_type results) {
+                                       const tcp::resolver::results_type& results) {
         if (gen != self->generation) return;
         if (ec) {
           self->Drop("cannot resolve " + self->options.host + ": " + ec.message());

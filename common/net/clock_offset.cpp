@@ -14,7 +14,8 @@ namespace igms::net {
 std::string ClockOffset::Describe() const {
   char text[128];
   std::snprintf(text, sizeof text, "%+.3f ms (within \u00b1%.3f ms, best of %d ping%s)",
-                offset_ns / 1e6, bound_ns() / 1e6, samples, samples == 1 ? "" : "s");
+                static_cast<double>(offset_ns) / 1e6, static_cast<double>(bound_ns()) / 1e6,
+                samples, samples == 1 ? "" : "s");
   return text;
 }
 
@@ -76,7 +77,7 @@ struct AsyncPings {
     const auto timeout = self->timeout;
     client->Call<PingResponse>(
         "igms.Server.Ping", PingRequest(), timeout,
-        [self = std::move(self), sent](Result<PingResponse> r) mutable {
+        [self = std::move(self), sent](const Result<PingResponse>& r) mutable {
           const std::int64_t received = UnixNs();
           if (!r.ok()) {
             self->done(std::nullopt, "ping: " + r.status.ToString());

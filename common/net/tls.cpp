@@ -24,7 +24,7 @@ namespace asio = boost::asio;
 namespace {
 
 constexpr std::size_t kRecordBytes = 16 * 1024 + 256;  // a TLS record and its overhead
-constexpr std::size_t kMaxReadBytes = 256 * 1024;
+constexpr std::size_t kMaxReadBytes = std::size_t{256} * 1024;
 
 bool IsIp(const std::string& host) {
   unsigned char buf[16];

@@ -7,8 +7,12 @@
 
 #include <cerrno>
 #include <cstdlib>
-#include <cstring>
+#include <optional>
 #include <sstream>
+#include <string>
+
+#include "common/base/environment.h"
+#include "common/base/errno_text.h"
 
 extern char** environ;
 
@@ -38,10 +42,10 @@ std::string RunProgram(const std::vector<std::string>& argv, const std::string& 
   pid_t pid = 0;
   const int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) return "cannot run '" + Join(argv) + "': " + std::strerror(rc);
+  if (rc != 0) return "cannot run '" + Join(argv) + "': " + ErrnoText(rc);
   int status = 0;
   while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return "cannot wait for '" + Join(argv) + "': " + std::strerror(errno);
+    if (errno != EINTR) return "cannot wait for '" + Join(argv) + "': " + ErrnoText(errno);
   }
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
   const std::string where = output_path.empty() ? "" : " (its messages are in " + output_path + ")";
@@ -56,8 +60,8 @@ std::vector<std::filesystem::path> ProgramSearchDirs() {
   std::error_code ec;
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
   if (!ec) dirs.push_back(self.parent_path());
-  if (const char* path = std::getenv("PATH")) {
-    std::stringstream ss(path);
+  if (const std::optional<std::string> path = EnvironmentVariable("PATH")) {
+    std::stringstream ss(*path);
     std::string dir;
     while (std::getline(ss, dir, ':')) {
       if (!dir.empty()) dirs.emplace_back(dir);

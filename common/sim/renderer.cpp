@@ -340,7 +340,7 @@ std::vector<double> VisibleFractions(const Scene& scene, const geometry::Project
         seen += key >= 0 && key / 8 == index;
       }
     }
-    out[i] = covered ? static_cast<double>(seen) / covered : 0.0;
+    out[i] = covered ? static_cast<double>(seen) / static_cast<double>(covered) : 0.0;
   }
   return out;
 }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/errno_text.h"
 #include "common/config/exit_codes.h"
 #include "common/process/process.h"
 #include "common/version/version.h"
@@ -66,7 +67,7 @@ int main(int argc, char** argv) {
     for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
     args.push_back(nullptr);
     execv(program.c_str(), args.data());
-    std::cerr << "igms: cannot run " << program << ": " << std::strerror(errno) << "\n";
+    std::cerr << "igms: cannot run " << program << ": " << igms::ErrnoText(errno) << "\n";
     return igms::kExitUsage;
   }
   std::cerr << "igms: no command '" << sub << "' (looked for igms-" << sub

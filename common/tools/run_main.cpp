@@ -11,12 +11,13 @@
 
 #include <cerrno>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "common/base/environment.h"
+#include "common/base/errno_text.h"
 #include "common/config/exit_codes.h"
 #include "common/config/lab_config.h"
 #include "common/process/process.h"
@@ -37,7 +38,7 @@ int Usage(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string file = std::getenv("IGMS_CONFIG") ? std::getenv("IGMS_CONFIG") : "";
+  std::string file = igms::EnvironmentVariable("IGMS_CONFIG").value_or("");
   std::string name;
   std::vector<std::string> extra;
   for (int i = 1; i < argc; ++i) {
@@ -101,6 +102,6 @@ int main(int argc, char** argv) {
   for (auto& a : args) raw.push_back(a.data());
   raw.push_back(nullptr);
   execv(path.c_str(), raw.data());
-  std::cerr << "igms run: cannot run " << path << ": " << std::strerror(errno) << "\n";
+  std::cerr << "igms run: cannot run " << path << ": " << igms::ErrnoText(errno) << "\n";
   return igms::kExitUnavailable;
 }

@@ -14,13 +14,13 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "common/base/errno_text.h"
 #include "common/config/exit_codes.h"
 #include "common/process/process.h"
 #include "common/version/version.h"
@@ -99,6 +99,6 @@ int main(int argc, char** argv) {
   for (auto& a : args) raw.push_back(a.data());
   raw.push_back(nullptr);
   execv(program.c_str(), raw.data());
-  std::cerr << "igms sim: cannot run " << program << ": " << std::strerror(errno) << "\n";
+  std::cerr << "igms sim: cannot run " << program << ": " << igms::ErrnoText(errno) << "\n";
   return igms::kExitUnavailable;
 }

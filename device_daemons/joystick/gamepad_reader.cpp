@@ -6,9 +6,9 @@
 
 #include <boost/asio/post.hpp>
 #include <cerrno>
-#include <cstring>
 
 #include "common/base/clock.h"
+#include "common/base/errno_text.h"
 
 namespace igms::devices {
 
@@ -82,7 +82,7 @@ void GamepadReader::TryOpen() {
   // Non-blocking: a FIFO opens without a writer, and reads go through the reactor.
   const int fd = ::open(options_.path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
-    Vanished("cannot open " + options_.path + ": " + std::strerror(errno));
+    Vanished("cannot open " + options_.path + ": " + ErrnoText(errno));
     return;
   }
   boost::system::error_code ec;

@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "common/base/clock.h"
+#include "common/base/errno_text.h"
 
 namespace igms::devices {
 namespace {
@@ -39,7 +40,7 @@ PtyHost::~PtyHost() { Stop(); }
 bool PtyHost::OpenPty(std::string* error) {
   char name[256] = {};
   if (openpty(&master_, &slave_, name, nullptr, nullptr) != 0) {
-    *error = std::string("openpty failed: ") + std::strerror(errno);
+    *error = std::string("openpty failed: ") + ErrnoText(errno);
     return false;
   }
   termios tio{};
@@ -51,7 +52,7 @@ bool PtyHost::OpenPty(std::string* error) {
   fcntl(slave_, F_SETFD, FD_CLOEXEC);
   ::unlink(options_.link_path.c_str());
   if (::symlink(name, options_.link_path.c_str()) != 0) {
-    *error = "cannot link " + options_.link_path + " to " + name + ": " + std::strerror(errno);
+    *error = "cannot link " + options_.link_path + " to " + name + ": " + ErrnoText(errno);
     ClosePty();
     return false;
   }
@@ -68,7 +69,7 @@ void PtyHost::ClosePty() {
 bool PtyHost::Start(std::string* error) {
   if (!options_.Check(error)) return false;
   if (pipe2(wake_pipe_, O_NONBLOCK | O_CLOEXEC) != 0) {
-    *error = std::string("pipe failed: ") + std::strerror(errno);
+    *error = std::string("pipe failed: ") + ErrnoText(errno);
     return false;
   }
   if (!OpenPty(error)) return false;

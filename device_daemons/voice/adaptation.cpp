@@ -57,6 +57,7 @@ std::string WriteFeatures(const std::vector<AdaptationUtterance>& utterances,
                                    model_dir + "/cmudict-en-us.dict"};
   for (const std::string& a : FrontEndArgs()) args.push_back(a);
   std::vector<char*> argv;
+  argv.reserve(args.size());
   for (std::string& a : args) argv.push_back(a.data());
   cmd_ln_t* config =
       cmd_ln_parse_r(nullptr, ps_args(), static_cast<int32>(argv.size()), argv.data(), FALSE);

@@ -1,5 +1,6 @@
 #include "device_daemons/voice/endpointer.h"
 
+#include <cstddef>
 #include <stdexcept>
 
 #include "device_daemons/voice/audio.h"
@@ -32,7 +33,7 @@ std::vector<std::vector<int16_t>> Endpointer::Feed(std::span<const int16_t> samp
     Frame(std::span<const int16_t>(partial_).subspan(used, frame_size_), done);
     used += frame_size_;
   }
-  partial_.erase(partial_.begin(), partial_.begin() + used);
+  partial_.erase(partial_.begin(), partial_.begin() + static_cast<std::ptrdiff_t>(used));
   return done;
 }
 
@@ -62,7 +63,9 @@ void Endpointer::Frame(std::span<const int16_t> frame, std::vector<std::vector<i
     // Keep the pre-roll plus the loud frames that may start the utterance.
     const size_t keep = static_cast<size_t>(options_.pre_roll_ms) * options_.sample_rate / 1000 +
                         options_.start_frames * frame_size_;
-    if (history_.size() > keep) history_.erase(history_.begin(), history_.end() - keep);
+    if (history_.size() > keep) {
+      history_.erase(history_.begin(), history_.end() - static_cast<std::ptrdiff_t>(keep));
+    }
     loud_run_ = loud ? loud_run_ + 1 : 0;
     if (loud_run_ >= options_.start_frames) {
       in_speech_ = true;

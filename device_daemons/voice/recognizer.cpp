@@ -133,6 +133,7 @@ struct Recognizer::Impl {
     }
     args.insert(args.end(), options.decoder_args.begin(), options.decoder_args.end());
     std::vector<char*> argv;
+    argv.reserve(args.size());
     for (std::string& a : args) argv.push_back(a.data());
     config = cmd_ln_parse_r(nullptr, ps_args(), static_cast<int32>(argv.size()), argv.data(), TRUE);
     if (config == nullptr) {

@@ -109,7 +109,7 @@ int Points(int argc, const char* const argv[], std::ostream& out, std::ostream& 
     camera.image_size = {w, h};
     json.Add(side, Json::Object()
                        .Add("file", Json::String(path))
-                       .Add("points", Json::Number(points->size()))
+                       .Add("points", Json::Number(static_cast<double>(points->size())))
                        .Add("P", Json::Matrix(result->P))
                        .Add("rms", Json::Number(result->rms))
                        .Add("max", Json::Number(result->max))
@@ -356,7 +356,7 @@ int Platform(int argc, const char* const argv[], std::ostream& out, std::ostream
     const auto after = CompareToTruth(s, r->model, 2);
     if (vm.count("json")) {
       out << Json::Object()
-                 .Add("observations", Json::Number(s.observations.size()))
+                 .Add("observations", Json::Number(static_cast<double>(s.observations.size())))
                  .Add("noise_px", Json::Number(noise))
                  .Add("initial_rms", Json::Number(r->initial_rms))
                  .Add("rms", Json::Number(r->rms))
@@ -401,7 +401,7 @@ int Platform(int argc, const char* const argv[], std::ostream& out, std::ostream
   if (vm.count("output")) Save(*cal, vm["output"].as<std::string>(), err);
   if (vm.count("json")) {
     out << Json::Object()
-               .Add("observations", Json::Number(obs->size()))
+               .Add("observations", Json::Number(static_cast<double>(obs->size())))
                .Add("parameters", Json::Number(r->parameters))
                .Add("initial_rms", Json::Number(r->initial_rms))
                .Add("rms", Json::Number(r->rms))
