@@ -47,9 +47,10 @@ Eigen::Vector2d Gradients::At(const Eigen::Vector2d& p) const {
   CubicWeights(y - y0, wy);
   double sx = 0, sy = 0;
   for (int j = 0; j < 4; ++j) {
-    const float* row = g_.ptr<float>(y0 - 1 + j) + 2 * (x0 - 1);  // gx, gy interleaved
+    const float* row =
+        g_.ptr<float>(y0 - 1 + j) + 2 * std::ptrdiff_t{x0 - 1};  // gx, gy interleaved
     double ax = 0, ay = 0;
-    for (int i = 0; i < 4; ++i) {
+    for (std::ptrdiff_t i = 0; i < 4; ++i) {
       ax += wx[i] * row[2 * i];
       ay += wx[i] * row[2 * i + 1];
     }
@@ -83,9 +84,10 @@ std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
   {
     constexpr int kShift = 4;
     std::vector<cv::Point> vertices;
+    vertices.reserve(polygon.size());
     for (const auto& p : polygon)
-      vertices.emplace_back(cvRound((p.x - box.x) * (1 << kShift)),
-                            cvRound((p.y - box.y) * (1 << kShift)));
+      vertices.emplace_back(cvRound((p.x - static_cast<float>(box.x)) * (1 << kShift)),
+                            cvRound((p.y - static_cast<float>(box.y)) * (1 << kShift)));
     cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{vertices}, 255, cv::LINE_8, kShift);
   }
   for (int y = box.y; y < box.y + box.height; ++y) {

@@ -96,10 +96,9 @@ StepResult<MarkedRegion> MarkRegion(const LocateInput& in) {
                                                       "place them around the object's outline"};
   const auto size = in.left_camera.image_size();
   std::vector<cv::Point2f> clipped;
-  const std::vector<cv::Point2f> frame = {{-0.5f, -0.5f},
-                                          {size.width - 0.5f, -0.5f},
-                                          {size.width - 0.5f, size.height - 0.5f},
-                                          {-0.5f, size.height - 0.5f}};
+  const float width = static_cast<float>(size.width), height = static_cast<float>(size.height);
+  const std::vector<cv::Point2f> frame = {
+      {-0.5f, -0.5f}, {width - 0.5f, -0.5f}, {width - 0.5f, height - 0.5f}, {-0.5f, height - 0.5f}};
   const double inside_area = cv::intersectConvexConvex(region.hull, frame, clipped);
   if (inside_area < 0.5 * area)
     return StepFailure{Failure::kMarksOutsideImage,
@@ -118,7 +117,7 @@ cv::Rect GrowRect(const cv::Rect& rect, int pad, const cv::Rect& image) {
 std::vector<cv::Point2f> GrowPolygon(const std::vector<cv::Point2f>& polygon, double by) {
   std::vector<cv::Point2f> grown;
   cv::Point2f centre(0, 0);
-  for (const auto& p : polygon) centre += p * (1.0f / polygon.size());
+  for (const auto& p : polygon) centre += p * (1.0f / static_cast<float>(polygon.size()));
   for (const auto& p : polygon) {
     const cv::Point2f d = p - centre;
     const float len = std::sqrt(d.dot(d));
@@ -164,7 +163,7 @@ std::optional<StepFailure> CheckBoundary(const Boundary& boundary, const MarkedR
                            "(strongest " +
                            FormatFixed(boundary.strongest, 1) + ")"};
   const double perimeter = cv::arcLength(marks.hull, true);
-  if (boundary.pixels.size() < options.min_boundary_share * perimeter)
+  if (static_cast<double>(boundary.pixels.size()) < options.min_boundary_share * perimeter)
     return StepFailure{Failure::kEdgeCountMismatch,
                        std::to_string(boundary.pixels.size()) +
                            " boundary pixels inside marks of perimeter " +
@@ -222,10 +221,11 @@ SsdMatch NarrowByRange(const LocateInput& in, const StereoPair& pair, const Dept
   const double beam = options.ranger_accuracy +
                       *in.range * (1 - std::cos(options.ranger_half_angle_deg * M_PI / 180));
   if (qp && qd > 0 &&
-      cv::pointPolygonTest(boundary.region, cv::Point2f(qp->x(), qp->y()), false) >= 0 &&
+      cv::pointPolygonTest(boundary.region,
+                           cv::Point2f(static_cast<float>(qp->x()), static_cast<float>(qp->y())),
+                           false) >= 0 &&
       std::abs(qd - mark_depth) <= options.depth_tolerance) {
-    const SsdMatch ranged =
-        MatchBetweenDepths(pair, search, std::max(0.5 * qd, qd - beam), qd + beam);
+    SsdMatch ranged = MatchBetweenDepths(pair, search, std::max(0.5 * qd, qd - beam), qd + beam);
     if (ranged.ok && ranged.rms <= 1.25 * match.rms + 1.0) {
       check->constrained = true;
       return ranged;

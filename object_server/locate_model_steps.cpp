@@ -61,7 +61,8 @@ std::optional<Eigen::VectorXd> TiltedCylinderStart(
     if (!xe) return std::nullopt;
     const Eigen::Vector2d tip =
         mid + (end == 0 ? -1.0 : 1.0) * (half_len - 0.5 * half_width) * along;
-    tilted.segment<3>(3 * end) = PointOnPixelRay(left_camera, tip, left_camera.Depth(*xe) + radius);
+    tilted.segment<3>(3 * Eigen::Index{end}) =
+        PointOnPixelRay(left_camera, tip, left_camera.Depth(*xe) + radius);
   }
   return tilted;
 }
@@ -262,7 +263,7 @@ std::vector<Eigen::VectorXd> BoxStartsFrom(const geometry::ProjectiveCamera& lef
   double across_mean = 0;
   for (int i = 0; i < 3; ++i)
     if (i != k) across_mean += 0.5 * (hi[i] - lo[i]);
-  const double front = sum[k] / boundary.size();
+  const double front = sum[k] / static_cast<double>(boundary.size());
   const double back = front + (view_dir[k] > 0 ? 1 : -1) * across_mean;
   lo[k] = std::min(front, back);
   hi[k] = std::max(front, back);
@@ -341,6 +342,7 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
     return q;
   };
   std::vector<Eigen::VectorXd> starts6;
+  starts6.reserve(starts.size());
   for (const auto& st : starts) starts6.push_back(st.head<6>());
   InnerEdgesFn inner6;
   if (inner)
@@ -398,7 +400,8 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
       diffs.push_back(std::abs(row[x + 1] - row[x]));
   }
   if (!diffs.empty()) {
-    std::nth_element(diffs.begin(), diffs.begin() + diffs.size() / 2, diffs.end());
+    std::nth_element(diffs.begin(), diffs.begin() + static_cast<std::ptrdiff_t>(diffs.size() / 2),
+                     diffs.end());
     out.noise_sigma = 1.4826 * diffs[diffs.size() / 2] / std::sqrt(2.0);
   }
   auto grey = [&](const Eigen::Vector2d& p) {
@@ -430,7 +433,8 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
   };
   double carry = 0;  // arc length from the last sample
   for (int i = 0; i < n; ++i) {
-    const Eigen::Vector2d a = outline[i], b = outline[(i + 1) % n];
+    const Eigen::Vector2d& a = outline[i];
+    const Eigen::Vector2d& b = outline[(i + 1) % n];
     const double len = (b - a).norm();
     if (len < 1e-9) continue;
     const Eigen::Vector2d dir = (b - a) / len;

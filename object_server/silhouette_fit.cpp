@@ -186,7 +186,8 @@ OutlineSamples SampleOutline(const ViewOutline& o) {
   const double keep_off = 1.5, spacing = 1.0;
   double carry = 0;  // arc length into the next edge where the next sample falls
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d a = at(i), b = at(i + 1);
+    const Eigen::Vector2d& a = at(i);
+    const Eigen::Vector2d& b = at(i + 1);
     const double len = (b - a).norm();
     if (len < 1e-9) continue;
     const Eigen::Vector2d dir = (b - a) / len;
@@ -342,17 +343,18 @@ bool OutlineResiduals::Residuals(const Eigen::VectorXd& x, std::vector<Measureme
         for (int k = 0; k < np; ++k) dpx[v][i].col(k) = jp * ((moved[k][i] - base[i]) / step_[k]);
       }
     }
-    J->resize(ms.size(), np);
+    J->resize(static_cast<Eigen::Index>(ms.size()), np);
   }
-  r.resize(ms.size());
+  r.resize(static_cast<Eigen::Index>(ms.size()));
   for (size_t i = 0; i < ms.size(); ++i) {
+    const auto row = static_cast<Eigen::Index>(i);
     const ViewOutline& ov = o[ms[i].view];
     if (ms[i].a >= 0) {
       Eigen::Vector2d da, db;
-      r[i] = LineDistance(ov.px[ms[i].a], ov.px[ms[i].b], ms[i].point, J ? &da : nullptr,
-                          J ? &db : nullptr);
+      r[row] = LineDistance(ov.px[ms[i].a], ov.px[ms[i].b], ms[i].point, J ? &da : nullptr,
+                            J ? &db : nullptr);
       if (J)
-        J->row(i) =
+        J->row(row) =
             da.transpose() * dpx[ms[i].view][ms[i].a] + db.transpose() * dpx[ms[i].view][ms[i].b];
       continue;
     }
@@ -361,8 +363,9 @@ bool OutlineResiduals::Residuals(const Eigen::VectorXd& x, std::vector<Measureme
     const int ia = ov.hull[c.seg], ib = ov.hull[(c.seg + 1) % n];
     ms[i].hint = ia;
     Eigen::Vector2d da, db;
-    r[i] = SignedFromClosest(ov, c, ms[i].point, J ? &da : nullptr, J ? &db : nullptr);
-    if (J) J->row(i) = da.transpose() * dpx[ms[i].view][ia] + db.transpose() * dpx[ms[i].view][ib];
+    r[row] = SignedFromClosest(ov, c, ms[i].point, J ? &da : nullptr, J ? &db : nullptr);
+    if (J)
+      J->row(row) = da.transpose() * dpx[ms[i].view][ia] + db.transpose() * dpx[ms[i].view][ib];
   }
   return true;
 }
@@ -487,7 +490,8 @@ double SignedDistance(const std::vector<Eigen::Vector2d>& hull, const Eigen::Vec
   double max_line = -std::numeric_limits<double>::infinity();
   double min_seg = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d a = hull[i], b = hull[(i + 1) % n];
+    const Eigen::Vector2d& a = hull[i];
+    const Eigen::Vector2d& b = hull[(i + 1) % n];
     const Eigen::Vector2d d = b - a;
     const double len2 = d.squaredNorm();
     if (len2 < 1e-18) continue;

@@ -35,7 +35,7 @@ std::vector<Eigen::Vector3d> CylinderOutline(const Eigen::VectorXd& x) {
   }();
   const Eigen::Vector3d ru = r * u, rv = r * v;
   std::vector<Eigen::Vector3d> pts;
-  pts.reserve(2 * kCapPoints);
+  pts.reserve(static_cast<std::size_t>(2 * kCapPoints));
   for (const Eigen::Vector3d& c : {p0, p1})
     for (const Eigen::Vector2d& cs : circle) pts.push_back(c + cs.x() * ru + cs.y() * rv);
   return pts;
@@ -50,7 +50,7 @@ std::vector<InnerEdge> CylinderInnerEdges(const Eigen::VectorXd& x, const Eigen:
   const double r = std::abs(x[6]);
   std::vector<InnerEdge> edges;
   for (int end = 0; end < 2; ++end) {
-    const Eigen::Vector3d c = x.segment<3>(3 * end);
+    const Eigen::Vector3d c = x.segment<3>(3 * Eigen::Index{end});
     const Eigen::Vector3d out = end == 0 ? -w : w;
     if (out.dot(centre - c) <= 0) continue;  // the cap faces away
     std::array<bool, kCapPoints> side_seen;
@@ -89,6 +89,7 @@ std::vector<Eigen::Vector3d> BoxOutline(const Eigen::VectorXd& x) {
   const Eigen::Matrix3d R = BoxRotation(x[6]);
   const Eigen::Vector3d c = x.head<3>(), h = 0.5 * x.segment<3>(3);
   std::vector<Eigen::Vector3d> pts;
+  pts.reserve(8);
   for (int i = 0; i < 8; ++i)
     pts.push_back(c + R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(),
                                           (i & 4) ? h.z() : -h.z()));

@@ -72,7 +72,7 @@ void ControlApp::Impl::Health() {
     if (!IsDaemon(peer)) continue;
     link.client->Call<devices::LinkStatus>(
         Service(peer) + ".Status", devices::GetStatusRequest(), options.call_timeout,
-        [this, peer = peer](net::Result<devices::LinkStatus> r) {
+        [this, peer = peer](const net::Result<devices::LinkStatus>& r) {
           if (!r.ok()) return;  // a lost connection is reported by the client
           Link* link = LinkOf(peer);
           if (r.value.state() == link->link_state) return;

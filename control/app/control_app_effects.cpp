@@ -15,7 +15,7 @@ void ControlApp::Impl::Execute(const SetOrientationEffect& e) {
   request.set_take_control(e.take_control);
   CallPeer<devices::SetOrientationResponse>(
       Peer::kPlatform, "SetOrientation", request, options.call_timeout,
-      [this, call = e.call](net::Result<devices::SetOrientationResponse> r) {
+      [this, call = e.call](const net::Result<devices::SetOrientationResponse>& r) {
         SetOrientationReply reply{call, std::nullopt, NowNs()};
         if (!r.ok()) reply.error = ToCallError(r.status);
         Handle(reply);
@@ -78,7 +78,7 @@ void ControlApp::Impl::Execute(const SetOperatorStateEffect& e) {
   request.set_state(e.state);
   CallPeer<devices::SetOperatorStateResponse>(
       Peer::kVoice, "SetOperatorState", request, options.call_timeout,
-      [this, state = e.state](net::Result<devices::SetOperatorStateResponse> r) {
+      [this, state = e.state](const net::Result<devices::SetOperatorStateResponse>& r) {
         if (!r.ok()) {
           Note(spdlog::level::warn, "voice grammar not set: " + r.status.ToString());
           return;
@@ -96,7 +96,7 @@ void ControlApp::Impl::Play(const std::string& key, sound::Priority priority) {
   request.set_priority(priority);
   CallPeer<sound::PlayResponse>(
       Peer::kSound, "Play", request, options.call_timeout,
-      [this, key](net::Result<sound::PlayResponse> r) {
+      [this, key](const net::Result<sound::PlayResponse>& r) {
         // A session faster than speech (a script) fills the sound server's queue: say so
         // once per run of refusals, not for every cue.
         if (r.ok()) {

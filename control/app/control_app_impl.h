@@ -189,7 +189,7 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
 
   // Ping, then what this kind of peer must show (thesis 2.4's start-up checks).
   void Check(Link& link, std::function<void(PeerReport)> done);
-  void CheckService(Peer peer, std::function<void(bool, std::string)> finish);
+  void CheckService(Peer peer, const std::function<void(bool, std::string)>& finish);
 
   // A peer just reported up: its streams, and the voice daemon's news filter.
   void AfterUp(Link& link);

@@ -101,7 +101,7 @@ void ControlApp::Impl::OnConnection(Peer peer, net::ConnectionState state, const
 
 void ControlApp::Impl::CheckAndReport(Link& link) {
   if (link.checking || link.up) return;
-  Check(link, [this, peer = link.peer](PeerReport report) {
+  Check(link, [this, peer = link.peer](const PeerReport& report) {
     Link* link = LinkOf(peer);
     if (!link || link->up || !report.up || !started) return;
     link->up = true;
@@ -124,7 +124,7 @@ void ControlApp::Impl::Check(Link& link, std::function<void(PeerReport)> done) {
   };
   link.client->Call<PingResponse>(
       kPing, PingRequest(), options.call_timeout,
-      [this, peer, finish](net::Result<PingResponse> r) {
+      [this, peer, finish](const net::Result<PingResponse>& r) {
         if (!r.ok()) return finish(false, "no answer to a ping: " + r.status.ToString());
         Link* link = LinkOf(peer);
         link->version = {link->address.name, r.value.program(), r.value.version()};
@@ -132,7 +132,8 @@ void ControlApp::Impl::Check(Link& link, std::function<void(PeerReport)> done) {
       });
 }
 
-void ControlApp::Impl::CheckService(Peer peer, std::function<void(bool, std::string)> finish) {
+void ControlApp::Impl::CheckService(Peer peer,
+                                    const std::function<void(bool, std::string)>& finish) {
   Link* link = LinkOf(peer);
   const std::string service = Service(peer);
   auto hash_refusal = [this](const std::string& theirs) -> std::string {
@@ -145,7 +146,7 @@ void ControlApp::Impl::CheckService(Peer peer, std::function<void(bool, std::str
   if (IsDaemon(peer)) {
     link->client->Call<devices::LinkStatus>(
         service + ".Status", devices::GetStatusRequest(), options.call_timeout,
-        [this, peer, finish](net::Result<devices::LinkStatus> r) {
+        [this, peer, finish](const net::Result<devices::LinkStatus>& r) {
           if (!r.ok()) return finish(false, "no status: " + r.status.ToString());
           LinkOf(peer)->link_state = r.value.state();
           if (!LinkGood(r.value.state())) {
@@ -160,7 +161,7 @@ void ControlApp::Impl::CheckService(Peer peer, std::function<void(bool, std::str
     case Peer::kVideo:
       link->client->Call<video::StatusResponse>(
           service + ".GetStatus", video::StatusRequest(), options.call_timeout,
-          [this, finish, hash_refusal](net::Result<video::StatusResponse> r) {
+          [this, finish, hash_refusal](const net::Result<video::StatusResponse>& r) {
             if (!r.ok()) return finish(false, "no status: " + r.status.ToString());
             if (auto why = hash_refusal(r.value.calibration_sha256()); !why.empty()) {
               return finish(false, why);
@@ -168,7 +169,8 @@ void ControlApp::Impl::CheckService(Peer peer, std::function<void(bool, std::str
             LinkOf(Peer::kVideo)
                 ->client->Call<video::GetOverlayResponse>(
                     Service(Peer::kVideo) + ".GetOverlay", video::GetOverlayRequest(),
-                    options.call_timeout, [this, finish](net::Result<video::GetOverlayResponse> o) {
+                    options.call_timeout,
+                    [this, finish](const net::Result<video::GetOverlayResponse>& o) {
                       if (!o.ok()) return finish(false, "no overlay: " + o.status.ToString());
                       overlay = o.value.settings();
                       finish(true, "");
@@ -178,7 +180,7 @@ void ControlApp::Impl::CheckService(Peer peer, std::function<void(bool, std::str
     case Peer::kObject:
       link->client->Call<object::StatusResponse>(
           service + ".Status", object::StatusRequest(), options.call_timeout,
-          [finish, hash_refusal](net::Result<object::StatusResponse> r) {
+          [finish, hash_refusal](const net::Result<object::StatusResponse>& r) {
             if (!r.ok()) return finish(false, "no status: " + r.status.ToString());
             if (auto why = hash_refusal(r.value.calibration_sha256()); !why.empty()) {
               return finish(false, why);
@@ -206,7 +208,7 @@ void ControlApp::Impl::AfterUp(Link& link) {
     // The newest sequence before (re)subscribing: what the daemon heard before is old news.
     link.client->Call<devices::LinkStatus>(
         Service(peer) + ".Status", devices::GetStatusRequest(), options.call_timeout,
-        [this](net::Result<devices::LinkStatus> r) {
+        [this](const net::Result<devices::LinkStatus>& r) {
           Handle(VoiceSubscribed{r.ok() ? r.value.readings() : 0, NowNs()});
           Subscribe(*LinkOf(Peer::kVoice));
         });

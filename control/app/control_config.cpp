@@ -30,8 +30,9 @@ config::Keys ControlKeys(ControlConfig* c) {
                 "", config::KeyType::kOutputPath);
   for (Peer peer : kAllPeers) {
     const std::string name(PeerName(peer));
-    keys.Bind(name, &c->peer_names[static_cast<int>(peer)],
-              "the process entry of the " + name + " peer (default: " + name + ")");
+    std::string help = "the process entry of the ";
+    help.append(name).append(" peer (default: ").append(name).append(")");
+    keys.Bind(name, &c->peer_names[static_cast<int>(peer)], help);
   }
   return keys;
 }

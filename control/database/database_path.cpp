@@ -3,8 +3,12 @@
 #include <pwd.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstddef>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "common/config/keys.h"
 
@@ -12,13 +16,33 @@ namespace igms::control {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The password database's home folder of this user ("" when there is none); getpwuid_r, as
+// getpwuid's shared result is not thread safe.
+std::string PasswordHome() {
+  passwd entry{};
+  passwd* found = nullptr;
+  std::vector<char> buffer(4096);
+  int error = 0;
+  while ((error = getpwuid_r(getuid(), &entry, buffer.data(), buffer.size(), &found)) == ERANGE &&
+         buffer.size() < (std::size_t{1} << 20)) {
+    buffer.resize(buffer.size() * 2);
+  }
+  return error == 0 && found && found->pw_dir ? std::string(found->pw_dir) : std::string();
+}
+
+}  // namespace
+
 UserFolders UserFolders::FromEnvironment() {
   UserFolders folders;
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): read by the mains before any thread starts
   if (const char* xdg = std::getenv("XDG_DATA_HOME")) folders.xdg_data_home = xdg;
+  // NOLINTNEXTLINE(concurrency-mt-unsafe): as above
   if (const char* home = std::getenv("HOME"); home && *home) {
     folders.home = home;
-  } else if (const passwd* entry = getpwuid(getuid()); entry && entry->pw_dir) {
-    folders.home = entry->pw_dir;
+  } else {
+    folders.home = PasswordHome();
   }
   return folders;
 }

@@ -17,6 +17,7 @@ namespace igms::control {
 struct UserFolders {
   std::string xdg_data_home;  // $XDG_DATA_HOME; ignored unless absolute (XDG spec)
   std::string home;           // $HOME, else the password database's home folder
+  // Reads the environment (getenv): call it before other threads start.
   static UserFolders FromEnvironment();
 };
 

@@ -5,7 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
+#include <system_error>
 
 #include "control/database/database_internal.h"
 
@@ -25,8 +25,8 @@ DatabaseResult<std::unique_ptr<FileLock>> FileLock::Acquire(const std::string& d
   for (int attempt = 0; attempt < 20; ++attempt) {
     const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0) {
-      return Fail(DatabaseErrorCode::kStorage,
-                  "cannot create the lock file " + path + ": " + std::strerror(errno));
+      return Fail(DatabaseErrorCode::kStorage, "cannot create the lock file " + path + ": " +
+                                                   std::generic_category().message(errno));
     }
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const int error = errno;
@@ -42,7 +42,7 @@ DatabaseResult<std::unique_ptr<FileLock>> FileLock::Acquire(const std::string& d
       close(fd);
       if (error != EWOULDBLOCK) {
         return Fail(DatabaseErrorCode::kStorage,
-                    "cannot lock " + path + ": " + std::strerror(error));
+                    "cannot lock " + path + ": " + std::generic_category().message(error));
       }
       return Fail(DatabaseErrorCode::kInUse,
                   database + " is in use by another session" +

@@ -119,7 +119,7 @@ Problem CheckProvenance(const ModelProvenance& p) {
     return std::string("provenance.right_capture_unix_ns is missing");
   }
   const auto& joints = p.platform_pose.joints_rad();
-  if (joints.size() != 0 && joints.size() != 3) {
+  if (!joints.empty() && joints.size() != 3) {
     return "provenance.platform_pose.joints_rad has " + std::to_string(joints.size()) +
            " angles, not 3 (pan, tilt, roll) or none";
   }

@@ -6,10 +6,10 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include "control/export/formats.h"
 #include "control/export/solids.h"
@@ -33,14 +33,15 @@ Result<std::string> WriteTemporary(const fs::path& path, const std::string& byte
           .string();
   const int fd = open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) {
-    return ErrorMessage{"cannot write " + path.string() + ": " + std::strerror(errno)};
+    return ErrorMessage{"cannot write " + path.string() + ": " +
+                        std::generic_category().message(errno)};
   }
   std::size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t n = write(fd, bytes.data() + done, bytes.size() - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      const std::string why = std::strerror(errno);
+      const std::string why = std::generic_category().message(errno);
       close(fd);
       unlink(temporary.c_str());
       return ErrorMessage{"cannot write " + path.string() + ": " + why};
@@ -48,7 +49,7 @@ Result<std::string> WriteTemporary(const fs::path& path, const std::string& byte
     done += static_cast<std::size_t>(n);
   }
   if (close(fd) != 0) {
-    const std::string why = std::strerror(errno);
+    const std::string why = std::generic_category().message(errno);
     unlink(temporary.c_str());
     return ErrorMessage{"cannot write " + path.string() + ": " + why};
   }
@@ -89,10 +90,11 @@ Result<std::vector<std::string>> WriteFiles(const fs::path& folder,
     close(folder_fd);
   }
   std::vector<std::string> written;
+  written.reserve(files.size());
   for (std::size_t i = 0; i < staged.size(); ++i) {
     const auto& [temporary, target] = staged[i];
     if (rename(temporary.c_str(), target.c_str()) != 0) {
-      const std::string why = std::strerror(errno);
+      const std::string why = std::generic_category().message(errno);
       for (std::size_t j = i; j < staged.size(); ++j) unlink(staged[j].first.c_str());
       return ErrorMessage{"cannot write " + target.string() + ": " + why};
     }
@@ -110,10 +112,11 @@ void PruneTextures(const fs::path& folder, const std::string& stem,
   std::error_code error;
   if (!fs::is_directory(textures, error)) return;
   std::vector<fs::path> stale;
+  const std::string prefix = stem + "_textures/";
   for (const auto& entry : fs::directory_iterator(textures, error)) {
     const std::string name = entry.path().filename().string();
     if (name.rfind("model_", 0) != 0 || entry.path().extension() != ".png") continue;
-    const std::string relative = stem + "_textures/" + name;
+    const std::string relative = prefix + name;
     bool named = false;
     for (const auto& f : files) named = named || f.name == relative;
     if (!named) stale.push_back(entry.path());
@@ -243,7 +246,13 @@ Result<std::vector<StoredModel>> ReadLocateJson(const std::string& text) {
         type && type->kind_case() == Value::kStringValue ? type->string_value() : "";
     const Struct* sigma = Object(json, "sigma");
     auto missing = [&](const std::string& field) {
-      return ErrorMessage{where + "the " + type_name + " has no valid \"" + field + "\""};
+      std::string message = where;
+      message.append("the ")
+          .append(type_name)
+          .append(" has no valid \"")
+          .append(field)
+          .append("\"");
+      return ErrorMessage{std::move(message)};
     };
     StoredModel m;
     m.id = static_cast<std::int64_t>(models.size()) + 1;
@@ -283,7 +292,9 @@ Result<std::vector<StoredModel>> ReadLocateJson(const std::string& text) {
         b.set_yaw_sigma_deg(Number(*sigma, "yaw_deg").value_or(0));
       }
     } else {
-      return ErrorMessage{where + "type '" + type_name + "' is neither cylinder nor box"};
+      std::string message = where;
+      message.append("type '").append(type_name).append("' is neither cylinder nor box");
+      return ErrorMessage{std::move(message)};
     }
     if (auto problem = CheckExportModel(m)) return ErrorMessage{where + *problem};
     models.push_back(std::move(m));

@@ -181,7 +181,7 @@ GLenum OutwardWinding(const Eigen::Matrix4f& mvp, const geometry::ProjectiveCame
   Eigen::Vector2f s[3];
   int k = 0;
   for (const Eigen::Vector3d& q : {p, Eigen::Vector3d(p + a), Eigen::Vector3d(p + b)}) {
-    const Eigen::Vector4f c = mvp * Eigen::Vector4f(q.x(), q.y(), q.z(), 1.0f);
+    const Eigen::Vector4f c = mvp * q.cast<float>().homogeneous();
     s[k++] = c.head<2>() / c.w();
   }
   const Eigen::Vector2f e1 = s[1] - s[0], e2 = s[2] - s[0];
@@ -240,7 +240,7 @@ cv::Mat RenderHudImage(const DrawList& list, int width, int height) {
   const double scale = std::clamp(height / 1100.0, 0.35, 1.0);
   const int font = cv::FONT_HERSHEY_SIMPLEX;
   const int line = static_cast<int>(std::lround(34 * scale)) + 2;
-  auto text = [&](const std::string& s, cv::Point at, cv::Scalar colour) {
+  auto text = [&](const std::string& s, cv::Point at, const cv::Scalar& colour) {
     int baseline = 0;
     const cv::Size size = cv::getTextSize(s, font, scale, 1, &baseline);
     // A dark band behind each line, so text reads over bright video; its alpha keeps the
@@ -264,7 +264,7 @@ cv::Mat RenderHudImage(const DrawList& list, int width, int height) {
                   cv::Scalar(0, 0, 160, 200), cv::FILLED);
     cv::putText(hud, list.banner, at, font, big, cv::Scalar(255, 255, 255, 255), 2, cv::LINE_AA);
   }
-  y = height - 8 - line * static_cast<int>(list.help.size() > 0 ? list.help.size() - 1 : 0);
+  y = height - 8 - line * static_cast<int>(!list.help.empty() ? list.help.size() - 1 : 0);
   for (const std::string& h : list.help) {
     text(h, {8, y}, cv::Scalar(200, 255, 200, 255));
     y += line;
@@ -367,7 +367,8 @@ struct Renderer::Impl {
       mesh.triangles.clear();
       mesh.normals.clear();
       mesh.lines.clear();
-      if (!list.wireframe && unkeyed && model.color.maxCoeff() * 255.0f <= list.key_level) {
+      if (!list.wireframe && unkeyed &&
+          model.color.maxCoeff() * 255.0f <= static_cast<float>(list.key_level)) {
         continue;
       }
       AppendModel(model, center, segments, &mesh);
@@ -410,8 +411,8 @@ struct Renderer::Impl {
     // (Black solids left out may still carry texture patches.)
     if (!list.wireframe && !list.models.empty()) {
       use(unkeyed ? unkeyed_program : model_program, list.lit);
-      glBufferData(GL_ARRAY_BUFFER, triangles.size() * sizeof(Vertex), triangles.data(),
-                   GL_STREAM_DRAW);
+      glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(triangles.size() * sizeof(Vertex)),
+                   triangles.data(), GL_STREAM_DRAW);
       glEnable(GL_DEPTH_TEST);
       glDepthFunc(GL_LESS);
       // The solids are closed and convex: their back faces are hidden by their front ones
@@ -428,7 +429,8 @@ struct Renderer::Impl {
     }
     if (!lines.empty()) {
       use(model_program, false);
-      glBufferData(GL_ARRAY_BUFFER, lines.size() * sizeof(Vertex), lines.data(), GL_STREAM_DRAW);
+      glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(lines.size() * sizeof(Vertex)),
+                   lines.data(), GL_STREAM_DRAW);
       // A wireframe shows every edge, hidden ones too (the thesis's outline models); the
       // pointer and marks are never hidden by a model.
       glDrawArrays(GL_LINES, 0, static_cast<GLsizei>(model_lines));
@@ -472,8 +474,8 @@ struct Renderer::Impl {
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, texture);
       glUniform1i(U(textured_program, "patch"), 0);
-      glBufferData(GL_ARRAY_BUFFER, vertices.size() * sizeof(Vertex), vertices.data(),
-                   GL_STREAM_DRAW);
+      glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)),
+                   vertices.data(), GL_STREAM_DRAW);
       glDepthFunc(GL_LEQUAL);
       glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(vertices.size()));
       glDepthFunc(GL_LESS);
@@ -529,8 +531,10 @@ Result<std::unique_ptr<Renderer>> Renderer::Make() {
   glBindBuffer(GL_ARRAY_BUFFER, impl->model_vbo);
   for (GLuint i = 0; i < 3; ++i) {
     glEnableVertexAttribArray(i);
+    const std::size_t offset = std::size_t{i} * 3 * sizeof(float);  // position, normal, color
+    // NOLINTNEXTLINE(performance-no-int-to-ptr): OpenGL takes the offset in the buffer as a pointer
     glVertexAttribPointer(i, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex),
-                          reinterpret_cast<const void*>(i * 3 * sizeof(float)));
+                          reinterpret_cast<const void*>(offset));
   }
   glBindVertexArray(0);
   glGenTextures(2, impl->video_texture);

@@ -45,8 +45,9 @@ void OnlyKeys(const YAML::Node& node, const std::set<std::string>& known,
     if (!known.count(key)) {
       std::string list;
       for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-      throw BadScript{LineOf(kv.first),
-                      action + ": unknown key '" + key + "' (known: " + list + ")"};
+      std::string what = action;
+      what.append(": unknown key '").append(key).append("' (known: ").append(list).append(")");
+      throw BadScript{LineOf(kv.first), std::move(what)};
     }
   }
 }

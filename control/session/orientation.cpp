@@ -104,7 +104,7 @@ std::vector<double> ViewerToPlatform::JointAngles(const PlatformTicks& ticks) co
 
 PlatformTicks ViewerToPlatform::TicksOf(std::span<const double> joints_rad) const {
   PlatformTicks t;
-  if (joints_rad.size() > 0) t.yaw = RoundTicks(joints_rad[0], radians_per_tick_[0], kYawLimit);
+  if (!joints_rad.empty()) t.yaw = RoundTicks(joints_rad[0], radians_per_tick_[0], kYawLimit);
   if (joints_rad.size() > 1)
     t.pitch = RoundTicks(joints_rad[1], radians_per_tick_[1], kPitchRollLimit);
   if (joints_rad.size() > 2)

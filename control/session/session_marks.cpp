@@ -27,7 +27,9 @@ void Session::Drive(const PointerDrive& d) {
   }
   // The deflection held since the previous reading moved the pointer until this one.
   if (drive_time_ns_ && d.time_ns > *drive_time_ns_) {
-    const double dt = std::min(d.time_ns - *drive_time_ns_, options_.max_drive_step_ns) * 1e-9;
+    const double dt =
+        static_cast<double>(std::min(d.time_ns - *drive_time_ns_, options_.max_drive_step_ns)) *
+        1e-9;
     const CameraFrame& f = frozen_->left_frame;
     *pointer_ += options_.pointer_speed * dt *
                  (drive_.right * f.right + drive_.up * f.up() + drive_.forward * f.forward);

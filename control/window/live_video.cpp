@@ -55,7 +55,7 @@ struct LiveVideo::Impl : std::enable_shared_from_this<Impl> {
     // Unknown until the pings have come back: the stamps as they are meanwhile.
     const int64_t captured =
         clock ? clock->ToLocalNs(frame.capture_unix_ns) : frame.capture_unix_ns;
-    stats.latency_ms = (UnixNs() - captured) / 1e6;
+    stats.latency_ms = static_cast<double>(UnixNs() - captured) / 1e6;
     arrivals.push_back(now);
     while (!arrivals.empty() && arrivals.front() < now - 1'000'000'000) arrivals.pop_front();
     stats.rate_fps = static_cast<double>(arrivals.size());
@@ -78,8 +78,8 @@ struct LiveVideo::Impl : std::enable_shared_from_this<Impl> {
                        offset->Describe());
           std::lock_guard lock(self->mutex);
           self->clock = offset;
-          self->stats.clock_offset_ms = offset->offset_ns / 1e6;
-          self->stats.clock_bound_ms = offset->bound_ns() / 1e6;
+          self->stats.clock_offset_ms = static_cast<double>(offset->offset_ns) / 1e6;
+          self->stats.clock_bound_ms = static_cast<double>(offset->bound_ns()) / 1e6;
           self->stats.clock_pings = offset->samples;
         });
   }
@@ -88,7 +88,7 @@ struct LiveVideo::Impl : std::enable_shared_from_this<Impl> {
     client->Call<video::GetOverlayResponse>(
         "igms.video.VideoService.GetOverlay", video::GetOverlayRequest(),
         std::chrono::milliseconds(2000),
-        [self = shared_from_this()](net::Result<video::GetOverlayResponse> r) {
+        [self = shared_from_this()](const net::Result<video::GetOverlayResponse>& r) {
           if (!r.ok()) return;
           std::lock_guard lock(self->mutex);
           self->overlay = r.value.settings();
@@ -183,7 +183,7 @@ void LiveVideo::MoveOffset(int du, int dv) {
   boost::asio::post(impl_->io, [self = impl_, request] {
     self->client->Call<video::SetOverlayResponse>(
         "igms.video.VideoService.SetOverlay", request, std::chrono::milliseconds(2000),
-        [self](net::Result<video::SetOverlayResponse> r) {
+        [self](const net::Result<video::SetOverlayResponse>& r) {
           if (!r.ok()) {
             spdlog::warn("VideoService.SetOverlay: {}", r.status.ToString());
             return;
@@ -208,7 +208,7 @@ void LiveVideo::FetchGrab(uint64_t frame_id) {
   boost::asio::post(impl_->io, [self = impl_, request] {
     self->client->Call<video::GetImagesResponse>(
         "igms.video.VideoService.GetImages", request, std::chrono::milliseconds(5000),
-        [self, id = request.frame_id()](net::Result<video::GetImagesResponse> r) {
+        [self, id = request.frame_id()](const net::Result<video::GetImagesResponse>& r) {
           if (!r.ok()) {
             spdlog::warn("the grabbed pair {}: {}", id, r.status.ToString());
             std::lock_guard lock(self->mutex);

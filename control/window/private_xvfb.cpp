@@ -63,8 +63,9 @@ Result<std::unique_ptr<PrivateXvfb>> PrivateXvfb::Start(int width, int height) {
   }
   number.erase(number.find('\n'));
   const std::string display = ":" + number;
-  setenv("DISPLAY", display.c_str(), 1);
-  unsetenv("WAYLAND_DISPLAY");
+  // Started at start-up, before the client's other threads, which read DISPLAY only later.
+  setenv("DISPLAY", display.c_str(), 1);  // NOLINT(concurrency-mt-unsafe): see above
+  unsetenv("WAYLAND_DISPLAY");            // NOLINT(concurrency-mt-unsafe): see above
   return std::unique_ptr<PrivateXvfb>(new PrivateXvfb(pid, display));
 }
 

@@ -17,6 +17,7 @@ class PrivateXvfb {
  public:
   // Starts Xvfb with one screen of `width` x `height` x 24 and sets DISPLAY for this
   // process. An error says why not (no Xvfb installed, or it did not start within 10 s).
+  // Call it before other threads start: setting DISPLAY is not safe against their reads.
   static Result<std::unique_ptr<PrivateXvfb>> Start(int width, int height);
   ~PrivateXvfb();  // SIGTERM, then waits for it
   PrivateXvfb(const PrivateXvfb&) = delete;

@@ -29,8 +29,9 @@ constexpr render::StereoMode kCycle[] = {render::StereoMode::kSideBySide,
 }  // namespace
 
 bool DisplayAvailable() {
-  const char* x = std::getenv("DISPLAY");
-  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  // The client writes its environment only in PrivateXvfb::Start, before other threads start.
+  const char* x = std::getenv("DISPLAY");                // NOLINT(concurrency-mt-unsafe): see above
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");  // NOLINT(concurrency-mt-unsafe): as x
   return (x && *x) || (wayland && *wayland);
 }
 
@@ -139,8 +140,10 @@ Result<std::unique_ptr<Window>> Window::Open(const calibration::StereoCalibratio
   } else {
     glfwSetErrorCallback(OnGlfwError);
     if (glfw_users == 0 && !glfwInit()) {
+      // NOLINTNEXTLINE(concurrency-mt-unsafe): as in DisplayAvailable
+      const char* display = std::getenv("DISPLAY");
       return ErrorMessage{"GLFW could not start (no display? DISPLAY is " +
-                          std::string(std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "unset") +
+                          std::string(display ? display : "unset") +
                           "): use --no-window, or run under xvfb-run"};
     }
     ++glfw_users;
