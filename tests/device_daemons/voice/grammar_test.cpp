@@ -91,7 +91,7 @@ TEST(Grammar, OptionalPhoneLoopIsBoundedAndDecoysAppear) {
   EXPECT_NE(g.find("/ breeze"), std::string::npos);
   EXPECT_NE(g.find("<tail> = <phone> [<phone>];"), std::string::npos);
   EXPECT_NE(g.find("/ ph_aa [<tail>]"), std::string::npos);
-  EXPECT_EQ(g.find("+"), std::string::npos);
+  EXPECT_EQ(g.find('+'), std::string::npos);
 }
 
 // sphinxbase applies a JSGF weight written before a word and ignores one written before a
