@@ -209,6 +209,7 @@ TEST_F(VideoServerTest, OverlaySurvivesARestartAndFrameIdsNeverRepeat) {
   set.mutable_settings()->set_key_level(75);
   ASSERT_TRUE(Call<SetOverlayResponse>("SetOverlay", set).ok());
   std::vector<uint64_t> ids;
+  ids.reserve(5);
   for (int i = 0; i < 5; ++i) ids.push_back(Grab().frame_id());
 
   EXPECT_EQ(server_->Stop(), 0);

@@ -162,6 +162,7 @@ std::unique_ptr<igms::control::ControlApp> MakeControlApp(const LabOnLoopback& l
   std::vector<std::string> args = {"bench_reading_to_state", "--config", file, "--log-level",
                                    "warn"};
   std::vector<char*> argv_control;
+  argv_control.reserve(args.size());
   for (auto& a : args) argv_control.push_back(a.data());
   igms::control::ControlConfig control_config;
   int exit_code = 0;

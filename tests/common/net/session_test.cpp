@@ -125,6 +125,7 @@ TEST(Sessions, HundredConcurrentClients) {
   }
   std::atomic<int> good{0};
   std::vector<std::thread> callers;
+  callers.reserve(100);
   for (int i = 0; i < 100; ++i) {
     callers.emplace_back([&, i] {
       for (int k = 0; k < 20; ++k) {
@@ -154,6 +155,7 @@ TEST(Sessions, ManyThreadsShareOneClient) {
   ASSERT_TRUE(client.WaitConnected(5s));
   std::atomic<int> good{0};
   std::vector<std::thread> callers;
+  callers.reserve(8);
   for (int i = 0; i < 8; ++i) {
     callers.emplace_back([&, i] {
       for (int k = 0; k < 50; ++k) {

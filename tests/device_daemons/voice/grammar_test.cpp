@@ -125,6 +125,7 @@ TEST(Grammar, DecoysAreNearButNeverHomophones) {
   options.max_per_command = 10;
   const auto decoys = SelectDecoys(dictionary, options);
   std::vector<std::string> words;
+  words.reserve(decoys.size());
   for (const auto& d : decoys) words.push_back(d.word);
   EXPECT_EQ(words, (std::vector<std::string>{"breeze", "marked"}));
   // A word-frequency filter drops rare words.
