@@ -16,6 +16,7 @@
 #include <boost/asio/io_context.hpp>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -317,9 +318,7 @@ void RunGamepad(double seconds) {
       "gamepad", n / seconds, f.p50_ms, f.p99_ms, f.n, baseline.p50_ms, baseline.p99_ms, rss);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 5.0;
   if (!std::getenv("IGMS_BIN_DIR")) {
     const auto bin =
@@ -364,4 +363,16 @@ int main(int argc, char** argv) {
 
   RunGamepad(seconds);
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_devices: %s\n", e.what());
+    return 1;
+  }
 }

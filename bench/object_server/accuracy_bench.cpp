@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <exception>
 #include <opencv2/core/utility.hpp>
 #include <string>
 
@@ -16,7 +17,9 @@
 
 using igms::object::Summary;
 
-int main(int argc, char** argv) {
+namespace {
+
+int RunBenchmark(int argc, char** argv) {
   cv::setNumThreads(1);
   const int scenes = argc > 1 ? std::atoi(argv[1]) : 100;
   // "default" for the default testbed scene, marked afresh each time (mark seeds 0, 1, ...).
@@ -100,4 +103,16 @@ int main(int argc, char** argv) {
       "targets: radius and height median < 0.03 in, position median < 0.3 in, box size median < "
       "0.1 in, found > 95%%\n");
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "accuracy_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -285,9 +286,7 @@ void Print(const igms::site::Scene& scene, int rounds, const Figures& f) {
       load[0], std::thread::hardware_concurrency());
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   const int rounds = argc > 1 ? std::atoi(argv[1]) : 40;
   const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
   const std::string bin = argc > 2 ? argv[2] : (self.parent_path().parent_path() / "bin").string();
@@ -327,4 +326,16 @@ int main(int argc, char** argv) {
 
   Print(scene, rounds, figures);
   return figures.failures ? 1 : 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "latency_bench: %s\n", e.what());
+    return 1;
+  }
 }

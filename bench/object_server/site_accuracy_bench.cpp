@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <exception>
 #include <opencv2/core/utility.hpp>
 #include <sstream>
 #include <string>
@@ -71,9 +72,7 @@ void PrintNothing(const std::vector<igms::object::NothingThereEvaluation>& all) 
   std::printf("\n");
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   cv::setNumThreads(1);
   const int scenes = argc > 1 ? std::atoi(argv[1]) : 40;
   const int first = argc > 2 ? std::atoi(argv[2]) : 1;
@@ -147,4 +146,16 @@ int main(int argc, char** argv) {
   PrintTable(everything);
   PrintNothing(everything_nothing);
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "site_accuracy_bench: %s\n", e.what());
+    return 1;
+  }
 }

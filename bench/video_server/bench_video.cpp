@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -212,9 +213,7 @@ void MemoryFigures(int grabs) {
       static_cast<unsigned long long>(status.evictions()));
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);
   if (!getenv("IGMS_BIN_DIR")) setenv("IGMS_BIN_DIR", IGMS_DEFAULT_BIN_DIR, 0);
   const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
@@ -242,4 +241,16 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_video: %s\n", e.what());
+    return 1;
+  }
 }

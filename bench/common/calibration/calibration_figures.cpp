@@ -184,7 +184,7 @@ void Registration() {
   }
 }
 
-int Run(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   const bool chessboard = !(argc > 1 && std::strcmp(argv[1], "--no-chessboard") == 0);
   ThesisDecomposition();
   if (chessboard) Chessboard();
@@ -199,7 +199,7 @@ int Run(int argc, char** argv) {
 // A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
   try {
-    return Run(argc, argv);
+    return RunBenchmark(argc, argv);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "calibration_figures: %s\n", e.what());
     return 1;

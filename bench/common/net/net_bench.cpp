@@ -12,6 +12,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -271,9 +272,7 @@ void IdleClientMemory(int clients) {
   waitpid(child, nullptr, 0);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   igms::config::TuneAllocator();
   const bool small_only = argc > 1 && std::string(argv[1]) == "--small-only";  // for profiling
   std::printf("IGMS network library vs raw loopback TCP (same run)\n");
@@ -311,4 +310,16 @@ int main(int argc, char** argv) {
       raw_tp, lib_tp, 100.0 * lib_tp / raw_tp);
   IdleClientMemory(1000);
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "net_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <exception>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -247,7 +248,9 @@ std::vector<double> ConnectTimes(Pair& pair, int n) {
 
 // bench_tls [rtt] [mbps] [live] [connect] [plain|tls] [blocks=N]: the parts named (all by
 // default), for profiling one of them alone.
-int main(int argc, char** argv) {
+namespace {
+
+int RunBenchmark(int argc, char** argv) {
   igms::config::TuneAllocator();
   std::set<std::string> parts;
   int blocks = 3, first = 0, last = 1;
@@ -318,4 +321,16 @@ int main(int argc, char** argv) {
                 plain_ms / (plain_ms + 2 * 1e3 / aes));
   }
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tls_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -346,9 +347,7 @@ class Repetition {
   const Log<Published>& views_;
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   setenv("IGMS_BIN_DIR", IGMS_BIN_DIR_DEFAULT, 0);
   setenv("IGMS_SOURCE_DIR", IGMS_SOURCE_DIR_DEFAULT, 0);
   const std::optional<int> reps = ParseReps(argc, argv);
@@ -392,4 +391,16 @@ int main(int argc, char** argv) {
   Print("first deflected -> pointer moved", pointer_first.to_state, pointer_first.delivery);
   std::printf("Live: the same reading's stamp to its arrival at a plain subscriber here.\n");
   return failed ? 1 : 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "reading_bench: %s\n", e.what());
+    return 1;
+  }
 }

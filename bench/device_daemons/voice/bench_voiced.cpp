@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <deque>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -75,9 +76,7 @@ double RssMb(pid_t pid) {
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   // The daemon is found next to this program's folder (build/bench -> build/bin).
   const std::string bin =
       (std::filesystem::absolute(argv[0]).parent_path().parent_path() / "bin").string();
@@ -167,4 +166,16 @@ int main(int argc, char** argv) {
     std::remove(wav.c_str());
   }
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_voiced: %s\n", e.what());
+    return 1;
+  }
 }
