@@ -244,7 +244,7 @@ void BurstRounds(int rounds, igms::net::Client& video, igms::net::Client& object
     for (const auto& request : burst)
       object.Call<igms::object::LocateResponse>(
           "igms.object.ObjectService.Locate", request, 60s,
-          [&](igms::net::Result<igms::object::LocateResponse> r) {
+          [&](const igms::net::Result<igms::object::LocateResponse>& r) {
             f.failures += !r.ok();
             if (left.fetch_sub(1) == 1) left.notify_one();
           });

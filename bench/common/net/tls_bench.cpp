@@ -180,7 +180,7 @@ double PipelinedMBps(Pair& pair, std::size_t size, int n, int window) {
       ++in_flight;
     }
     pair.client().Call<igms::Envelope>("bench.Reply", req, 10s,
-                                       [&](igms::net::Result<igms::Envelope> r) {
+                                       [&](const igms::net::Result<igms::Envelope>& r) {
                                          if (!r.ok()) {
                                            std::cerr << "bench: " << r.status.ToString() << "\n";
                                            std::exit(1);
@@ -193,7 +193,8 @@ double PipelinedMBps(Pair& pair, std::size_t size, int n, int window) {
   }
   std::unique_lock lock(m);
   cv.wait(lock, [&] { return done == n; });
-  return size * double(n) / std::chrono::duration<double>(Clock::now() - t0).count() / 1e6;
+  return static_cast<double>(size) * n / std::chrono::duration<double>(Clock::now() - t0).count() /
+         1e6;
 }
 
 // Processor time of the whole process (both ends), in seconds.
