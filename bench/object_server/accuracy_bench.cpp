@@ -48,7 +48,8 @@ int RunBenchmark(int argc, char** argv) {
     }
   }
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c1);
-  const double cpu_ms = (c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6;
+  const double cpu_ms = static_cast<double>(c1.tv_sec - c0.tv_sec) * 1e3 +
+                        static_cast<double>(c1.tv_nsec - c0.tv_nsec) * 1e-6;
   std::printf(
       "Locator accuracy: %d simulated testbed scenes (seeds %d..%d), objects 3-7 ft away,\n"
       "sensor noise sigma 2 grey levels, blur 0.7 px, operator marks as common/sim/marks.h models "

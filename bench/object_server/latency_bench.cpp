@@ -178,7 +178,8 @@ void LocateOffline(const igms::site::Scene& scene, const igms::site::StereoImage
   (void)igms::object::Locate(in);
   f.offline.push_back(Ms(Clock::now() - t0));
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
-  f.offline_cpu.push_back((c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6);
+  f.offline_cpu.push_back(static_cast<double>(c1.tv_sec - c0.tv_sec) * 1e3 +
+                          static_cast<double>(c1.tv_nsec - c0.tv_nsec) * 1e-6);
 }
 
 // `rounds` rounds of a grab and one Locate at a time for each object, each beside its

@@ -133,7 +133,8 @@ int RunBenchmark(int argc, char** argv) {
         }
       }
       clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c1);
-      const double cpu_s = (c1.tv_sec - c0.tv_sec) + (c1.tv_nsec - c0.tv_nsec) * 1e-9;
+      const double cpu_s = static_cast<double>(c1.tv_sec - c0.tv_sec) +
+                           static_cast<double>(c1.tv_nsec - c0.tv_nsec) * 1e-9;
       std::printf("\nlevel %s, %s cameras (%zu objects, %.0f s CPU):\n", level_name.c_str(),
                   camera.c_str(), all.size(), cpu_s);
       PrintTable(all);

@@ -121,7 +121,7 @@ class Pair {
       if (publisher_) break;
     }
     igms::Envelope frame;
-    frame.set_payload(std::string(1280 * 1024, 'p'));
+    frame.set_payload(std::string(std::size_t{1280} * 1024, 'p'));
     const auto start = Clock::now();
     const auto period = std::chrono::nanoseconds(1000000000 / fps);
     int sent = 0;
@@ -201,7 +201,9 @@ double PipelinedMBps(Pair& pair, std::size_t size, int n, int window) {
 double CpuSeconds() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
-  auto s = [](const timeval& t) { return t.tv_sec + t.tv_usec / 1e6; };
+  auto s = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) / 1e6;
+  };
   return s(u.ru_utime) + s(u.ru_stime);
 }
 
@@ -209,7 +211,7 @@ double CpuSeconds() {
 double ThreadCpuSeconds() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec + t.tv_nsec / 1e9;
+  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) / 1e9;
 }
 
 // AES-128-GCM (TLS's first choice) sealing 16 KB records, MB per second of processor time.
@@ -231,7 +233,7 @@ double AesGcmMBps() {
   }
   const double s = ThreadCpuSeconds() - t0;
   EVP_CIPHER_CTX_free(ctx);
-  return bytes / s / 1e6;
+  return static_cast<double>(bytes) / s / 1e6;
 }
 
 std::vector<double> ConnectTimes(Pair& pair, int n) {
@@ -287,7 +289,7 @@ int RunBenchmark(int argc, char** argv) {
       }
       if (want("mbps")) {
         const double cpu0 = CpuSeconds();
-        mbps[tls].push_back(PipelinedMBps(pair, 500 * 1000, 200, 8));
+        mbps[tls].push_back(PipelinedMBps(pair, std::size_t{500} * 1000, 200, 8));
         cpu_ms_per_mb[tls].push_back((CpuSeconds() - cpu0) * 1e3 / (500 * 1000 * 200 / 1e6));
       }
       if (want("live")) fps[tls].push_back(pair.LiveFps(60, 1.0));
