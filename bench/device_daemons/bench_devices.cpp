@@ -122,7 +122,8 @@ Figures Baseline(std::unique_ptr<SimulatedDevice> device, const std::string& ini
         pending += n;
         while (pending >= reply_length) {
           pending -= reply_length;
-          if (measuring && pending == 0) latencies.push_back((now - times.LastBefore(now)) / 1e6);
+          if (measuring && pending == 0)
+            latencies.push_back(static_cast<double>(now - times.LastBefore(now)) / 1e6);
         }
       },
       nullptr);
@@ -177,8 +178,8 @@ void RunDevice(const std::string& label, const std::string& program, std::vector
     std::lock_guard lock(mutex);
     if (!measuring) return;
     const int64_t last_byte = times.LastBefore(m.stamp().receive_monotonic_ns());
-    latencies.push_back((now - last_byte) / 1e6);
-    serial_part.push_back((m.stamp().receive_monotonic_ns() - last_byte) / 1e6);
+    latencies.push_back(static_cast<double>(now - last_byte) / 1e6);
+    serial_part.push_back(static_cast<double>(m.stamp().receive_monotonic_ns() - last_byte) / 1e6);
   });
   std::this_thread::sleep_for(std::chrono::seconds(2));  // identify, configure, settle
   {
@@ -253,7 +254,8 @@ void RunGamepad(double seconds) {
       while (::read(fd, buf, sizeof buf) == static_cast<ssize_t>(sizeof buf)) {
         const int64_t now = igms::MonotonicNs();
         std::lock_guard lock(mutex);
-        if (i < times.size() && times[i] > 0) base.push_back((now - times[i]) / 1e6);
+        if (i < times.size() && times[i] > 0)
+          base.push_back(static_cast<double>(now - times[i]) / 1e6);
         ++i;
       }
       ::close(fd);
@@ -288,7 +290,8 @@ void RunGamepad(double seconds) {
         const int index = static_cast<int>(std::lround(m.x() * 32767.0));  // x = -axis
         if (index <= last_index || index > static_cast<int>(times.size())) return;
         last_index = index;
-        if (times[index - 1] > 0) latencies.push_back((now - times[index - 1]) / 1e6);
+        if (times[index - 1] > 0)
+          latencies.push_back(static_cast<double>(now - times[index - 1]) / 1e6);
       });
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   const int fd = OpenWriter(fifo);

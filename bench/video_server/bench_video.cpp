@@ -152,7 +152,8 @@ void LiveFigures(int subscribers, double seconds) {
               if (s->frames++ == 0) s->first_seq = frame.sequence();
               s->last_seq = frame.sequence();
               std::lock_guard lock(s->mutex);
-              s->age_ms.push_back((igms::UnixNs() - frame.capture_unix_ns()) / 1e6);
+              s->age_ms.push_back(static_cast<double>(igms::UnixNs() - frame.capture_unix_ns()) /
+                                  1e6);
             });
   }
   std::this_thread::sleep_for(1s + std::chrono::duration<double>(seconds));

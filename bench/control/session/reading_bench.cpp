@@ -292,10 +292,11 @@ class Repetition {
     if (std::getenv("BENCH_DEBUG")) {
       for (const Seen& s : pushed)
         std::fprintf(stderr, "  joy %lu x %.3f stamp %+.2f ms arrived %+.2f\n", s.sequence, s.x,
-                     (s.stamp_ns - from) / 1e6, (s.arrived_ns - from) / 1e6);
+                     static_cast<double>(s.stamp_ns - from) / 1e6,
+                     static_cast<double>(s.arrived_ns - from) / 1e6);
       for (const Published& p : views_.Since(from))
-        std::fprintf(stderr, "  view %+.2f ms moved %d\n", (p.at_ns - from) / 1e6,
-                     p.pointer != before);
+        std::fprintf(stderr, "  view %+.2f ms moved %d\n",
+                     static_cast<double>(p.at_ns - from) / 1e6, p.pointer != before);
     }
     if (first && second && second->sequence == first->sequence + 1) {
       for (const Published& p : views_.Since(from)) {

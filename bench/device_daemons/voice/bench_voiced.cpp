@@ -140,7 +140,7 @@ int RunBenchmark(int argc, char** argv) {
     got = received.size();
     for (const auto& [sequence, t] : received) {
       if (sequence == 0 || sequence > dragon->command_ends.size()) continue;
-      latency_ms.push_back((t - dragon->command_ends[sequence - 1]) * 1e-6);
+      latency_ms.push_back(static_cast<double>(t - dragon->command_ends[sequence - 1]) * 1e-6);
     }
   }
   client.Stop();
