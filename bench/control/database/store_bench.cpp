@@ -146,7 +146,7 @@ int RunBenchmark(int argc, char** argv) {
     t0 = Clock::now();
     auto list = (*db)->ListModels();
     list_ms.push_back(Ms(Clock::now() - t0));
-    if (!list.ok() || list->size() != static_cast<std::size_t>(models / 2 * 2)) return 1;
+    if (!list.ok() || list->size() != static_cast<std::size_t>(models / 2) * 2) return 1;
   }
 
   std::printf("geometric database in %s (%d models, box texture %zu bytes)\n",
