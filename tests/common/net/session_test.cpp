@@ -214,7 +214,7 @@ TEST(Sessions, ClientThatStopsReadingDoesNotStallOthers) {
   sub.set_kind(igms::Envelope::SUBSCRIBE);
   sub.set_method(kCount);
   igms::Envelope req;
-  req.set_payload(std::string(256 * 1024, 'p'));
+  req.set_payload(std::string(std::size_t{256} * 1024, 'p'));
   sub.set_payload(req.SerializeAsString());
   sub.mutable_header()->set_correlation_id(1);
   boost::asio::write(raw, boost::asio::buffer(EncodeFrame(sub)));
