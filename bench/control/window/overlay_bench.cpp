@@ -196,7 +196,7 @@ void FrameTimes(Renderer& renderer, bool quick, const std::vector<int>& counts) 
       glFinish();
       const auto t0 = std::chrono::steady_clock::now();
       for (int f = 0; f < frames; ++f) {
-        for (auto& e : list.eyes) e.video_id = static_cast<uint64_t>(f + 1);  // new video
+        for (auto& e : list.eyes) e.video_id = static_cast<uint64_t>(f) + 1;  // new video
         DrawStereo(renderer, list, StereoMode::kSideBySide, size.width, size.height);
         glFinish();
       }
