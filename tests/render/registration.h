@@ -172,7 +172,7 @@ inline std::vector<Crossing> Crossings(const float* v, int n, int stride) {
   std::vector<Crossing> out;
   for (int i = 0; i + 1 < n; ++i) {
     const float a = v[static_cast<std::ptrdiff_t>(i) * stride],
-                b = v[static_cast<std::ptrdiff_t>(i + 1) * stride];
+                b = v[(static_cast<std::ptrdiff_t>(i) + 1) * stride];
     if ((a < 0.5f) == (b < 0.5f) || std::abs(b - a) < 0.3f) continue;
     out.push_back({i + (0.5 - a) / (b - a), b > a ? 1 : -1});
   }
