@@ -68,10 +68,10 @@ struct Figures {
   size_t n = 0;
 };
 
-Figures Summarise(std::vector<double> latencies_ms, double seconds) {
+Figures Summarise(const std::vector<double>& latencies_ms, double seconds) {
   Figures f;
   f.n = latencies_ms.size();
-  f.rate = f.n / seconds;
+  f.rate = static_cast<double>(f.n) / seconds;
   if (latencies_ms.empty()) return f;
   f.p50_ms = igms::stats::Median(latencies_ms);
   f.p99_ms = igms::stats::Percentile(latencies_ms, 0.99);
@@ -318,7 +318,8 @@ void RunGamepad(double seconds) {
   std::printf(
       "%-9s %8.1f/s   event write -> subscriber p50 %6.3f ms  p99 %6.3f ms   (%zu changes)   "
       "baseline bare FIFO read p50 %6.3f ms p99 %6.3f ms   RSS %5.1f MB\n",
-      "gamepad", n / seconds, f.p50_ms, f.p99_ms, f.n, baseline.p50_ms, baseline.p99_ms, rss);
+      "gamepad", static_cast<double>(n) / seconds, f.p50_ms, f.p99_ms, f.n, baseline.p50_ms,
+      baseline.p99_ms, rss);
 }
 
 int RunBenchmark(int argc, char** argv) {

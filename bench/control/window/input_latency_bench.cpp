@@ -185,7 +185,7 @@ int RunBenchmark(int argc, char** argv) {
       "live video into the window: %llu pairs in %.1f s (%.1f per second), %llu skipped; "
       "the video server's clock %+.3f ms (within %.3f ms, %d pings) from this one's\n",
       static_cast<unsigned long long>(live_stats.frames), span_s,
-      span_s > 0 ? live_stats.frames / span_s : 0.0,
+      span_s > 0 ? static_cast<double>(live_stats.frames) / span_s : 0.0,
       static_cast<unsigned long long>(live_stats.skipped), live_stats.clock_offset_ms,
       live_stats.clock_bound_ms, live_stats.clock_pings);
   Print("live pair capture to receipt", live_latency_ms);
