@@ -209,8 +209,10 @@ void MemoryFigures(int grabs) {
       "memory, 1920x1080 grey pairs, store capacity %u: RSS at start %.1f MB; peak RSS after 16 "
       "grabs %.1f MB, after %d %.1f MB, after %d %.1f MB; store holds %u frames, %.1f MB "
       "(images + edges); evictions %llu\n",
-      status.capacity(), start_kb / 1024.0, hwm_at[0] / 1024.0, grabs / 2, hwm_at[1] / 1024.0,
-      grabs, hwm_at[2] / 1024.0, status.frames_held(), status.bytes_held() / 1048576.0,
+      status.capacity(), static_cast<double>(start_kb) / 1024.0,
+      static_cast<double>(hwm_at[0]) / 1024.0, grabs / 2, static_cast<double>(hwm_at[1]) / 1024.0,
+      grabs, static_cast<double>(hwm_at[2]) / 1024.0, status.frames_held(),
+      static_cast<double>(status.bytes_held()) / 1048576.0,
       static_cast<unsigned long long>(status.evictions()));
 }
 
