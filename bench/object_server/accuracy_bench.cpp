@@ -97,7 +97,7 @@ int RunBenchmark(int argc, char** argv) {
       "CPU time: %.1f ms per object including rendering (%zu objects; 'time ms' above is wall "
       "time\n"
       "on a shared machine)\n",
-      cpu_ms / std::max<size_t>(1, all.size()), all.size());
+      cpu_ms / static_cast<double>(std::max<size_t>(1, all.size())), all.size());
   std::printf(
       "thesis (section 4.5 / abstract): dimensions within 0.1 in, position within 1.5 in\n");
   std::printf(

@@ -148,7 +148,7 @@ int RunBenchmark(int argc, char** argv) {
   daemon.Stop();
   host.Stop();
   std::printf("voice, Dragon line at 9600 baud: %d commands said, %zu received (%.1f a second)\n",
-              said, got, got / seconds);
+              said, got, static_cast<double>(got) / seconds);
   std::printf("  last byte -> subscriber: p50 %.2f ms, p99 %.2f ms, max %.2f ms over %zu\n",
               stats::Percentile(latency_ms, 0.5), stats::Percentile(latency_ms, 0.99),
               stats::Percentile(latency_ms, 1.0), latency_ms.size());
