@@ -159,7 +159,8 @@ std::optional<igms::site::Marks> MarksFor(const igms::site::Scene& scene, size_t
   const auto& shape = scene.objects[i].shape;
   *cylinder = std::holds_alternative<igms::site::Cylinder>(shape);
   if (!*cylinder && !std::holds_alternative<igms::site::Box>(shape)) return std::nullopt;
-  return igms::site::GenerateMarks(shape, scene.cameras.left, round * 1000 + i);
+  return igms::site::GenerateMarks(shape, scene.cameras.left,
+                                   static_cast<size_t>(round) * 1000 + i);
 }
 
 // The same marks located offline in this process: wall and thread CPU time.

@@ -99,7 +99,11 @@ int RunBenchmark(int argc, char** argv) {
       clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
       for (int s = 0; s < scenes; ++s) {
         const auto scene = igms::site::SiteScene(first + s, level, hd);
-        const std::string name = level_name + "_" + camera + "_" + std::to_string(first + s);
+        std::string name = level_name;
+        name += '_';
+        name += camera;
+        name += '_';
+        name += std::to_string(first + s);
         for (const auto& e : igms::object::EvaluateScene(scene, name, first + s, {}, debug_dir)) {
           if (verbose)
             std::printf(
