@@ -16,6 +16,7 @@
 #include <boost/asio/io_context.hpp>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -67,10 +68,10 @@ struct Figures {
   size_t n = 0;
 };
 
-Figures Summarise(std::vector<double> latencies_ms, double seconds) {
+Figures Summarise(const std::vector<double>& latencies_ms, double seconds) {
   Figures f;
   f.n = latencies_ms.size();
-  f.rate = f.n / seconds;
+  f.rate = static_cast<double>(f.n) / seconds;
   if (latencies_ms.empty()) return f;
   f.p50_ms = igms::stats::Median(latencies_ms);
   f.p99_ms = igms::stats::Percentile(latencies_ms, 0.99);
@@ -121,7 +122,8 @@ Figures Baseline(std::unique_ptr<SimulatedDevice> device, const std::string& ini
         pending += n;
         while (pending >= reply_length) {
           pending -= reply_length;
-          if (measuring && pending == 0) latencies.push_back((now - times.LastBefore(now)) / 1e6);
+          if (measuring && pending == 0)
+            latencies.push_back(static_cast<double>(now - times.LastBefore(now)) / 1e6);
         }
       },
       nullptr);
@@ -176,8 +178,8 @@ void RunDevice(const std::string& label, const std::string& program, std::vector
     std::lock_guard lock(mutex);
     if (!measuring) return;
     const int64_t last_byte = times.LastBefore(m.stamp().receive_monotonic_ns());
-    latencies.push_back((now - last_byte) / 1e6);
-    serial_part.push_back((m.stamp().receive_monotonic_ns() - last_byte) / 1e6);
+    latencies.push_back(static_cast<double>(now - last_byte) / 1e6);
+    serial_part.push_back(static_cast<double>(m.stamp().receive_monotonic_ns() - last_byte) / 1e6);
   });
   std::this_thread::sleep_for(std::chrono::seconds(2));  // identify, configure, settle
   {
@@ -252,7 +254,8 @@ void RunGamepad(double seconds) {
       while (::read(fd, buf, sizeof buf) == static_cast<ssize_t>(sizeof buf)) {
         const int64_t now = igms::MonotonicNs();
         std::lock_guard lock(mutex);
-        if (i < times.size() && times[i] > 0) base.push_back((now - times[i]) / 1e6);
+        if (i < times.size() && times[i] > 0)
+          base.push_back(static_cast<double>(now - times[i]) / 1e6);
         ++i;
       }
       ::close(fd);
@@ -287,7 +290,8 @@ void RunGamepad(double seconds) {
         const int index = static_cast<int>(std::lround(m.x() * 32767.0));  // x = -axis
         if (index <= last_index || index > static_cast<int>(times.size())) return;
         last_index = index;
-        if (times[index - 1] > 0) latencies.push_back((now - times[index - 1]) / 1e6);
+        if (times[index - 1] > 0)
+          latencies.push_back(static_cast<double>(now - times[index - 1]) / 1e6);
       });
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   const int fd = OpenWriter(fifo);
@@ -314,12 +318,11 @@ void RunGamepad(double seconds) {
   std::printf(
       "%-9s %8.1f/s   event write -> subscriber p50 %6.3f ms  p99 %6.3f ms   (%zu changes)   "
       "baseline bare FIFO read p50 %6.3f ms p99 %6.3f ms   RSS %5.1f MB\n",
-      "gamepad", n / seconds, f.p50_ms, f.p99_ms, f.n, baseline.p50_ms, baseline.p99_ms, rss);
+      "gamepad", static_cast<double>(n) / seconds, f.p50_ms, f.p99_ms, f.n, baseline.p50_ms,
+      baseline.p99_ms, rss);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 5.0;
   if (!std::getenv("IGMS_BIN_DIR")) {
     const auto bin =
@@ -364,4 +367,16 @@ int main(int argc, char** argv) {
 
   RunGamepad(seconds);
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_devices: %s\n", e.what());
+    return 1;
+  }
 }

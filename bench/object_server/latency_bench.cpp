@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -58,6 +59,7 @@ class Server {
     std::vector<std::string> argv = {program, "--port", "0", "--port-file", port_file};
     argv.insert(argv.end(), args.begin(), args.end());
     std::vector<char*> raw;
+    raw.reserve(argv.size() + 1);
     for (auto& a : argv) raw.push_back(a.data());
     raw.push_back(nullptr);
     if (posix_spawn(&pid_, raw[0], nullptr, nullptr, raw.data(), environ) != 0) pid_ = -1;
@@ -157,7 +159,8 @@ std::optional<igms::site::Marks> MarksFor(const igms::site::Scene& scene, size_t
   const auto& shape = scene.objects[i].shape;
   *cylinder = std::holds_alternative<igms::site::Cylinder>(shape);
   if (!*cylinder && !std::holds_alternative<igms::site::Box>(shape)) return std::nullopt;
-  return igms::site::GenerateMarks(shape, scene.cameras.left, round * 1000 + i);
+  return igms::site::GenerateMarks(shape, scene.cameras.left,
+                                   static_cast<size_t>(round) * 1000 + i);
 }
 
 // The same marks located offline in this process: wall and thread CPU time.
@@ -176,7 +179,8 @@ void LocateOffline(const igms::site::Scene& scene, const igms::site::StereoImage
   (void)igms::object::Locate(in);
   f.offline.push_back(Ms(Clock::now() - t0));
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
-  f.offline_cpu.push_back((c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6);
+  f.offline_cpu.push_back(static_cast<double>(c1.tv_sec - c0.tv_sec) * 1e3 +
+                          static_cast<double>(c1.tv_nsec - c0.tv_nsec) * 1e-6);
 }
 
 // `rounds` rounds of a grab and one Locate at a time for each object, each beside its
@@ -242,7 +246,7 @@ void BurstRounds(int rounds, igms::net::Client& video, igms::net::Client& object
     for (const auto& request : burst)
       object.Call<igms::object::LocateResponse>(
           "igms.object.ObjectService.Locate", request, 60s,
-          [&](igms::net::Result<igms::object::LocateResponse> r) {
+          [&](const igms::net::Result<igms::object::LocateResponse>& r) {
             f.failures += !r.ok();
             if (left.fetch_sub(1) == 1) left.notify_one();
           });
@@ -284,9 +288,7 @@ void Print(const igms::site::Scene& scene, int rounds, const Figures& f) {
       load[0], std::thread::hardware_concurrency());
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   const int rounds = argc > 1 ? std::atoi(argv[1]) : 40;
   const std::filesystem::path self = std::filesystem::canonical("/proc/self/exe");
   const std::string bin = argc > 2 ? argv[2] : (self.parent_path().parent_path() / "bin").string();
@@ -326,4 +328,16 @@ int main(int argc, char** argv) {
 
   Print(scene, rounds, figures);
   return figures.failures ? 1 : 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "latency_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <exception>
 #include <opencv2/core/utility.hpp>
 #include <sstream>
 #include <string>
@@ -71,9 +72,7 @@ void PrintNothing(const std::vector<igms::object::NothingThereEvaluation>& all) 
   std::printf("\n");
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   cv::setNumThreads(1);
   const int scenes = argc > 1 ? std::atoi(argv[1]) : 40;
   const int first = argc > 2 ? std::atoi(argv[2]) : 1;
@@ -100,7 +99,11 @@ int main(int argc, char** argv) {
       clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
       for (int s = 0; s < scenes; ++s) {
         const auto scene = igms::site::SiteScene(first + s, level, hd);
-        const std::string name = level_name + "_" + camera + "_" + std::to_string(first + s);
+        std::string name = level_name;
+        name += '_';
+        name += camera;
+        name += '_';
+        name += std::to_string(first + s);
         for (const auto& e : igms::object::EvaluateScene(scene, name, first + s, {}, debug_dir)) {
           if (verbose)
             std::printf(
@@ -134,7 +137,8 @@ int main(int argc, char** argv) {
         }
       }
       clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c1);
-      const double cpu_s = (c1.tv_sec - c0.tv_sec) + (c1.tv_nsec - c0.tv_nsec) * 1e-9;
+      const double cpu_s = static_cast<double>(c1.tv_sec - c0.tv_sec) +
+                           static_cast<double>(c1.tv_nsec - c0.tv_nsec) * 1e-9;
       std::printf("\nlevel %s, %s cameras (%zu objects, %.0f s CPU):\n", level_name.c_str(),
                   camera.c_str(), all.size(), cpu_s);
       PrintTable(all);
@@ -147,4 +151,16 @@ int main(int argc, char** argv) {
   PrintTable(everything);
   PrintNothing(everything_nothing);
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "site_accuracy_bench: %s\n", e.what());
+    return 1;
+  }
 }

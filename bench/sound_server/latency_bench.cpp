@@ -28,6 +28,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -174,7 +175,9 @@ Run ServerRun(const std::string& key, const AudioClip& clip, int plays, int peri
 }  // namespace
 }  // namespace igms::sound
 
-int main(int argc, char** argv) {
+namespace {
+
+int RunBenchmark(int argc, char** argv) {
   using namespace igms::sound;
   int plays = 100;
   std::string key = "woodblock";
@@ -236,4 +239,16 @@ int main(int argc, char** argv) {
               1000.0 * kPeriod / clip.sample_rate,
               Percentile(server.latencies_ms, 0.5) - Percentile(baseline.latencies_ms, 0.5));
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "latency_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -151,7 +152,8 @@ void LiveFigures(int subscribers, double seconds) {
               if (s->frames++ == 0) s->first_seq = frame.sequence();
               s->last_seq = frame.sequence();
               std::lock_guard lock(s->mutex);
-              s->age_ms.push_back((igms::UnixNs() - frame.capture_unix_ns()) / 1e6);
+              s->age_ms.push_back(static_cast<double>(igms::UnixNs() - frame.capture_unix_ns()) /
+                                  1e6);
             });
   }
   std::this_thread::sleep_for(1s + std::chrono::duration<double>(seconds));
@@ -207,14 +209,14 @@ void MemoryFigures(int grabs) {
       "memory, 1920x1080 grey pairs, store capacity %u: RSS at start %.1f MB; peak RSS after 16 "
       "grabs %.1f MB, after %d %.1f MB, after %d %.1f MB; store holds %u frames, %.1f MB "
       "(images + edges); evictions %llu\n",
-      status.capacity(), start_kb / 1024.0, hwm_at[0] / 1024.0, grabs / 2, hwm_at[1] / 1024.0,
-      grabs, hwm_at[2] / 1024.0, status.frames_held(), status.bytes_held() / 1048576.0,
+      status.capacity(), static_cast<double>(start_kb) / 1024.0,
+      static_cast<double>(hwm_at[0]) / 1024.0, grabs / 2, static_cast<double>(hwm_at[1]) / 1024.0,
+      grabs, static_cast<double>(hwm_at[2]) / 1024.0, status.frames_held(),
+      static_cast<double>(status.bytes_held()) / 1048576.0,
       static_cast<unsigned long long>(status.evictions()));
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);
   if (!getenv("IGMS_BIN_DIR")) setenv("IGMS_BIN_DIR", IGMS_DEFAULT_BIN_DIR, 0);
   const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
@@ -242,4 +244,16 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_video: %s\n", e.what());
+    return 1;
+  }
 }

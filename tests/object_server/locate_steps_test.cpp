@@ -163,7 +163,8 @@ TEST_F(LocateSteps, MarkRegionIsTheMarksHullAtTheirMeanDepth) {
   // The marks' region holds the cylinder's outline (the marks lie outside it, give or take
   // their jitter).
   const cv::Rect2d bounds = TrueBounds(*cylinder_);
-  const cv::Point2f centre(bounds.x + 0.5 * bounds.width, bounds.y + 0.5 * bounds.height);
+  const cv::Point2f centre(static_cast<float>(bounds.x + 0.5 * bounds.width),
+                           static_cast<float>(bounds.y + 0.5 * bounds.height));
   EXPECT_GT(cv::pointPolygonTest(region->hull, centre, true), 0.4 * bounds.width);
 }
 

@@ -28,6 +28,7 @@ cv::Mat DrawPolygon(const std::vector<Eigen::Vector2d>& polygon, cv::Size size =
   constexpr int kFine = 8, kShift = 4;
   cv::Mat fine(size.height * kFine, size.width * kFine, CV_8U, cv::Scalar(40));
   std::vector<cv::Point> points;
+  points.reserve(polygon.size());
   for (const auto& p : polygon)  // pixel u spans [u - 0.5, u + 0.5)
     points.emplace_back(
         static_cast<int>(std::lround(((p.x() + 0.5) * kFine - 0.5) * (1 << kShift))),
@@ -182,7 +183,7 @@ TEST(SilhouetteSteps, MeasureSilhouetteEdgesFindsADiscsEdgeAndCorrectsItForBlur)
   for (const auto& m : sharp) {
     EXPECT_EQ(m.view, 1);
     EXPECT_EQ(m.a, -1);
-    mean += (m.point - centre).norm() / sharp.size();
+    mean += (m.point - centre).norm() / static_cast<double>(sharp.size());
   }
   // The gradient peak of a blurred disc's edge lies inside it by about sigma^2 / 2R.
   EXPECT_NEAR(mean, 30 - 1.0 / 60, 0.1);

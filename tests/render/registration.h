@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -170,7 +171,8 @@ struct Crossing {
 inline std::vector<Crossing> Crossings(const float* v, int n, int stride) {
   std::vector<Crossing> out;
   for (int i = 0; i + 1 < n; ++i) {
-    const float a = v[i * stride], b = v[(i + 1) * stride];
+    const float a = v[static_cast<std::ptrdiff_t>(i) * stride],
+                b = v[(static_cast<std::ptrdiff_t>(i) + 1) * stride];
     if ((a < 0.5f) == (b < 0.5f) || std::abs(b - a) < 0.3f) continue;
     out.push_back({i + (0.5 - a) / (b - a), b > a ? 1 : -1});
   }

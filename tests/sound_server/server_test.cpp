@@ -154,12 +154,12 @@ TEST_F(ServerTest, StopCutsOff) {
   const std::vector<int16_t> first(capture.samples.begin() + before,
                                    capture.samples.begin() + after_first);
   auto [c0, c1] = AudibleSpan(first, testing::kSilence);
-  EXPECT_GT((c1 - c0) / rate, 0.5);
-  EXPECT_LT((c1 - c0) / rate, played.value.duration_ms() / 1000.0 - 1.0);
+  EXPECT_GT(static_cast<double>(c1 - c0) / rate, 0.5);
+  EXPECT_LT(static_cast<double>(c1 - c0) / rate, played.value.duration_ms() / 1000.0 - 1.0);
   // "welcome": a moment of it, not all of it; then nothing, the queued message included.
   const std::vector<int16_t> second(capture.samples.begin() + after_first, capture.samples.end());
   auto [d0, d1] = AudibleSpan(second, testing::kSilence);
-  EXPECT_LT((d1 - d0) / rate, welcome.value.duration_ms() / 1000.0 - 0.2);
+  EXPECT_LT(static_cast<double>(d1 - d0) / rate, welcome.value.duration_ms() / 1000.0 - 0.2);
 }
 
 TEST_F(ServerTest, BadRequestsGetAnErrorAndTheServerGoesOn) {

@@ -60,6 +60,7 @@ ChildProcess::ChildProcess(const std::string& program, std::vector<std::string> 
   std::vector<std::string> argv = {path};
   argv.insert(argv.end(), args.begin(), args.end());
   std::vector<char*> raw;
+  raw.reserve(argv.size() + 1);
   for (std::string& a : argv) raw.push_back(a.data());
   raw.push_back(nullptr);
   pid_ = ::fork();

@@ -24,7 +24,7 @@ inline std::string TempPath(const std::string& name) {
 // A folder made afresh (emptied if it was there) under the temporary folder, named after
 // `name` and this process.
 inline std::filesystem::path FreshTempDir(const std::string& name) {
-  const std::filesystem::path dir = TempPath(name);
+  std::filesystem::path dir = TempPath(name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -55,7 +55,7 @@ struct Collected {
     }
     std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
     const int64_t median_ns = intervals[intervals.size() / 2];
-    return median_ns > 0 ? 1e9 / median_ns : 0.0;
+    return median_ns > 0 ? 1e9 / static_cast<double>(median_ns) : 0.0;
   }
 };
 

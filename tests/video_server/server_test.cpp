@@ -209,6 +209,7 @@ TEST_F(VideoServerTest, OverlaySurvivesARestartAndFrameIdsNeverRepeat) {
   set.mutable_settings()->set_key_level(75);
   ASSERT_TRUE(Call<SetOverlayResponse>("SetOverlay", set).ok());
   std::vector<uint64_t> ids;
+  ids.reserve(5);
   for (int i = 0; i < 5; ++i) ids.push_back(Grab().frame_id());
 
   EXPECT_EQ(server_->Stop(), 0);
@@ -261,7 +262,8 @@ TEST_F(VideoServerTest, LiveVideoToAFastAndASlowSubscriber) {
     newest = frame.sequence();
     std::lock_guard lock(fast.mutex);
     fast.sequences.push_back(frame.sequence());
-    fast.held_ms.push_back((frame.send_unix_ns() - frame.capture_unix_ns()) / 1e6);
+    fast.held_ms.push_back(static_cast<double>(frame.send_unix_ns() - frame.capture_unix_ns()) /
+                           1e6);
   });
   // A slow subscriber as a real client is written: its network thread hands frames to a
   // one-frame mailbox, and a render loop that needs 250 ms a frame takes the newest.
@@ -281,7 +283,8 @@ TEST_F(VideoServerTest, LiveVideoToAFastAndASlowSubscriber) {
       {
         std::lock_guard lock(slow.mutex);
         slow.sequences.push_back(frame->sequence());
-        slow.held_ms.push_back((frame->send_unix_ns() - frame->capture_unix_ns()) / 1e6);
+        slow.held_ms.push_back(
+            static_cast<double>(frame->send_unix_ns() - frame->capture_unix_ns()) / 1e6);
         slow.behind.push_back(static_cast<int64_t>(newest) -
                               static_cast<int64_t>(frame->sequence()));
       }

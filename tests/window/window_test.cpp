@@ -284,6 +284,7 @@ ModelRecord TexturedBox(double pan) {
   const std::vector<double> joints = {pan, 0, 0};
   const auto P = geometry::CameraAtPose(Cal().left.P, *Cal().platform, joints);
   std::vector<cv::Point> corners;
+  corners.reserve(8);
   for (int i = 0; i < 8; ++i) {
     corners.push_back(
         Pixel(P, {21 + (i & 1 ? 2 : -2), -48 + (i & 2 ? 2 : -2), 3 + (i & 4 ? 2 : -2)}));
@@ -316,6 +317,7 @@ ModelRecord TexturedBox(double pan) {
 // show the texture's red (or, with `blue`, its blue).
 double ColourInBox(const cv::Mat& shot, bool blue) {
   std::vector<cv::Point> corners;
+  corners.reserve(8);
   for (int i = 0; i < 8; ++i) {
     corners.push_back(
         Pixel(Cal().left.P, {21 + (i & 1 ? 2 : -2), -48 + (i & 2 ? 2 : -2), 3 + (i & 4 ? 2 : -2)}));

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <random>
 #include <string>
 #include <vector>
@@ -119,7 +120,7 @@ void Dlt() {
       double e = 0;
       for (const auto& p : check)
         e += (*ig::ProjectiveCamera(r->P, {}).Project(p.world) - p.pixel).squaredNorm();
-      truth_err += std::sqrt(e / check.size()) / 100;
+      truth_err += std::sqrt(e / static_cast<double>(check.size())) / 100;
     }
     std::printf(
         "  %-10s mean residual rms %.3f px; fitted camera vs truth %.3f px rms over the image\n",
@@ -183,9 +184,7 @@ void Registration() {
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   const bool chessboard = !(argc > 1 && std::strcmp(argv[1], "--no-chessboard") == 0);
   ThesisDecomposition();
   if (chessboard) Chessboard();
@@ -193,4 +192,16 @@ int main(int argc, char** argv) {
   Platform();
   Registration();
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "calibration_figures: %s\n", e.what());
+    return 1;
+  }
 }

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -45,7 +46,7 @@ struct Stats {
 // otherwise decide the figure.
 Stats Summarise(const std::vector<double>& us, std::size_t bytes_each) {
   const double p50 = igms::stats::Median(us);
-  return {p50, igms::stats::Percentile(us, 0.99), bytes_each / p50};
+  return {p50, igms::stats::Percentile(us, 0.99), static_cast<double>(bytes_each) / p50};
 }
 
 // Raw baseline: the client writes `request` bytes, the server reads them and writes `reply`
@@ -179,7 +180,7 @@ double RawPipelinedMBps(std::size_t size, int n) {
   acks.join();
   const double s = std::chrono::duration<double>(Clock::now() - t0).count();
   server.join();
-  return size * double(n) / s / 1e6;
+  return static_cast<double>(size) * n / s / 1e6;
 }
 
 double LibraryPipelinedMBps(std::size_t size, int n, int window) {
@@ -197,13 +198,14 @@ double LibraryPipelinedMBps(std::size_t size, int n, int window) {
       cv.wait(lock, [&] { return in_flight < window; });
       ++in_flight;
     }
-    client.Call<igms::Envelope>("bench.Reply", req, 10s, [&](igms::net::Result<igms::Envelope> r) {
-      std::lock_guard lock(m);
-      --in_flight;
-      ++done;
-      if (!r.ok()) ++failed;
-      cv.notify_all();
-    });
+    client.Call<igms::Envelope>("bench.Reply", req, 10s,
+                                [&](const igms::net::Result<igms::Envelope>& r) {
+                                  std::lock_guard lock(m);
+                                  --in_flight;
+                                  ++done;
+                                  if (!r.ok()) ++failed;
+                                  cv.notify_all();
+                                });
   }
   {
     std::unique_lock lock(m);
@@ -211,7 +213,7 @@ double LibraryPipelinedMBps(std::size_t size, int n, int window) {
   }
   const double s = std::chrono::duration<double>(Clock::now() - t0).count();
   if (failed) std::fprintf(stderr, "bench: %d calls failed\n", failed);
-  return size * double(n) / s / 1e6;
+  return static_cast<double>(size) * n / s / 1e6;
 }
 
 long RssKb(pid_t pid) {
@@ -271,9 +273,7 @@ void IdleClientMemory(int clients) {
   waitpid(child, nullptr, 0);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   igms::config::TuneAllocator();
   const bool small_only = argc > 1 && std::string(argv[1]) == "--small-only";  // for profiling
   std::printf("IGMS network library vs raw loopback TCP (same run)\n");
@@ -311,4 +311,16 @@ int main(int argc, char** argv) {
       raw_tp, lib_tp, 100.0 * lib_tp / raw_tp);
   IdleClientMemory(1000);
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "net_bench: %s\n", e.what());
+    return 1;
+  }
 }

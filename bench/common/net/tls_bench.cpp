@@ -14,6 +14,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <exception>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -120,7 +121,7 @@ class Pair {
       if (publisher_) break;
     }
     igms::Envelope frame;
-    frame.set_payload(std::string(1280 * 1024, 'p'));
+    frame.set_payload(std::string(std::size_t{1280} * 1024, 'p'));
     const auto start = Clock::now();
     const auto period = std::chrono::nanoseconds(1000000000 / fps);
     int sent = 0;
@@ -179,7 +180,7 @@ double PipelinedMBps(Pair& pair, std::size_t size, int n, int window) {
       ++in_flight;
     }
     pair.client().Call<igms::Envelope>("bench.Reply", req, 10s,
-                                       [&](igms::net::Result<igms::Envelope> r) {
+                                       [&](const igms::net::Result<igms::Envelope>& r) {
                                          if (!r.ok()) {
                                            std::cerr << "bench: " << r.status.ToString() << "\n";
                                            std::exit(1);
@@ -192,14 +193,17 @@ double PipelinedMBps(Pair& pair, std::size_t size, int n, int window) {
   }
   std::unique_lock lock(m);
   cv.wait(lock, [&] { return done == n; });
-  return size * double(n) / std::chrono::duration<double>(Clock::now() - t0).count() / 1e6;
+  return static_cast<double>(size) * n / std::chrono::duration<double>(Clock::now() - t0).count() /
+         1e6;
 }
 
 // Processor time of the whole process (both ends), in seconds.
 double CpuSeconds() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
-  auto s = [](const timeval& t) { return t.tv_sec + t.tv_usec / 1e6; };
+  auto s = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) / 1e6;
+  };
   return s(u.ru_utime) + s(u.ru_stime);
 }
 
@@ -207,7 +211,7 @@ double CpuSeconds() {
 double ThreadCpuSeconds() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec + t.tv_nsec / 1e9;
+  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) / 1e9;
 }
 
 // AES-128-GCM (TLS's first choice) sealing 16 KB records, MB per second of processor time.
@@ -229,7 +233,7 @@ double AesGcmMBps() {
   }
   const double s = ThreadCpuSeconds() - t0;
   EVP_CIPHER_CTX_free(ctx);
-  return bytes / s / 1e6;
+  return static_cast<double>(bytes) / s / 1e6;
 }
 
 std::vector<double> ConnectTimes(Pair& pair, int n) {
@@ -247,7 +251,9 @@ std::vector<double> ConnectTimes(Pair& pair, int n) {
 
 // bench_tls [rtt] [mbps] [live] [connect] [plain|tls] [blocks=N]: the parts named (all by
 // default), for profiling one of them alone.
-int main(int argc, char** argv) {
+namespace {
+
+int RunBenchmark(int argc, char** argv) {
   igms::config::TuneAllocator();
   std::set<std::string> parts;
   int blocks = 3, first = 0, last = 1;
@@ -283,7 +289,7 @@ int main(int argc, char** argv) {
       }
       if (want("mbps")) {
         const double cpu0 = CpuSeconds();
-        mbps[tls].push_back(PipelinedMBps(pair, 500 * 1000, 200, 8));
+        mbps[tls].push_back(PipelinedMBps(pair, std::size_t{500} * 1000, 200, 8));
         cpu_ms_per_mb[tls].push_back((CpuSeconds() - cpu0) * 1e3 / (500 * 1000 * 200 / 1e6));
       }
       if (want("live")) fps[tls].push_back(pair.LiveFps(60, 1.0));
@@ -318,4 +324,16 @@ int main(int argc, char** argv) {
                 plain_ms / (plain_ms + 2 * 1e3 / aes));
   }
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tls_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <exception>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -22,12 +23,10 @@ using igms::stats::Median;
 double CpuMs() {
   timespec t;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   cv::setNumThreads(1);
   using Clock = std::chrono::steady_clock;
   igms::site::Scene scene = igms::site::DefaultTestbedScene();
@@ -72,4 +71,16 @@ int main(int argc, char** argv) {
   std::printf("  one image: sensor (blur, noise, 8 bits) %7.2f ms\n", Median(sensor_ms));
   std::printf("  baseline: writing every pixel once       %7.2f ms\n", Median(fill_ms));
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "render_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -66,9 +67,7 @@ class PlainInsert {
   sqlite3_stmt* insert_ = nullptr;
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   const int models = argc > 1 ? std::atoi(argv[1]) : 200;
   if (models < 2) {
     std::fprintf(stderr, "bench_database_store: models must be at least 2 (got %s)\n", argv[1]);
@@ -147,7 +146,7 @@ int main(int argc, char** argv) {
     t0 = Clock::now();
     auto list = (*db)->ListModels();
     list_ms.push_back(Ms(Clock::now() - t0));
-    if (!list.ok() || list->size() != static_cast<std::size_t>(models / 2 * 2)) return 1;
+    if (!list.ok() || list->size() != static_cast<std::size_t>(models / 2) * 2) return 1;
   }
 
   std::printf("geometric database in %s (%d models, box texture %zu bytes)\n",
@@ -162,4 +161,16 @@ int main(int argc, char** argv) {
 
   if (made_folder) fs::remove_all(folder);
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "store_bench: %s\n", e.what());
+    return 1;
+  }
 }

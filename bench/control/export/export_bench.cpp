@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -58,9 +59,7 @@ double PlainWrite(const fs::path& folder, const std::string& bytes) {
   return Ms(Clock::now() - start);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   const int count = argc > 1 ? std::atoi(argv[1]) : 10000;
   const fs::path folder =
       argc > 2 ? fs::path(argv[2])
@@ -130,4 +129,16 @@ int main(int argc, char** argv) {
       "plain file, synced)\n");
   fs::remove_all(folder);
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "export_bench: %s\n", e.what());
+    return 1;
+  }
 }

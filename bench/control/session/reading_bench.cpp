@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -162,6 +163,7 @@ std::unique_ptr<igms::control::ControlApp> MakeControlApp(const LabOnLoopback& l
   std::vector<std::string> args = {"bench_reading_to_state", "--config", file, "--log-level",
                                    "warn"};
   std::vector<char*> argv_control;
+  argv_control.reserve(args.size());
   for (auto& a : args) argv_control.push_back(a.data());
   igms::control::ControlConfig control_config;
   int exit_code = 0;
@@ -289,10 +291,11 @@ class Repetition {
     if (std::getenv("BENCH_DEBUG")) {
       for (const Seen& s : pushed)
         std::fprintf(stderr, "  joy %lu x %.3f stamp %+.2f ms arrived %+.2f\n", s.sequence, s.x,
-                     (s.stamp_ns - from) / 1e6, (s.arrived_ns - from) / 1e6);
+                     static_cast<double>(s.stamp_ns - from) / 1e6,
+                     static_cast<double>(s.arrived_ns - from) / 1e6);
       for (const Published& p : views_.Since(from))
-        std::fprintf(stderr, "  view %+.2f ms moved %d\n", (p.at_ns - from) / 1e6,
-                     p.pointer != before);
+        std::fprintf(stderr, "  view %+.2f ms moved %d\n",
+                     static_cast<double>(p.at_ns - from) / 1e6, p.pointer != before);
     }
     if (first && second && second->sequence == first->sequence + 1) {
       for (const Published& p : views_.Since(from)) {
@@ -344,9 +347,7 @@ class Repetition {
   const Log<Published>& views_;
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   setenv("IGMS_BIN_DIR", IGMS_BIN_DIR_DEFAULT, 0);
   setenv("IGMS_SOURCE_DIR", IGMS_SOURCE_DIR_DEFAULT, 0);
   const std::optional<int> reps = ParseReps(argc, argv);
@@ -390,4 +391,16 @@ int main(int argc, char** argv) {
   Print("first deflected -> pointer moved", pointer_first.to_state, pointer_first.delivery);
   std::printf("Live: the same reading's stamp to its arrival at a plain subscriber here.\n");
   return failed ? 1 : 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "reading_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -47,9 +48,7 @@ bool ParseLine(const std::string& line, double* ms, std::string* text) {
   return true;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   setenv("IGMS_BIN_DIR", IGMS_BIN_DIR_DEFAULT, 0);
   setenv("IGMS_SOURCE_DIR", IGMS_SOURCE_DIR_DEFAULT, 0);
   std::string objects;
@@ -151,4 +150,16 @@ int main(int argc, char** argv) {
   std::printf("whole session: %.1f s for %zu models (%.1f s per object, start included)\n",
               session_s, per_object.size(), session_s / static_cast<double>(per_object.size()));
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "session_bench: %s\n", e.what());
+    return 1;
+  }
 }

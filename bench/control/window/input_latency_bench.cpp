@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <string>
 #include <thread>
 #include <vector>
@@ -45,9 +46,7 @@ void Print(const char* what, std::vector<double> ms) {
               ms.size());
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   setenv("IGMS_BIN_DIR", IGMS_BIN_DIR_DEFAULT, 0);
   setenv("IGMS_SOURCE_DIR", IGMS_SOURCE_DIR_DEFAULT, 0);
   double seconds = 4, fps = 60;
@@ -185,9 +184,21 @@ int main(int argc, char** argv) {
       "live video into the window: %llu pairs in %.1f s (%.1f per second), %llu skipped; "
       "the video server's clock %+.3f ms (within %.3f ms, %d pings) from this one's\n",
       static_cast<unsigned long long>(live_stats.frames), span_s,
-      span_s > 0 ? live_stats.frames / span_s : 0.0,
+      span_s > 0 ? static_cast<double>(live_stats.frames) / span_s : 0.0,
       static_cast<unsigned long long>(live_stats.skipped), live_stats.clock_offset_ms,
       live_stats.clock_bound_ms, live_stats.clock_pings);
   Print("live pair capture to receipt", live_latency_ms);
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "input_latency_bench: %s\n", e.what());
+    return 1;
+  }
 }

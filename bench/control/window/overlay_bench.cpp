@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <opencv2/imgproc.hpp>
 #include <random>
 
@@ -195,7 +196,7 @@ void FrameTimes(Renderer& renderer, bool quick, const std::vector<int>& counts) 
       glFinish();
       const auto t0 = std::chrono::steady_clock::now();
       for (int f = 0; f < frames; ++f) {
-        for (auto& e : list.eyes) e.video_id = static_cast<uint64_t>(f + 1);  // new video
+        for (auto& e : list.eyes) e.video_id = static_cast<uint64_t>(f) + 1;  // new video
         DrawStereo(renderer, list, StereoMode::kSideBySide, size.width, size.height);
         glFinish();
       }
@@ -210,7 +211,9 @@ void FrameTimes(Renderer& renderer, bool quick, const std::vector<int>& counts) 
 }  // namespace
 }  // namespace igms::control::render
 
-int main(int argc, char** argv) {
+namespace {
+
+int RunBenchmark(int argc, char** argv) {
   bool quick = false, registration = true, frames = true;
   uint64_t mark_seed = 1;
   std::vector<int> counts = {1, 100, 1000, 10000};
@@ -253,4 +256,16 @@ int main(int argc, char** argv) {
   if (registration) igms::control::render::Registration(**renderer, mark_seed);
   if (frames) igms::control::render::FrameTimes(**renderer, quick, counts);
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "overlay_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -23,7 +23,9 @@
 // always left out of the common words, so a figure counts only words the check never saw.
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -126,9 +128,7 @@ RecognizerOptions WithEnvironment(RecognizerOptions options) {
   return WithoutEvaluationWords(options);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   const std::string which = argc > 1 ? argv[1] : "all";
   if (which != "tuning" && which != "test" && which != "flite" && which != "enrolled" &&
       which != "enrolled-tuning" && which != "all") {
@@ -183,4 +183,16 @@ int main(int argc, char** argv) {
   if (which == "enrolled-tuning")  // for choosing settings for enrolled operators
     ok &= RunEnrolled(enrolled, {{"enrolled tuning voices", tuning, TuningWords()}});
   return ok ? 0 : 1;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_voice: %s\n", e.what());
+    return 1;
+  }
 }

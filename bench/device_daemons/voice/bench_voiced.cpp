@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <deque>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -75,9 +76,7 @@ double RssMb(pid_t pid) {
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunBenchmark(int argc, char** argv) {
   // The daemon is found next to this program's folder (build/bench -> build/bin).
   const std::string bin =
       (std::filesystem::absolute(argv[0]).parent_path().parent_path() / "bin").string();
@@ -141,7 +140,7 @@ int main(int argc, char** argv) {
     got = received.size();
     for (const auto& [sequence, t] : received) {
       if (sequence == 0 || sequence > dragon->command_ends.size()) continue;
-      latency_ms.push_back((t - dragon->command_ends[sequence - 1]) * 1e-6);
+      latency_ms.push_back(static_cast<double>(t - dragon->command_ends[sequence - 1]) * 1e-6);
     }
   }
   client.Stop();
@@ -149,7 +148,7 @@ int main(int argc, char** argv) {
   daemon.Stop();
   host.Stop();
   std::printf("voice, Dragon line at 9600 baud: %d commands said, %zu received (%.1f a second)\n",
-              said, got, got / seconds);
+              said, got, static_cast<double>(got) / seconds);
   std::printf("  last byte -> subscriber: p50 %.2f ms, p99 %.2f ms, max %.2f ms over %zu\n",
               stats::Percentile(latency_ms, 0.5), stats::Percentile(latency_ms, 0.99),
               stats::Percentile(latency_ms, 1.0), latency_ms.size());
@@ -167,4 +166,16 @@ int main(int argc, char** argv) {
     std::remove(wav.c_str());
   }
   return 0;
+}
+
+}  // namespace
+
+// A failure is reported on stderr and in the exit status, not as an abort.
+int main(int argc, char** argv) {
+  try {
+    return RunBenchmark(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_voiced: %s\n", e.what());
+    return 1;
+  }
 }

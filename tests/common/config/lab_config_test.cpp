@@ -137,6 +137,7 @@ TEST(ProcessOptions, FlagsOverrideTheFile) {
                                    "--name", "video",    "--port",
                                    "0",      "--set",    "processes.video.edges.sigma=1.5"};
   std::vector<char*> argv;
+  argv.reserve(args.size());
   for (auto& a : args) argv.push_back(a.data());
   int rc = -1;
   boost::program_options::options_description extra("extra");

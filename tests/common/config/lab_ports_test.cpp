@@ -79,7 +79,7 @@ TEST(LabPorts, TheLabFileGivesEveryProcessItsPort) {
 TEST(LabPorts, TheConfigurationPageTablesEveryPort) {
   std::set<std::string> tabled;
   for (const auto& line : DocLines()) {
-    if (line.where.rfind("docs/configuration.md:", 0) != 0 || line.text.rfind("|", 0) != 0)
+    if (line.where.rfind("docs/configuration.md:", 0) != 0 || line.text.rfind('|', 0) != 0)
       continue;
     for (const auto& p : ports::kLabPorts) {
       if (line.text.find(std::string("`") + p.program + "`") != std::string::npos &&

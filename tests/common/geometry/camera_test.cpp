@@ -124,6 +124,7 @@ TEST(Distortion, MatchesOpenCvProjectPoints) {
   for (int n : {4, 5, 8, 12, 14}) {
     const auto dist = Coefficients(n);
     std::vector<cv::Point3d> object;
+    object.reserve(50);
     for (int i = 0; i < 50; ++i) object.emplace_back(xy(rng), xy(rng), 1.0);
     std::vector<cv::Point2d> image;
     cv::Mat Kcv;

@@ -125,6 +125,7 @@ TEST(Sessions, HundredConcurrentClients) {
   }
   std::atomic<int> good{0};
   std::vector<std::thread> callers;
+  callers.reserve(100);
   for (int i = 0; i < 100; ++i) {
     callers.emplace_back([&, i] {
       for (int k = 0; k < 20; ++k) {
@@ -154,6 +155,7 @@ TEST(Sessions, ManyThreadsShareOneClient) {
   ASSERT_TRUE(client.WaitConnected(5s));
   std::atomic<int> good{0};
   std::vector<std::thread> callers;
+  callers.reserve(8);
   for (int i = 0; i < 8; ++i) {
     callers.emplace_back([&, i] {
       for (int k = 0; k < 50; ++k) {
@@ -212,7 +214,7 @@ TEST(Sessions, ClientThatStopsReadingDoesNotStallOthers) {
   sub.set_kind(igms::Envelope::SUBSCRIBE);
   sub.set_method(kCount);
   igms::Envelope req;
-  req.set_payload(std::string(256 * 1024, 'p'));
+  req.set_payload(std::string(std::size_t{256} * 1024, 'p'));
   sub.set_payload(req.SerializeAsString());
   sub.mutable_header()->set_correlation_id(1);
   boost::asio::write(raw, boost::asio::buffer(EncodeFrame(sub)));

@@ -308,7 +308,7 @@ template <class T>
 std::vector<T> AccessorData(const Gltf& g, int accessor, int components) {
   const Struct& a = Item(g.json, "accessors", accessor);
   const Struct& view = Item(g.json, "bufferViews", Int(a, "bufferView"));
-  const std::size_t count = Int(a, "count") * components;
+  const std::size_t count = static_cast<std::size_t>(Int(a, "count")) * components;
   std::vector<T> out(count);
   EXPECT_LE(Int(view, "byteOffset") + count * sizeof(T), g.bin.size());
   std::memcpy(out.data(), g.bin.data() + Int(view, "byteOffset"), count * sizeof(T));

@@ -200,6 +200,7 @@ TEST(RangerPty, RangesOnRequestAtMost6HzAndSurvivesGarbage) {
   // Back-to-back requests wait for the measurement before: eleven readings span ten
   // measurement times on their own stamps (nine asserted: a stamp may be taken late).
   std::vector<RangerState> eleven;
+  eleven.reserve(11);
   for (int i = 0; i < 11; ++i) eleven.push_back(range());
   EXPECT_GE(
       eleven.back().stamp().receive_monotonic_ns() - eleven.front().stamp().receive_monotonic_ns(),

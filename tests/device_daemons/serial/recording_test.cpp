@@ -47,7 +47,7 @@ TEST(Recording, RecordThenReplayReproducesValuesAndSpacing) {
   EXPECT_GE(got.back().joystick().stamp().receive_monotonic_ns() - start_ns, 85'000'000);
   for (int i = 0; i < 10; ++i) {
     EXPECT_DOUBLE_EQ(got[i].joystick().x(), i * 0.1);
-    EXPECT_EQ(got[i].joystick().stamp().sequence(), static_cast<uint64_t>(i + 1));
+    EXPECT_EQ(got[i].joystick().stamp().sequence(), static_cast<uint64_t>(i) + 1);
   }
   std::filesystem::remove(path);
 }

@@ -91,7 +91,7 @@ TEST(Grammar, OptionalPhoneLoopIsBoundedAndDecoysAppear) {
   EXPECT_NE(g.find("/ breeze"), std::string::npos);
   EXPECT_NE(g.find("<tail> = <phone> [<phone>];"), std::string::npos);
   EXPECT_NE(g.find("/ ph_aa [<tail>]"), std::string::npos);
-  EXPECT_EQ(g.find("+"), std::string::npos);
+  EXPECT_EQ(g.find('+'), std::string::npos);
 }
 
 // sphinxbase applies a JSGF weight written before a word and ignores one written before a
@@ -125,6 +125,7 @@ TEST(Grammar, DecoysAreNearButNeverHomophones) {
   options.max_per_command = 10;
   const auto decoys = SelectDecoys(dictionary, options);
   std::vector<std::string> words;
+  words.reserve(decoys.size());
   for (const auto& d : decoys) words.push_back(d.word);
   EXPECT_EQ(words, (std::vector<std::string>{"breeze", "marked"}));
   // A word-frequency filter drops rare words.
