@@ -124,7 +124,11 @@ OutputResult OpenOutput(const OutputOptions& options) {
       result.error = "audio output: cannot write OpenAL's configuration to /tmp";
       return result;
     }
+    // OpenAL Soft takes its configuration from the environment only. OpenOutput runs once, as
+    // the program starts, before it starts a thread: setenv races with nothing.
+    // NOLINTNEXTLINE(concurrency-mt-unsafe): no other thread yet (see above)
     setenv("ALSOFT_CONF", out->config_file_.c_str(), 1);
+    // NOLINTNEXTLINE(concurrency-mt-unsafe): no other thread yet (see above)
     setenv("ALSOFT_DRIVERS", mode.c_str(), 1);
   }
   const char* name =

@@ -69,7 +69,8 @@ struct OutputResult {
   std::string warning;  // when a fallback was taken: why the default output failed
 };
 
-// Opens the output `options` ask for. Call once per process, before any other OpenAL call.
+// Opens the output `options` ask for. Call once per process, before any other OpenAL call and
+// before the program starts a thread (it sets OpenAL Soft's environment variables).
 OutputResult OpenOutput(const OutputOptions& options);
 
 }  // namespace igms::sound

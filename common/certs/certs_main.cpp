@@ -8,6 +8,7 @@
 // The folder is --dir, else the lab file's lab.certs, else `certs` beside the lab file.
 // With --config, issue checks NAME against the lab's processes (igmsctl is the diagnostic
 // client's name and always allowed) and names the process's host in the certificate.
+#include <cstdint>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
@@ -161,7 +162,8 @@ int main(int argc, char** argv) {
         if (!renew && std::filesystem::exists(cert) &&
             std::filesystem::exists(igms::certs::KeyFile(dir, name))) {
           const Info info = igms::certs::Describe(igms::certs::ReadFile(cert));
-          if (info.not_after_unix - now > 7 * 86400) continue;  // good for more than a week
+          // Good for more than a week: kept.
+          if (info.not_after_unix - now > std::int64_t{7} * 86400) continue;
         }
         igms::certs::IssueOptions o;
         o.hosts = HostsOf(&*config, name, hosts);

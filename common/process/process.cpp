@@ -30,6 +30,7 @@ std::string Join(const std::vector<std::string>& argv) {
 std::string RunProgram(const std::vector<std::string>& argv, const std::string& output_path) {
   if (argv.empty()) return "no program to run";
   std::vector<char*> args;
+  args.reserve(argv.size() + 1);
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
   args.push_back(nullptr);
   posix_spawn_file_actions_t actions;
@@ -72,7 +73,7 @@ std::vector<std::filesystem::path> ProgramSearchDirs() {
 
 std::filesystem::path FindProgram(const std::string& name) {
   for (const auto& dir : ProgramSearchDirs()) {
-    const std::filesystem::path candidate = dir / name;
+    std::filesystem::path candidate = dir / name;  // not const: returned by move
     std::error_code ec;
     if (std::filesystem::is_regular_file(candidate, ec) && access(candidate.c_str(), X_OK) == 0) {
       return candidate;

@@ -96,6 +96,7 @@ int main(int argc, char** argv) {
   }
   args.insert(args.end(), extra.begin(), extra.end());
   std::vector<char*> raw;
+  raw.reserve(args.size() + 1);
   for (auto& a : args) raw.push_back(a.data());
   raw.push_back(nullptr);
   execv(program.c_str(), raw.data());
