@@ -35,7 +35,7 @@ std::vector<Eigen::Vector3d> CylinderOutline(const Eigen::VectorXd& x) {
   }();
   const Eigen::Vector3d ru = r * u, rv = r * v;
   std::vector<Eigen::Vector3d> pts;
-  pts.reserve(static_cast<std::size_t>(2 * kCapPoints));
+  pts.reserve(2 * static_cast<std::size_t>(kCapPoints));
   for (const Eigen::Vector3d& c : {p0, p1})
     for (const Eigen::Vector2d& cs : circle) pts.push_back(c + cs.x() * ru + cs.y() * rv);
   return pts;

@@ -532,9 +532,10 @@ Result<std::unique_ptr<Renderer>> Renderer::Make() {
   for (GLuint i = 0; i < 3; ++i) {
     glEnableVertexAttribArray(i);
     const std::size_t offset = std::size_t{i} * 3 * sizeof(float);  // position, normal, color
-    // NOLINTNEXTLINE(performance-no-int-to-ptr): OpenGL takes the offset in the buffer as a pointer
-    glVertexAttribPointer(i, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex),
-                          reinterpret_cast<const void*>(offset));
+    // OpenGL takes the attribute's offset in the bound buffer as a pointer.
+    const void* pointer =
+        reinterpret_cast<const void*>(offset);  // NOLINT(performance-no-int-to-ptr)
+    glVertexAttribPointer(i, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex), pointer);
   }
   glBindVertexArray(0);
   glGenTextures(2, impl->video_texture);
