@@ -93,7 +93,8 @@ TEST_F(Render, ABoxFillsItsProjectedOutlineInBothEyes) {
     int inside = 0, outside = 0, wrong = 0;
     for (int v = 0; v < kSize.height; ++v) {
       for (int u = 0; u < kSize.width; ++u) {
-        const double d = cv::pointPolygonTest(hull, cv::Point2f(u, v), true);
+        const double d = cv::pointPolygonTest(
+            hull, cv::Point2f(static_cast<float>(u), static_cast<float>(v)), true);
         const bool lit = image.at<cv::Vec3b>(v, u)[1] > 127;
         if (d > 1.5) {
           inside++;
@@ -132,7 +133,7 @@ TEST_F(Render, ASolidInsideAnotherStaysHiddenWithBackFacesCulled) {
       int white = 0, red = 0;
       for (int v = 0; v < image.rows; ++v) {
         for (int u = 0; u < image.cols; ++u) {
-          const cv::Vec3b p = image.at<cv::Vec3b>(v, u);
+          const cv::Vec3b& p = image.at<cv::Vec3b>(v, u);
           white += p[0] > 200 && p[2] > 200;
           red += p[0] < 50 && p[2] > 200;
         }
@@ -246,8 +247,8 @@ TEST_F(Render, TheLensIsUndoneSoADotLandsOnItsIdealPixel) {
   const geometry::ProjectiveCamera camera(cal.left.P, kSize, lens);
   list.eyes[0].lens = lens;
   // Towards the corners, where the lens moves points most.
-  for (const Eigen::Vector2d ideal : {Eigen::Vector2d(40, 30), Eigen::Vector2d(470, 440),
-                                      Eigen::Vector2d(60, 430), Eigen::Vector2d(480, 40)}) {
+  for (const Eigen::Vector2d& ideal : {Eigen::Vector2d(40, 30), Eigen::Vector2d(470, 440),
+                                       Eigen::Vector2d(60, 430), Eigen::Vector2d(480, 40)}) {
     const Eigen::Vector2d observed = camera.Distort(ideal);
     cv::Mat video(kSize.height, kSize.width, CV_8UC1, cv::Scalar(0));
     video.at<uchar>(static_cast<int>(std::lround(observed.y())),

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <mutex>
@@ -53,7 +54,9 @@ struct Collected {
         intervals.push_back(readings[i].stamp().receive_monotonic_ns() -
                             readings[i - 1].stamp().receive_monotonic_ns());
     }
-    std::nth_element(intervals.begin(), intervals.begin() + intervals.size() / 2, intervals.end());
+    std::nth_element(intervals.begin(),
+                     intervals.begin() + static_cast<std::ptrdiff_t>(intervals.size() / 2),
+                     intervals.end());
     const int64_t median_ns = intervals[intervals.size() / 2];
     return median_ns > 0 ? 1e9 / static_cast<double>(median_ns) : 0.0;
   }

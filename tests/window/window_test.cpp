@@ -331,7 +331,7 @@ double ColourInBox(const cv::Mat& shot, bool blue) {
     for (int u = 0; u < 512; ++u) {
       if (!inside.at<uchar>(v, u)) continue;
       ++all;
-      const cv::Vec3b bgr = shot.at<cv::Vec3b>(v, u);
+      const cv::Vec3b& bgr = shot.at<cv::Vec3b>(v, u);
       const int hot = blue ? 0 : 2, cold = blue ? 2 : 0;
       if (bgr[hot] > 150 && bgr[1] < 90 && bgr[cold] < 90) ++red;
     }

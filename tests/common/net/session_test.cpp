@@ -8,6 +8,7 @@
 #include <boost/asio/read.hpp>
 #include <boost/asio/write.hpp>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "common/net/client.h"
@@ -31,7 +32,8 @@ using igms::testing::IoThread;
 // A server with an echo method, a method that never answers and a counting stream that
 // publishes `count` messages of `bytes` each from a worker thread.
 struct TestServer {
-  explicit TestServer(boost::asio::io_context& io, ServerOptions o = {}) : server(io, o) {
+  explicit TestServer(boost::asio::io_context& io, ServerOptions o = {})
+      : server(io, std::move(o)) {
     server.Handle<igms::Envelope, igms::Envelope>(
         kEcho, [](const igms::Envelope& req, igms::Envelope& resp) {
           resp = req;
@@ -44,7 +46,7 @@ struct TestServer {
         });
     server.HandleStream<igms::Envelope, Msg>(
         kCount,
-        [this](const igms::Envelope& req, std::shared_ptr<Publisher<Msg>> pub) {
+        [this](const igms::Envelope& req, const std::shared_ptr<Publisher<Msg>>& pub) {
           const int count = req.header().correlation_id() == 0
                                 ? 1000000
                                 : static_cast<int>(req.header().correlation_id());
@@ -382,7 +384,7 @@ TEST(Sessions, LatestOnlyStreamKeepsNoBacklog) {
       "test.Latest",
       [&](const igms::Envelope&, std::shared_ptr<Publisher<Msg>> p) {
         std::lock_guard lock(m);
-        publisher = p;
+        publisher = std::move(p);
         return Status::Ok();
       },
       /*latest_only=*/true);
