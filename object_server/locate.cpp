@@ -209,13 +209,15 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   res.rms_left_px = f.rms_px[0];
   res.rms_right_px = f.rms_px[1];
   if (!f.ok) return fail({Failure::kFitFailed, "model fit: " + f.error});
+  // 5. Consistency between the views, on the parts of the outline that should show an edge.
+  const auto measure_support = [&](const FitOutcome& o) -> std::array<OutlineSupport, 2> {
+    return {MeasureOutlineSupport(o.outline[0], pair->left, grad_left, fit),
+            MeasureOutlineSupport(o.outline[1], pair->right, grad_right, fit)};
+  };
+  const std::array<OutlineSupport, 2> support = measure_support(f);
   const double score_scale = ScoreResidualScale(opt, pair->left.cols);
   res.fit_score = FitScore(f, score_scale);
-
-  // 5. Consistency between the views, on the parts of the outline that should show an edge.
-  const std::array<OutlineSupport, 2> support = {
-      MeasureOutlineSupport(f.outline[0], pair->left, grad_left, fit),
-      MeasureOutlineSupport(f.outline[1], pair->right, grad_right, fit)};
+  res.supported_fit_score = SupportedFitScore(f, support, score_scale);
   spdlog::debug("locate: outline support left {}/{}/{}/{} right {}/{}/{}/{}", support[0].samples,
                 support[0].outside, support[0].contrasted, support[0].edged, support[1].samples,
                 support[1].outside, support[1].contrasted, support[1].edged);
@@ -241,6 +243,9 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
                   FitScore(f));
     res.other_type_fit_score = FitScore(other, score_scale);
+    res.other_type_supported_fit_score =
+        other.ok ? SupportedFitScore(other, measure_support(other), score_scale)
+                 : res.other_type_fit_score;
     if (const auto failure = CheckOtherType(cylinder, f, other, opt)) return fail(*failure);
   }
 

@@ -199,6 +199,10 @@ struct LocateResult {
   // FitScore of the fit, and of the other type's when it was tried (-1: not tried), with the
   // residuals in the reference camera's pixels (score_reference_width_px).
   double fit_score = 0, other_type_fit_score = -1;
+  // The same with the share without an edge taken of the outline that should show one
+  // (SupportedFitScore). Not bounded: on the site scenes' tuning seeds it told right fits
+  // from wrong ones less well than fit_score (docs/protocol-object.md).
+  double supported_fit_score = 0, other_type_supported_fit_score = -1;
   double elapsed_ms = 0;
   RangeCheck range;
   LocateTrace trace;

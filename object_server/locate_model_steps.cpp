@@ -294,6 +294,14 @@ double FitScore(const FitOutcome& fit, double residual_scale) {
   return fit.ok ? residual_scale * (fit.rms_px[0] + fit.rms_px[1]) + 2.0 * miss : 1e18;
 }
 
+double SupportedFitScore(const FitOutcome& fit, const std::array<OutlineSupport, 2>& support,
+                         double residual_scale) {
+  const int contrasted = support[0].contrasted + support[1].contrasted;
+  if (!fit.ok || contrasted == 0) return FitScore(fit, residual_scale);
+  const double miss = 1.0 - double(support[0].edged + support[1].edged) / contrasted;
+  return residual_scale * (fit.rms_px[0] + fit.rms_px[1]) + 2.0 * miss;
+}
+
 double ScoreResidualScale(const LocateOptions& options, int image_width) {
   if (image_width <= 0) return 1.0;
   return std::pow(options.score_reference_width_px / image_width, options.score_width_power);

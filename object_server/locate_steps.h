@@ -232,6 +232,12 @@ struct OutlineSupport {
 OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline,
                                      const cv::Mat& image, const Gradients& gradients,
                                      const FitOptions& fit);
+// FitScore with the share without an edge taken, as CheckBothViews takes it, of the samples
+// that should show one (OutlineSupport::contrasted, both views together): an outline against
+// a background of the object's own shade, hidden by an object in front or beyond the image
+// does not count against the fit. Without such samples, FitScore's share of all of them.
+double SupportedFitScore(const FitOutcome& fit, const std::array<OutlineSupport, 2>& support,
+                         double residual_scale = 1.0);
 // Fails (occluded) when more than max_outside_share of either view's outline lies beyond the
 // image or less than min_contrast_share of it shows a step (something in front hides it, or
 // it blends into what lies behind): the model would rest on a part of the object.

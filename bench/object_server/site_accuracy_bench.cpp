@@ -108,7 +108,8 @@ int RunBenchmark(int argc, char** argv) {
           if (verbose)
             std::printf(
                 "%-18s %-11s %-7s d=%5.1f vis=%.2f %s r=%+.3f h=%+.3f pos=%.3f "
-                "size=(%+.2f %+.2f %+.2f) sd=(%.2f %.2f %.2f) sc=%.3f/%.3f rms=%.3f/%.3f %s\n",
+                "size=(%+.2f %+.2f %+.2f) sd=(%.2f %.2f %.2f) sc=%.3f/%.3f supported=%.3f/%.3f "
+                "rms=%.3f/%.3f %s\n",
                 e.scene_name.c_str(), e.object_name.c_str(), e.kind.c_str(), e.distance, e.visible,
                 e.wrong            ? "WRONG"
                 : e.result.found   ? "found"
@@ -117,7 +118,9 @@ int RunBenchmark(int argc, char** argv) {
                 e.radius_signed, e.height_signed, e.position_error, e.size_signed.x(),
                 e.size_signed.y(), e.size_signed.z(), e.result.box.size_sigma.x(),
                 e.result.box.size_sigma.y(), e.result.box.size_sigma.z(), e.result.fit_score,
-                e.result.other_type_fit_score, e.result.rms_left_px, e.result.rms_right_px,
+                e.result.other_type_fit_score, e.result.supported_fit_score,
+                e.result.other_type_supported_fit_score, e.result.rms_left_px,
+                e.result.rms_right_px,
                 e.result.found ? ""
                                : (std::string(igms::object::FailureName(e.result.reason)) + ": " +
                                   e.result.detail)
@@ -125,14 +128,19 @@ int RunBenchmark(int argc, char** argv) {
           all.push_back(e);
         }
         for (const auto& n : igms::object::EvaluateNothingThere(scene, name, first + s, 2)) {
-          if (verbose && n.result.found)
+          if (verbose && (n.result.found || n.what == "wrong_type"))
             std::printf(
-                "%-18s nothing there (%s) reported found as %s, score %.3f, other type's %.3f, "
-                "rms %.3f/%.3f\n",
-                name.c_str(), n.what.c_str(),
+                "%-18s nothing there (%s) %s as %s, score %.3f, other type's %.3f, supported "
+                "%.3f/%.3f, rms %.3f/%.3f %s\n",
+                name.c_str(), n.what.c_str(), n.result.found ? "reported found" : "refused",
                 n.result.type == igms::object::SolidType::kBox ? "box" : "cylinder",
-                n.result.fit_score, n.result.other_type_fit_score, n.result.rms_left_px,
-                n.result.rms_right_px);
+                n.result.fit_score, n.result.other_type_fit_score, n.result.supported_fit_score,
+                n.result.other_type_supported_fit_score, n.result.rms_left_px,
+                n.result.rms_right_px,
+                n.result.found ? ""
+                               : (std::string(igms::object::FailureName(n.result.reason)) + ": " +
+                                  n.result.detail)
+                                     .c_str());
           nothing.push_back(n);
         }
       }

@@ -523,6 +523,26 @@ TEST(LocateStepsFit, FitScoreAddsBothViewsResidualsAndTwiceTheMissedShare) {
   EXPECT_NEAR(FitScore(f, 0.5), 0.25 + 2.0, 1e-12);  // the residuals scaled, not the share
 }
 
+TEST(LocateStepsFit, TheSupportedScoreCountsOnlyTheOutlineThatShouldShowAnEdge) {
+  FitOutcome f;
+  f.ok = true;
+  f.rms_px = {0.2, 0.3};
+  f.sampled = {100, 100};
+  f.used = {60, 70};  // 35% of the whole outline without an edge
+  // Of the samples with a visible step, 10 of 80 and 5 of 70 without an edge.
+  std::array<OutlineSupport, 2> support;
+  support[0].contrasted = 80;
+  support[0].edged = 70;
+  support[1].contrasted = 70;
+  support[1].edged = 65;
+  EXPECT_NEAR(SupportedFitScore(f, support), 0.5 + 2 * 0.1, 1e-12);
+  EXPECT_NEAR(SupportedFitScore(f, support, 0.5), 0.25 + 2 * 0.1, 1e-12);
+  // No sample with a step: the whole outline's share, as FitScore.
+  EXPECT_NEAR(SupportedFitScore(f, {}), FitScore(f), 1e-12);
+  f.ok = false;
+  EXPECT_EQ(SupportedFitScore(f, support), 1e18);
+}
+
 TEST(LocateStepsFit, TheScoresResidualsAreInTheReferenceCamerasPixels) {
   LocateOptions options;
   options.score_reference_width_px = 512;
