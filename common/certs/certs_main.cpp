@@ -75,9 +75,7 @@ std::vector<std::string> HostsOf(const igms::config::LabConfig* config, const st
   return {hosts.begin(), hosts.end()};
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int Run(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   std::string dir, config_file;
   std::vector<std::string> hosts, positional;
@@ -193,4 +191,19 @@ int main(int argc, char** argv) {
     std::cerr << "igms certs: " << e.what() << "\n";
     return igms::kExitFailure;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Run catches what its commands throw; this catches the rest (copying the arguments, a
+  // failed write of a message), so no exception ends the program without a word.
+  try {
+    return Run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "igms certs: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "igms certs: an unknown error\n";
+  }
+  return igms::kExitFailure;
 }

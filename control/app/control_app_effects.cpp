@@ -97,18 +97,25 @@ void ControlApp::Impl::Play(const std::string& key, sound::Priority priority) {
   CallPeer<sound::PlayResponse>(
       Peer::kSound, "Play", request, options.call_timeout,
       [this, key](const net::Result<sound::PlayResponse>& r) {
-        // A session faster than speech (a script) fills the sound server's queue: say so
-        // once per run of refusals, not for every cue.
-        if (r.ok()) {
-          sound_refusals = 0;
-        } else if (sound_refusals++ == 0) {
-          spdlog::warn(
-              "sound '{}' not played: {} (further refusals logged at debug level "
-              "until a sound plays)",
-              key, r.status.ToString());
-        } else {
+        // A session faster than speech (a script) keeps the sound server's queue full, and
+        // a cue now and then gets in as one ends: warn once every 10 s at most, with the count
+        // of cues refused meanwhile, not for every cue.
+        if (r.ok()) return;
+        const auto now = std::chrono::steady_clock::now();
+        if (sound_warned != std::chrono::steady_clock::time_point{} &&
+            now - sound_warned < std::chrono::seconds(10)) {
+          ++sound_refusals;
           spdlog::debug("sound '{}' not played: {}", key, r.status.ToString());
+          return;
         }
+        spdlog::warn(
+            "sound '{}' not played: {} ({}refusals in the next 10 s logged at debug level)", key,
+            r.status.ToString(),
+            sound_refusals > 0
+                ? fmt::format("{} more refused since the last warning; ", sound_refusals)
+                : std::string());
+        sound_warned = now;
+        sound_refusals = 0;
       });
 }
 

@@ -9,6 +9,7 @@
 #include <boost/asio.hpp>
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <chrono>
 #include <condition_variable>
 #include <future>
 #include <mutex>
@@ -97,7 +98,9 @@ struct ControlApp::Impl : std::enable_shared_from_this<Impl> {
 
   std::map<Peer, Link> links;
   sound::ListBankResponse bank;
+  // The sound server's refusals not warned of, and the time of the last warning.
   int sound_refusals = 0;
+  std::chrono::steady_clock::time_point sound_warned{};
   video::OverlaySettings overlay;
   bool started = false;  // the StartEvent has been handled
   // Set by Shutdown: the timers no longer re-arm. Cancelling them is not enough, as a timer

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/base/environment.h"
 #include "common/config/keys.h"
 
 namespace igms::control {
@@ -36,11 +37,9 @@ std::string PasswordHome() {
 
 UserFolders UserFolders::FromEnvironment() {
   UserFolders folders;
-  // NOLINTNEXTLINE(concurrency-mt-unsafe): read by the mains before any thread starts
-  if (const char* xdg = std::getenv("XDG_DATA_HOME")) folders.xdg_data_home = xdg;
-  // NOLINTNEXTLINE(concurrency-mt-unsafe): as above
-  if (const char* home = std::getenv("HOME"); home && *home) {
-    folders.home = home;
+  if (auto xdg = EnvironmentVariable("XDG_DATA_HOME")) folders.xdg_data_home = *xdg;
+  if (auto home = EnvironmentVariable("HOME"); home && !home->empty()) {
+    folders.home = *home;
   } else {
     folders.home = PasswordHome();
   }

@@ -11,6 +11,7 @@
 #include <deque>
 #include <map>
 
+#include "common/base/environment.h"
 #include "control/render/offscreen.h"
 #include "control/window/keys.h"
 
@@ -29,10 +30,8 @@ constexpr render::StereoMode kCycle[] = {render::StereoMode::kSideBySide,
 }  // namespace
 
 bool DisplayAvailable() {
-  // The client writes its environment only in PrivateXvfb::Start, before other threads start.
-  const char* x = std::getenv("DISPLAY");                // NOLINT(concurrency-mt-unsafe): see above
-  const char* wayland = std::getenv("WAYLAND_DISPLAY");  // NOLINT(concurrency-mt-unsafe): as x
-  return (x && *x) || (wayland && *wayland);
+  return !EnvironmentVariable("DISPLAY").value_or("").empty() ||
+         !EnvironmentVariable("WAYLAND_DISPLAY").value_or("").empty();
 }
 
 struct Window::Impl {
@@ -140,10 +139,8 @@ Result<std::unique_ptr<Window>> Window::Open(const calibration::StereoCalibratio
   } else {
     glfwSetErrorCallback(OnGlfwError);
     if (glfw_users == 0 && !glfwInit()) {
-      // NOLINTNEXTLINE(concurrency-mt-unsafe): as in DisplayAvailable
-      const char* display = std::getenv("DISPLAY");
       return ErrorMessage{"GLFW could not start (no display? DISPLAY is " +
-                          std::string(display ? display : "unset") +
+                          EnvironmentVariable("DISPLAY").value_or("unset") +
                           "): use --no-window, or run under xvfb-run"};
     }
     ++glfw_users;
