@@ -17,7 +17,7 @@ Server::Server(asio::io_context& io, ServerOptions options)
               r.set_uptime_ms(std::chrono::duration_cast<std::chrono::milliseconds>(
                                   std::chrono::steady_clock::now() - impl_->started)
                                   .count());
-              Reply<igms::PingResponse>(s, id, "igms.Server.Ping")(Status::Ok(), r);
+              Reply<igms::PingResponse>(std::move(s), id, "igms.Server.Ping")(Status::Ok(), r);
             });
 }
 

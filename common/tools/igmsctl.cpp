@@ -145,7 +145,7 @@ void ReportClock(net::Client& client, const po::variables_map& vm) {
   std::cerr << "igmsctl: clock offset " << offset->Describe()
             << ", the server's clock minus this host's\n";
   const double limit_ms = vm["max-offset-ms"].as<double>();
-  if (std::abs(offset->offset_ns) / 1e6 > limit_ms) {
+  if (static_cast<double>(std::abs(offset->offset_ns)) / 1e6 > limit_ms) {
     std::cerr << "igmsctl: warning: the server's clock is off by more than " << limit_ms
               << " ms; stamps compared across hosts (capture and platform times, latencies) "
                  "are wrong by as much: synchronise the clocks (NTP or PTP)\n";
@@ -345,7 +345,8 @@ int Subscribe(net::Client& client, const pb::MethodDescriptor* method, const pb:
         if (first_ns == 0) first_ns = now;
         last_ns = now;
         if (sent_ns > 0)
-          latencies_ms.push_back((now - (clock ? clock->ToLocalNs(sent_ns) : sent_ns)) / 1e6);
+          latencies_ms.push_back(
+              static_cast<double>(now - (clock ? clock->ToLocalNs(sent_ns) : sent_ns)) / 1e6);
         if (!quiet) {
           if (response->ParseFromArray(payload.data(), static_cast<int>(payload.size())))
             std::cout << ToJson(*response) << std::endl;
@@ -368,7 +369,7 @@ int Subscribe(net::Client& client, const pb::MethodDescriptor* method, const pb:
   }
   if (failed) rc = 1;
   if (count > 0 || duration > 0 || quiet) {
-    const double span_s = (last_ns - first_ns) / 1e9;
+    const double span_s = static_cast<double>(last_ns - first_ns) / 1e9;
     std::cerr << "igmsctl: " << received << " messages";
     if (received > 1 && span_s > 0) std::cerr << ", " << (received - 1) / span_s << " per second";
     if (!latencies_ms.empty()) {

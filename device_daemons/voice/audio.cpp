@@ -34,7 +34,7 @@ Result<Audio> LoadSoundFile(const std::string& path, int target_rate) {
   for (sf_count_t i = 0; i < got; ++i) {
     float sum = 0.0f;
     for (int c = 0; c < info.channels; ++c) sum += interleaved[i * info.channels + c];
-    const float v = std::clamp(sum / info.channels, -1.0f, 1.0f) * 32767.0f;
+    const float v = std::clamp(sum / static_cast<float>(info.channels), -1.0f, 1.0f) * 32767.0f;
     mono[i] = static_cast<int16_t>(std::lround(v));
   }
   Audio audio;
@@ -52,15 +52,17 @@ std::vector<int16_t> Resample(std::span<const int16_t> samples, int from_rate, i
   const double cutoff = 0.45 * std::min(1.0, ratio) * 2.0;  // in units of input Nyquist
   const int half_taps = 16;
   const double half_width = half_taps / std::min(1.0, ratio);  // in input samples
-  const size_t out_size = static_cast<size_t>(std::floor(samples.size() * ratio));
+  const size_t out_size =
+      static_cast<size_t>(std::floor(static_cast<double>(samples.size()) * ratio));
   std::vector<int16_t> out(out_size);
   for (size_t n = 0; n < out_size; ++n) {
-    const double centre = n / ratio;
+    const double centre = static_cast<double>(n) / ratio;
     const long first = static_cast<long>(std::ceil(centre - half_width));
     const long last = static_cast<long>(std::floor(centre + half_width));
     double acc = 0.0;
-    for (long k = std::max(0L, first); k <= std::min<long>(last, samples.size() - 1); ++k) {
-      const double x = k - centre;
+    const long end = static_cast<long>(samples.size()) - 1;
+    for (long k = std::max(0L, first); k <= std::min(last, end); ++k) {
+      const double x = static_cast<double>(k) - centre;
       const double sinc =
           x == 0.0 ? 1.0 : std::sin(std::numbers::pi * cutoff * x) / (std::numbers::pi * x);
       const double window = 0.5 + 0.5 * std::cos(std::numbers::pi * x / half_width);  // Hann
@@ -75,7 +77,7 @@ double RmsDbfs(std::span<const int16_t> samples) {
   if (samples.empty()) return -std::numeric_limits<double>::infinity();
   double sum = 0.0;
   for (int16_t s : samples) sum += static_cast<double>(s) * s;
-  const double rms = std::sqrt(sum / samples.size()) / 32768.0;
+  const double rms = std::sqrt(sum / static_cast<double>(samples.size())) / 32768.0;
   return rms > 0.0 ? 20.0 * std::log10(rms) : -std::numeric_limits<double>::infinity();
 }
 

@@ -68,7 +68,7 @@ TEST(FrameStore, KeepsTheLastNAndExplainsMisses) {
 
 TEST(FrameStore, MemoryIsBoundedByCapacity) {
   FrameStore store(4, 1);
-  const size_t pair_bytes = 2 * 640 * 480;
+  const size_t pair_bytes = size_t{2} * 640 * 480;
   for (uint64_t id = 1; id <= 50; ++id) store.Insert(id, Pair(640, 480));
   EXPECT_EQ(store.bytes(), 4 * pair_bytes);
 }

@@ -96,7 +96,7 @@ std::string WriteLab(const ScratchDir& scratch, uint16_t platform_port, std::str
     std::ofstream(scene) << site::SceneToYaml(OneSphereScene());
     backend = "    backend: sim\n    sim: {scene: " + scene + "}\n";
   }
-  const std::string path = scratch.File("lab.yaml");
+  std::string path = scratch.File("lab.yaml");
   std::ofstream(path) << "lab:\n  calibration: " << CalibrationPath()
                       << "\nprocesses:\n  video:\n    program: igms-video-server\n"
                       << backend << "    platform: platform\n"

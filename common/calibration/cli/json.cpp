@@ -41,7 +41,7 @@ std::string Json::Vector(const Eigen::VectorXd& v) {
 }
 
 std::string Json::Vector(const std::vector<double>& v) {
-  return Vector(Eigen::Map<const Eigen::VectorXd>(v.data(), v.size()));
+  return Vector(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
 }
 
 std::string Json::Matrix(const Eigen::MatrixXd& m) {
