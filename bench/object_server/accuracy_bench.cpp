@@ -12,6 +12,7 @@
 #include <opencv2/core/utility.hpp>
 #include <string>
 
+#include "bench/bench_main.h"
 #include "common/sim/testbed.h"
 #include "common/sim/vision/evaluation.h"
 
@@ -108,12 +109,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "accuracy_bench: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

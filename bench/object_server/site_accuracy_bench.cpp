@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_main.h"
 #include "common/sim/site_scenes.h"
 #include "common/sim/vision/evaluation.h"
 
@@ -163,12 +164,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "site_accuracy_bench: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

@@ -33,6 +33,7 @@
 #include <mutex>
 #include <thread>
 
+#include "bench/bench_main.h"
 #include "common/stats/percentile.h"
 #include "sound_server/audio_file.h"
 #include "sound_server/engine.h"
@@ -243,12 +244,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "latency_bench: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

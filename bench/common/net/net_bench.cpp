@@ -25,6 +25,7 @@
 // After <utility>: Boost 1.74's awaitable.hpp uses std::exchange without including it.
 #include <boost/asio.hpp>
 
+#include "bench/bench_main.h"
 #include "common/config/process_options.h"
 #include "common/net/client.h"
 #include "common/net/framing.h"
@@ -315,12 +316,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "net_bench: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

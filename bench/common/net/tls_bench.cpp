@@ -33,6 +33,7 @@
 #include <boost/asio.hpp>
 #include <filesystem>
 
+#include "bench/bench_main.h"
 #include "common/certs/certs.h"
 #include "common/config/process_options.h"
 #include "common/net/client.h"
@@ -328,12 +329,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "tls_bench: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

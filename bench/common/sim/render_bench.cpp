@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_main.h"
 #include "common/sim/renderer.h"
 #include "common/sim/testbed.h"
 #include "common/stats/percentile.h"
@@ -75,12 +76,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "render_bench: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

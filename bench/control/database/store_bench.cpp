@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_main.h"
 #include "common/stats/percentile.h"
 #include "control/database/geometric_database.h"
 #include "tests/control/database/sample_records.h"
@@ -165,12 +166,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "store_bench: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

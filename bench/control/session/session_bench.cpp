@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_main.h"
 #include "common/stats/percentile.h"
 #include "control/database/geometric_database.h"
 #include "tests/support/child_process.h"
@@ -154,12 +155,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "session_bench: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

@@ -25,6 +25,7 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "bench/bench_main.h"
 #include "common/calibration/thesis_calibration.h"
 #include "common/geometry/platform.h"
 #include "common/sim/testbed.h"
@@ -260,12 +261,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "overlay_bench: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

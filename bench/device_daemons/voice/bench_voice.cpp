@@ -32,6 +32,7 @@
 #include <sstream>
 #include <string>
 
+#include "bench/bench_main.h"
 #include "device_daemons/voice/evaluation.h"
 
 using namespace igms::voice;
@@ -187,12 +188,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_voice: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <mutex>
 
+#include "bench/bench_main.h"
 #include "common/base/clock.h"
 #include "common/net/client.h"
 #include "common/stats/percentile.h"
@@ -170,12 +171,6 @@ int RunBenchmark(int argc, char** argv) {
 
 }  // namespace
 
-// A failure is reported on stderr and in the exit status, not as an abort.
 int main(int argc, char** argv) {
-  try {
-    return RunBenchmark(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_voiced: %s\n", e.what());
-    return 1;
-  }
+  return igms::bench::MainReportingFailures(argc, argv, RunBenchmark);
 }

@@ -90,7 +90,7 @@ TEST_F(GlRender, PointsLandOnTheirPixelWithinAHundredth) {
       for (const auto& t : targets) glVertex3d(t.world.x(), t.world.y(), t.world.z());
       glEnd();
       glFinish();
-      std::vector<unsigned char> image(kSize.width * kSize.height);
+      std::vector<unsigned char> image(static_cast<std::size_t>(kSize.width) * kSize.height);
       glPixelStorei(GL_PACK_ALIGNMENT, 1);
       glReadBuffer(GL_BACK);
       glReadPixels(0, 0, kSize.width, kSize.height, GL_RED, GL_UNSIGNED_BYTE, image.data());
