@@ -32,7 +32,7 @@ void FrameRecord::OnEdgesReady(EdgesCallback done) {
   done(ready);
 }
 
-void FrameRecord::SetEdges(std::shared_ptr<const StereoEdges> edges) {
+void FrameRecord::SetEdges(const std::shared_ptr<const StereoEdges>& edges) {
   std::vector<EdgesCallback> waiting;
   {
     std::lock_guard lock(mutex_);

@@ -54,7 +54,7 @@ class FrameRecord {
   // the thread that finishes them. Never both, never twice.
   void OnEdgesReady(EdgesCallback done);
   // Publishes the edges (the pipeline calls this once) and runs the waiting callbacks.
-  void SetEdges(std::shared_ptr<const StereoEdges> edges);
+  void SetEdges(const std::shared_ptr<const StereoEdges>& edges);
 
   // Bytes held by the images and, once ready, the edges.
   size_t bytes() const;

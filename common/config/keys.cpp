@@ -63,7 +63,8 @@ void Walk(const LabConfig& config, const YAML::Node& node, const std::string& pr
       }
       continue;
     }
-    std::string message = "unknown key " + shown + name;
+    std::string message = "unknown key ";
+    message.append(shown).append(name);
     const std::string closest = ClosestKey(key, declared);
     if (!closest.empty()) {
       message += " (did you mean " + shown.substr(0, shown.size() - prefix.size()) + closest + "?)";
@@ -259,7 +260,8 @@ std::vector<KeyProblem> BadValues(const LabConfig& config, const std::string& na
     const YAML::Node node = config.Find(key);
     if (!node.IsDefined() || node.IsNull()) continue;
     const auto bad = [&](const std::string& what) {
-      problems.push_back({Where(config, node), key + " " + what});
+      std::string text = key;
+      problems.push_back({Where(config, node), text.append(" ").append(what)});
     };
     const auto reads_as = [&](auto value) {
       try {
@@ -296,7 +298,7 @@ std::vector<KeyProblem> BadValues(const LabConfig& config, const std::string& na
         if (!spec.choices.empty() && std::find(spec.choices.begin(), spec.choices.end(),
                                                node.Scalar()) == spec.choices.end()) {
           std::string list;
-          for (const auto& c : spec.choices) list += (list.empty() ? "" : ", ") + c;
+          for (const auto& c : spec.choices) list.append(list.empty() ? "" : ", ").append(c);
           bad("must be one of " + list + found);
         }
         if (paths && spec.type == KeyType::kPath && !node.Scalar().empty()) {

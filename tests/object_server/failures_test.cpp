@@ -111,7 +111,7 @@ TEST_F(Failures, ASmallSpotInsideWideMarksIsNotAnOutline) {
 
 TEST_F(Failures, RightImageWithoutTheObjectHasNoMatch) {
   site::Scene without = scene_;
-  without.objects.erase(without.objects.begin() + object_);
+  without.objects.erase(without.objects.begin() + static_cast<std::ptrdiff_t>(object_));
   input_.right = site::Render(without, without.cameras.right, 1);
   const auto r = Run();
   EXPECT_FALSE(r.found);

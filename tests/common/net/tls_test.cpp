@@ -125,7 +125,7 @@ TEST(Tls, MutualCertificatesCarryCallsBothWays) {
 
 // Each refused peer fails with a reason that names the cause, and the server goes on
 // serving a good client after every one.
-void ExpectRefused(TlsServer& s, IoThread& io, ClientOptions o, const std::string& reason) {
+void ExpectRefused(TlsServer& s, IoThread& io, const ClientOptions& o, const std::string& reason) {
   Client bad(io.io(), o);
   bad.Start();
   auto r = Echo(bad);

@@ -33,7 +33,7 @@ bool Installed(const std::string& program) {
 
 // A database with a cylinder and a textured box, written by a session that has ended.
 std::string MakeDatabase(const ScratchDir& dir, bool with_models = true) {
-  const std::string path = dir.File("igms.db");
+  std::string path = dir.File("igms.db");
   auto db = GeometricDatabase::Open(path, {"export-test", "1"});
   EXPECT_TRUE(db.ok()) << db.error();
   if (with_models) {
