@@ -81,8 +81,9 @@ std::vector<Eigen::Vector3d> OutlinePoints(const Shape& shape, int n) {
     }
   } else {
     const auto& s = std::get<Sphere>(shape);
-    for (int i = 0; i <= n / 2; ++i) {
-      const double th = M_PI * i / (n / 2);
+    const int rings = n / 2;  // latitude steps from pole to pole, a whole number
+    for (int i = 0; i <= rings; ++i) {
+      const double th = M_PI * i / rings;
       for (int j = 0; j < n; ++j) {
         const double ph = 2 * M_PI * j / n;
         pts.push_back(s.center + s.radius * Eigen::Vector3d(std::sin(th) * std::cos(ph),

@@ -13,8 +13,8 @@ namespace {
 
 // How many phones a dictionary word may differ from `command` by and still be its decoy.
 int DecoyDistanceLimit(const DecoyOptions& options, const Pronunciation& command) {
-  return std::max(
-      1, static_cast<int>(std::lround(options.max_distance_fraction * command.phones.size())));
+  return std::max(1, static_cast<int>(std::lround(options.max_distance_fraction *
+                                                  static_cast<double>(command.phones.size()))));
 }
 
 int SizeGap(const Pronunciation& a, const Pronunciation& b) {
@@ -196,6 +196,7 @@ std::vector<Pronunciation> SelectDecoys(const std::vector<Pronunciation>& dictio
   }
   for (const Pronunciation& c : commands) chosen.erase(c.word);
   std::vector<Pronunciation> out;
+  out.reserve(chosen.size());
   for (auto& [word, entry] : chosen) out.push_back(entry);
   return out;
 }
@@ -276,8 +277,10 @@ std::string BuildGrammar(OperatorState state, const std::vector<Pronunciation>& 
     for (const std::string& t : tokens) out += (out.empty() ? "" : " | ") + t;
     return out;
   };
+  const auto& model_phones = ModelPhones();
   std::vector<std::string> phones;
-  for (const std::string& p : ModelPhones()) phones.push_back(PhoneToken(p));
+  phones.reserve(model_phones.size());
+  for (const std::string& p : model_phones) phones.push_back(PhoneToken(p));
   std::vector<std::string> decoy_words;
   for (const Pronunciation& d : decoys) decoy_words.push_back(d.word);
 
@@ -298,7 +301,7 @@ std::string BuildGrammar(OperatorState state, const std::vector<Pronunciation>& 
     // own weighted alternative, so the weight is applied (above).
     g << "<phone> = " << alternatives(phones) << ";\n";
     std::string nested = "<phone>";
-    for (int i = 2; i < options.max_phones; ++i) nested = "<phone> [" + nested + "]";
+    for (int i = 2; i < options.max_phones; ++i) nested.insert(0, "<phone> [").append("]");
     if (options.max_phones > 1) g << "<tail> = " << nested << ";\n";
     for (const std::string& p : phones) {
       utterance += " | /" + FormatWeight(options.phone_loop_weight) + "/ " + p +

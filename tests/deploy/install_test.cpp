@@ -35,7 +35,7 @@ void Leaves(const YAML::Node& node, const std::string& key,
   if (node.IsMap()) {
     for (const auto& entry : node) {
       const std::string name = entry.first.as<std::string>();
-      Leaves(entry.second, key.empty() ? name : key + "." + name, out);
+      Leaves(entry.second, key.empty() ? name : std::string(key).append(".").append(name), out);
     }
   } else if (node.IsSequence()) {
     for (std::size_t i = 0; i < node.size(); ++i)

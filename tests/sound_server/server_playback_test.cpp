@@ -65,7 +65,8 @@ void PlayEachAndCompare(const std::string& name,
     ASSERT_EQ(source->sample_rate, capture->sample_rate);
     const std::vector<int16_t> window(
         capture->samples.begin() + p.from,
-        capture->samples.begin() + std::min<int64_t>(p.to, capture->samples.size()));
+        capture->samples.begin() +
+            std::min<int64_t>(p.to, static_cast<int64_t>(capture->samples.size())));
     testing::ExpectSameSound(window, *source, 1.0, p.entry.key());
   }
   std::filesystem::remove_all(dir);

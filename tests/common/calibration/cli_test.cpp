@@ -53,7 +53,7 @@ class CalibrateCli : public ::testing::Test {
   }
 
   std::string Write(const std::string& name, const std::string& text) {
-    const std::string path = (dir_ / name).string();
+    std::string path = (dir_ / name).string();
     std::ofstream(path) << text;
     return path;
   }
@@ -115,8 +115,9 @@ TEST_F(CalibrateCli, PointsCalibratesAndWritesAFile) {
   const std::string rr = Write("r.txt", Correspondences(right, 20));
   const std::string out = (dir_ / "cal.yaml").string();
   for (const char* method : {"thesis", "normalized"}) {
-    const Outcome r = Calibrate("points --left " + l + " --right " + rr + " --method " + method +
-                                " --output " + out + " --json");
+    std::string args = "points --left ";
+    args.append(l).append(" --right ").append(rr).append(" --method ").append(method);
+    const Outcome r = Calibrate(args.append(" --output ").append(out).append(" --json"));
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_LT(Number(r.out, "rms"), 1e-6);
     const auto cal = LoadCalibration(out);

@@ -107,7 +107,7 @@ TEST(ViewerToPlatform, RefusesJointsThatAreNotPanTiltRoll) {
       Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
   const auto m = ViewerToPlatform::Make(cal, false);
   ASSERT_FALSE(m.ok());
-  const std::string why = m.error();
+  const std::string& why = m.error();
   EXPECT_NE(why.find("joint 0 (pan)"), std::string::npos) << why;
   EXPECT_NE(why.find("the vertical"), std::string::npos) << why;
 }

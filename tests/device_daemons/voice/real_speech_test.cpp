@@ -67,7 +67,7 @@ TEST(RealSpeech, FalseAcceptsOnRecordingsOfOtherSpeech) {
   int decoded = 0, accepted = 0;
   double seconds = 0.0;
   auto decode = [&](const std::string& what, const std::vector<int16_t>& samples) {
-    seconds += samples.size() / 16000.0;
+    seconds += static_cast<double>(samples.size()) / 16000.0;
     for (OperatorState state : AllStates()) {
       recognizer->SetState(state);
       const Recognition r = recognizer->Recognize(samples);
