@@ -21,7 +21,7 @@ std::optional<Corners> FindCorners(const cv::Mat& gray, cv::Size board) {
     if (scale > 1) cv::resize(gray, img, cv::Size(), scale, scale, cv::INTER_LINEAR_EXACT);
     if (cv::findChessboardCorners(img, board, corners,
                                   cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE)) {
-      for (auto& c : corners) c *= 1.0f / scale;
+      for (auto& c : corners) c *= 1.0f / static_cast<float>(scale);
       cv::cornerSubPix(gray, corners, cv::Size(11, 11), cv::Size(-1, -1),
                        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01));
       return corners;
@@ -58,7 +58,7 @@ double EpipolarErrorLikeSample(const std::vector<Corners>& left, const std::vect
     }
     npoints += pts[0].size();
   }
-  return err / npoints;
+  return err / static_cast<double>(npoints);
 }
 
 CameraCalibration ToCamera(const cv::Mat& K, const cv::Mat& dist, const Eigen::Matrix3d& R,

@@ -99,6 +99,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> args = {program, "--config", absolute, "--name", name};
   args.insert(args.end(), extra.begin(), extra.end());
   std::vector<char*> raw;
+  raw.reserve(args.size() + 1);
   for (auto& a : args) raw.push_back(a.data());
   raw.push_back(nullptr);
   execv(path.c_str(), raw.data());

@@ -100,7 +100,10 @@ void ViewerSim::SetButtons(bool left, bool right) { buttons_ = std::make_pair(le
 
 boom::Pose ViewerSim::HeadNow(int64_t now_ns) const {
   boom::Pose p = steady_;
-  if (!path_.empty()) p = PoseAt(path_, path_start_ns_ < 0 ? 0 : (now_ns - path_start_ns_) * 1e-9);
+  if (!path_.empty()) {
+    p = PoseAt(path_,
+               path_start_ns_ < 0 ? 0.0 : static_cast<double>(now_ns - path_start_ns_) * 1e-9);
+  }
   if (buttons_) std::tie(p.left, p.right) = *buttons_;
   return p;
 }

@@ -86,7 +86,7 @@ class EngineTest : public ::testing::Test {
     EXPECT_TRUE(capture);
     if (!capture) return {};
     EXPECT_EQ(capture->sample_rate, kRate);
-    to = std::min<int64_t>(to, capture->samples.size());
+    to = std::min<int64_t>(to, static_cast<int64_t>(capture->samples.size()));
     return {capture->samples.begin() + std::max<int64_t>(from, 0), capture->samples.begin() + to};
   }
 

@@ -147,7 +147,7 @@ TEST(AudioFile, MissingCorruptAndEmptyFilesAreErrors) {
   Result<AudioClip> junk = ReadAudioFile(dir / "junk.wav");
   EXPECT_FALSE(junk.ok());
   EXPECT_NE(junk.error().find("not a readable sound file"), std::string::npos) << junk.error();
-  std::ofstream(dir / "empty.wav");
+  { std::ofstream empty(dir / "empty.wav"); }  // a file of no bytes
   EXPECT_FALSE(ReadAudioFile(dir / "empty.wav").ok());
   std::filesystem::remove_all(dir);
 }

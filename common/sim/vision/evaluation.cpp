@@ -41,9 +41,11 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
     in.right_camera = scene.cameras.right;
     in.want_trace = !debug_dir.empty();
     e.result = Locate(in, options);
-    if (!debug_dir.empty())
-      cv::imwrite(debug_dir + "/" + scene_name + "_" + object.name + ".png",
-                  DebugImage(in, e.result));
+    if (!debug_dir.empty()) {
+      std::string file = debug_dir;
+      file.append("/").append(scene_name).append("_").append(object.name).append(".png");
+      cv::imwrite(file, DebugImage(in, e.result));
+    }
     const Eigen::Vector3d eye = scene.cameras.left.Center();
     if (cyl) {
       e.lying = std::abs(cyl->axis.z()) < 0.7;

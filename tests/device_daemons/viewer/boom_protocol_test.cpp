@@ -72,7 +72,9 @@ TEST(BoomProtocol, ResynchronisesAfterGarbageAndTruncation) {
   corrupt[4] ^= 0x01;
   Frame7Parser parser(BodyLength);
   int decoded = 0;
-  for (char c : std::string("\x01\x02zz\x85", 5) + good.substr(0, 6) + corrupt + good + good) {
+  std::string stream("\x01\x02zz\x85", 5);  // garbage, a cut frame, a corrupt one, two good
+  stream.append(good.substr(0, 6)).append(corrupt).append(good).append(good);
+  for (char c : stream) {
     if (parser.Feed(static_cast<uint8_t>(c)) == ParseResult::kGood && DecodeReport(parser.frame()))
       ++decoded;
   }

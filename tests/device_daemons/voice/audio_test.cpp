@@ -16,7 +16,8 @@ namespace {
 std::vector<int16_t> Sine(double hz, int rate, double seconds, double amplitude = 10000) {
   std::vector<int16_t> out(static_cast<size_t>(rate * seconds));
   for (size_t i = 0; i < out.size(); ++i) {
-    out[i] = static_cast<int16_t>(amplitude * std::sin(2 * std::numbers::pi * hz * i / rate));
+    out[i] = static_cast<int16_t>(
+        amplitude * std::sin(2 * std::numbers::pi * hz * static_cast<double>(i) / rate));
   }
   return out;
 }
@@ -61,7 +62,7 @@ TEST(Audio, LoadsStereoFilesAtAnyRateAsModelRateMono) {
   const auto mono = Sine(500, 44100, 0.5);
   std::vector<int16_t> stereo;
   for (int16_t s : mono) stereo.insert(stereo.end(), {s, s});
-  sf_writef_short(f, stereo.data(), mono.size());
+  sf_writef_short(f, stereo.data(), static_cast<sf_count_t>(mono.size()));
   sf_close(f);
   const auto audio = LoadSoundFile(path.string());
   ASSERT_TRUE(audio.ok()) << audio.error();
