@@ -299,7 +299,7 @@ std::vector<KeyProblem> BadValues(const LabConfig& config, const std::string& na
                                                node.Scalar()) == spec.choices.end()) {
           std::string list;
           for (const auto& c : spec.choices) list.append(list.empty() ? "" : ", ").append(c);
-          bad("must be one of " + list + found);
+          bad(list.insert(0, "must be one of ").append(found));
         }
         if (paths && spec.type == KeyType::kPath && !node.Scalar().empty()) {
           const std::string path = config.ResolvePath(node.Scalar());

@@ -371,7 +371,8 @@ int Subscribe(net::Client& client, const pb::MethodDescriptor* method, const pb:
   if (count > 0 || duration > 0 || quiet) {
     const double span_s = static_cast<double>(last_ns - first_ns) / 1e9;
     std::cerr << "igmsctl: " << received << " messages";
-    if (received > 1 && span_s > 0) std::cerr << ", " << (received - 1) / span_s << " per second";
+    if (received > 1 && span_s > 0)
+      std::cerr << ", " << static_cast<double>(received - 1) / span_s << " per second";
     if (!latencies_ms.empty()) {
       std::cerr << ", latency p50 " << stats::Percentile(latencies_ms, 0.5) << " ms, p99 "
                 << stats::Percentile(latencies_ms, 0.99) << " ms";

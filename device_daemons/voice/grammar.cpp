@@ -282,6 +282,7 @@ std::string BuildGrammar(OperatorState state, const std::vector<Pronunciation>& 
   phones.reserve(model_phones.size());
   for (const std::string& p : model_phones) phones.push_back(PhoneToken(p));
   std::vector<std::string> decoy_words;
+  decoy_words.reserve(decoys.size());
   for (const Pronunciation& d : decoys) decoy_words.push_back(d.word);
 
   // Every weighted alternative is written as a word in the public rule, not as a reference
