@@ -117,6 +117,13 @@ bool LocateOptions::Check(std::string* error) const {
   return true;
 }
 
+// Samples of each view's outline: in all, outside the image, with contrast, with an edge.
+static void DebugOutlineSupport(const std::array<OutlineSupport, 2>& support) {
+  spdlog::debug("locate: outline support left {}/{}/{}/{} right {}/{}/{}/{}", support[0].samples,
+                support[0].outside, support[0].contrasted, support[0].edged, support[1].samples,
+                support[1].outside, support[1].contrasted, support[1].edged);
+}
+
 LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const auto start = Clock::now();
   LocateResult res;
@@ -218,9 +225,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const double score_scale = ScoreResidualScale(opt, pair->left.cols);
   res.fit_score = FitScore(f, score_scale);
   res.supported_fit_score = SupportedFitScore(f, support, score_scale);
-  spdlog::debug("locate: outline support left {}/{}/{}/{} right {}/{}/{}/{}", support[0].samples,
-                support[0].outside, support[0].contrasted, support[0].edged, support[1].samples,
-                support[1].outside, support[1].contrasted, support[1].edged);
+  DebugOutlineSupport(support);
   if (const auto failure = CheckOutlineVisible(support, opt)) return fail(*failure);
   if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
     return fail(*failure);
