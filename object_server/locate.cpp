@@ -54,6 +54,43 @@ std::optional<StepFailure> CheckBoxSizesDetermined(const BoxResult& box, const L
   return std::nullopt;
 }
 
+// A cylinder thinner than min_radius_px is one edge taken for a pipe (a block's side).
+std::optional<StepFailure> CheckCylinderWidth(const CylinderResult& c,
+                                              const geometry::ProjectiveCamera& left_camera,
+                                              const LocateOptions& opt) {
+  const auto centre_px = left_camera.Project(c.center);
+  if (!centre_px) return std::nullopt;
+  const double depth = left_camera.Depth(c.center);
+  const double unit = (PointOnPixelRay(left_camera, *centre_px + Eigen::Vector2d(1, 0), depth) -
+                       PointOnPixelRay(left_camera, *centre_px, depth))
+                          .norm();
+  if (c.radius >= opt.min_radius_px * unit) return std::nullopt;
+  return StepFailure{Failure::kFitFailed, "the fitted cylinder is " +
+                                              FormatFixed(c.radius / unit, 1) +
+                                              " px in radius: a single edge, not a pipe"};
+}
+
+// Where the outline can lie in each view (OutlineRegions): a block's far side lies at most the
+// marked region's diagonal behind its front, a pipe pointing away from the cameras further
+// (cylinder_depth_reach diagonals).
+void BoundByMarks(const MarkedRegion& marks, const StereoPair& pair, double depth0, bool cylinder,
+                  const LocateOptions& opt, std::array<FitView, 2>* views) {
+  const auto corner = [&](size_t i) {
+    return PointOnPixelRay(*pair.left_camera, Eigen::Vector2d(marks.hull[i].x, marks.hull[i].y),
+                           depth0);
+  };
+  double diagonal = 0;
+  for (size_t i = 0; i < marks.hull.size(); ++i)
+    for (size_t j = i + 1; j < marks.hull.size(); ++j)
+      diagonal = std::max(diagonal, (corner(i) - corner(j)).norm());
+  const double slack = 0.5 * opt.depth_tolerance;
+  const double reach = cylinder ? opt.cylinder_depth_reach : 1.0;
+  auto regions = OutlineRegions(marks, pair, std::max(0.5 * depth0, depth0 - slack),
+                                depth0 + slack + reach * diagonal, opt);
+  (*views)[0].region = std::move(regions[0]);
+  (*views)[1].region = std::move(regions[1]);
+}
+
 }  // namespace
 
 const char* FailureName(Failure f) {
@@ -107,6 +144,13 @@ bool LocateOptions::Check(std::string* error) const {
   }
   if (outer_iterations < 1 || inner_iterations < 1) {
     *error = "iterations must be at least 1";
+    return false;
+  }
+  if (!(region_weight >= 0) || !(cylinder_depth_reach > 0) || !(stretch_margin >= 0) ||
+      !(min_radius_px >= 0)) {
+    *error =
+        "region_weight, stretch_margin and min_radius_px must not be negative, "
+        "cylinder_depth_reach must be positive";
     return false;
   }
   if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(score_reference_width_px > 0) ||
@@ -174,25 +218,17 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   std::array<FitView, 2> views = {FitView{&in.left_camera, &grad_left},
                                   FitView{&in.right_camera, &grad_right}};
   const bool cylinder = in.type == SolidType::kCylinder;
-  if (opt.keep_to_marks && !cylinder) {
-    // A block's far side lies at most the marked region's diagonal behind its front.
-    const auto corner = [&](size_t i) {
-      return PointOnPixelRay(in.left_camera, Eigen::Vector2d(marks->hull[i].x, marks->hull[i].y),
-                             depth0);
-    };
-    double diagonal = 0;
-    for (size_t i = 0; i < marks->hull.size(); ++i)
-      for (size_t j = i + 1; j < marks->hull.size(); ++j)
-        diagonal = std::max(diagonal, (corner(i) - corner(j)).norm());
-    const double slack = 0.5 * opt.depth_tolerance;
-    auto regions = OutlineRegions(*marks, *pair, std::max(0.5 * depth0, depth0 - slack),
-                                  depth0 + slack + diagonal, opt);
-    views[0].region = std::move(regions[0]);
-    views[1].region = std::move(regions[1]);
-  }
-  const std::vector<Eigen::VectorXd> starts =
+  fit.region_weight = opt.region_weight;
+  if (opt.keep_to_marks) BoundByMarks(*marks, *pair, depth0, cylinder, opt, &views);
+  std::vector<Eigen::VectorXd> starts =
       cylinder ? CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left)
                : BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left);
+  if (cylinder) {  // each start also stretched to fill the marks along its axis
+    const size_t n = starts.size();
+    for (size_t i = 0; i < n; ++i)
+      if (auto st = CylinderStretchedToMarks(starts[i], *marks, in.left_camera, opt.stretch_margin))
+        starts.push_back(*st);
+  }
   const Eigen::VectorXd& x0 = starts[0];
   spdlog::debug(
       "locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
@@ -200,8 +236,13 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
       FormatFixed(x0[0]) + " " + FormatFixed(x0[1]) + " " + FormatFixed(x0[2]) + " / " +
           FormatFixed(x0[3]) + " " + FormatFixed(x0[4]) + " " + FormatFixed(x0[5]) + " / " +
           FormatFixed(x0[6]));
-  const FitOutcome f =
-      cylinder ? FitCylinder(starts, views, fit, opt) : FitBox(starts, views, fit, opt);
+  // Of the starts' fits, one the marks bound snugly goes before any that leaves part of them
+  // empty or runs beyond them, whatever its score.
+  const PlausibleFn plausible = [&](const FitOutcome& o) {
+    return !CheckWithinMarks(o.outline[0], *marks, in.left_camera, opt);
+  };
+  const FitOutcome f = cylinder ? FitCylinder(starts, views, fit, opt, plausible)
+                                : FitBox(starts, views, fit, opt, plausible);
   spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}, inner {} {}",
                 f.ok ? "ok" : f.error, f.used[0], f.sampled[0], f.rms_px[0], f.used[1],
                 f.sampled[1], f.rms_px[1], f.inner_used[0], f.inner_used[1]);
@@ -243,8 +284,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     const std::vector<Eigen::VectorXd> other_starts =
         cylinder ? BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left)
                  : CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left);
-    const FitOutcome other = cylinder ? FitBox(other_starts, views, fit, opt)
-                                      : FitCylinder(other_starts, views, fit, opt);
+    const FitOutcome other = cylinder ? FitBox(other_starts, views, fit, opt, plausible)
+                                      : FitCylinder(other_starts, views, fit, opt, plausible);
     spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
                   FitScore(f));
     res.other_type_fit_score = FitScore(other, score_scale);
@@ -259,6 +300,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     res.cylinder = CylinderFromFit(f.params, f.covariance);
     if (res.cylinder.height < 1e-6 || res.cylinder.radius < 1e-6)
       return fail({Failure::kFitFailed, "the fitted cylinder has no size"});
+    if (const auto failure = CheckCylinderWidth(res.cylinder, in.left_camera, opt))
+      return fail(*failure);
   } else {
     res.box = BoxFromFit(f.params, f.covariance);
     if (res.box.size.minCoeff() < 1e-6)

@@ -78,9 +78,21 @@ struct LocateOptions {
                                      // (of those that should show one)
   double min_contrast_share = 0.35;  // occluded: less of the outline shows a step
   double max_outside_share = 0.2;    // occluded: more of the outline is beyond the image
-  // The fit searches a box's edges only where its outline can lie: inside the marked region
-  // (and what it sees in the right image), not on a pipe resting on it.
+  // The fit searches an object's edges only where its outline can lie: inside the marked
+  // region (and what it sees in the right image), not on a pipe resting on a block.
   bool keep_to_marks = true;
+  // A cylinder's outline reaches at most this many of the marked region's diagonals behind
+  // the matched depth in the right image (a box's: one).
+  double cylinder_depth_reach = 3.0;
+  // The regions bound the fitted outline too, not only the edge search: the weight of an
+  // outline point's squared distance beyond them (FitOptions::region_weight).
+  double region_weight = 4.0;
+  // A cylinder start is also tried stretched along its axis to fill the marked rectangle
+  // shrunk by this (world units): the boundary of a pipe whose background changes along it
+  // (black above the table's horizon, grey below) can stop at the change.
+  double stretch_margin = 0.3;
+  // A fitted cylinder thinner than this (radius, pixels in the left image) is refused.
+  double min_radius_px = 1.0;
   // ... and only edges that run along its outline, within this (degrees).
   double box_edge_angle_deg = 30;
   // A box's size more uncertain than this is refused. Above the testbed block's depth sigma

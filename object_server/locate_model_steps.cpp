@@ -179,6 +179,46 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
   return starts;
 }
 
+std::optional<Eigen::VectorXd> CylinderStretchedToMarks(const Eigen::VectorXd& start,
+                                                        const MarkedRegion& marks,
+                                                        const geometry::ProjectiveCamera& camera,
+                                                        double margin) {
+  // Where the start's axis ends lie in the left image, and the marked rectangle shrunk by the
+  // margin and the radius: the axis line through the start's middle may reach its border.
+  const auto a = camera.Project(start.segment<3>(0)), b = camera.Project(start.segment<3>(3));
+  if (!a || !b || (*b - *a).norm() < 1e-6 || marks.hull.empty()) return std::nullopt;
+  Eigen::Vector2d lo(1e18, 1e18), hi(-1e18, -1e18);
+  for (const auto& p : marks.hull) {
+    lo = lo.cwiseMin(Eigen::Vector2d(p.x, p.y));
+    hi = hi.cwiseMax(Eigen::Vector2d(p.x, p.y));
+  }
+  const Eigen::Vector2d c = 0.5 * (lo + hi);
+  const double depth =
+      0.5 * (camera.Depth(start.segment<3>(0)) + camera.Depth(start.segment<3>(3)));
+  const double unit = (PointOnPixelRay(camera, c + Eigen::Vector2d(1, 0), depth) -
+                       PointOnPixelRay(camera, c, depth))
+                          .norm();
+  const double radius_px = std::abs(start[6]) / std::max(1e-9, unit);
+  const double shrink = margin / std::max(1e-9, unit) + radius_px;
+  lo += Eigen::Vector2d::Constant(shrink);
+  hi -= Eigen::Vector2d::Constant(shrink);
+  const Eigen::Vector2d mid = 0.5 * (*a + *b), dir = (*b - *a).normalized();
+  if ((mid.array() < lo.array()).any() || (mid.array() > hi.array()).any()) return std::nullopt;
+  double t_max = 1e18, t_min = -1e18;
+  for (int k = 0; k < 2; ++k) {
+    if (std::abs(dir[k]) < 1e-9) continue;
+    const double t1 = (lo[k] - mid[k]) / dir[k], t2 = (hi[k] - mid[k]) / dir[k];
+    t_max = std::min(t_max, std::max(t1, t2));
+    t_min = std::max(t_min, std::min(t1, t2));
+  }
+  const double half = 0.5 * (*b - *a).norm();
+  if (t_max - t_min < 2 * half + 3) return std::nullopt;
+  Eigen::VectorXd x = start;
+  x.segment<3>(0) = PointOnPixelRay(camera, mid + t_min * dir, camera.Depth(start.segment<3>(0)));
+  x.segment<3>(3) = PointOnPixelRay(camera, mid + t_max * dir, camera.Depth(start.segment<3>(3)));
+  return x;
+}
+
 namespace {
 
 // The boundary pixels between a block's outermost vertical edges (those whose gradient runs
@@ -309,7 +349,16 @@ double ScoreResidualScale(const LocateOptions& options, int image_width) {
 
 FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
                          const std::vector<Eigen::VectorXd>& starts,
-                         const std::array<FitView, 2>& views, const FitOptions& fit) {
+                         const std::array<FitView, 2>& views, const FitOptions& fit,
+                         const PlausibleFn& plausible) {
+  // Plausible fits first, then by score.
+  const auto better = [&](const FitOutcome& a, const FitOutcome& b) {
+    if (plausible && a.ok && b.ok) {
+      const bool pa = plausible(a), pb = plausible(b);
+      if (pa != pb) return pa;
+    }
+    return FitScore(a) < FitScore(b);
+  };
   FitOptions first = fit;
   first.step = Eigen::VectorXd::Constant(starts[0].size(), 1e-4);
   first.outer_iterations =
@@ -319,7 +368,7 @@ FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
     FitOutcome g = FitSilhouette(outline, starts[i], views, first, inner);
     spdlog::debug("locate: another start: score {:.3f} against {:.3f}", FitScore(g),
                   FitScore(best));
-    if (FitScore(g) < FitScore(best)) best = std::move(g);
+    if (better(g, best)) best = std::move(g);
   }
   if (best.ok && first.outer_iterations < fit.outer_iterations) {
     FitOptions rest = first;
@@ -332,14 +381,15 @@ FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
 
 FitOutcome FitCylinder(const std::vector<Eigen::VectorXd>& starts,
                        const std::array<FitView, 2>& views, const FitOptions& fit,
-                       const LocateOptions& options) {
+                       const LocateOptions& options, const PlausibleFn& plausible) {
   InnerEdgesFn inner;
   if (options.cylinder_inner_edges) inner = CylinderInnerEdges;
-  return FitFromStarts(CylinderOutline, inner, starts, views, fit);
+  return FitFromStarts(CylinderOutline, inner, starts, views, fit, plausible);
 }
 
 FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<FitView, 2>& views,
-                  const FitOptions& fit, const LocateOptions& options) {
+                  const FitOptions& fit, const LocateOptions& options,
+                  const PlausibleFn& plausible) {
   const OutlineFn outline = BoxOutline;
   InnerEdgesFn inner;
   if (options.box_inner_edges) inner = BoxInnerEdges;
@@ -358,7 +408,7 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
       return inner(aligned(p), c);
     };
   FitOutcome f = FitFromStarts([&](const Eigen::VectorXd& p) { return outline(aligned(p)); },
-                               inner6, starts6, views, fit);
+                               inner6, starts6, views, fit, plausible);
   if (f.ok) {
     f.params = aligned(f.params);
     Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(7, 7);
@@ -374,9 +424,11 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
     st[6] = yaw_deg * M_PI / 180;
     turned.push_back(st);
   }
-  FitOutcome fo = FitFromStarts(outline, inner, turned, views, fit);
+  FitOutcome fo = FitFromStarts(outline, inner, turned, views, fit, plausible);
   spdlog::debug("locate: turned box: score {:.3f} against aligned {:.3f}", FitScore(fo),
                 FitScore(f));
+  if (plausible && f.ok && fo.ok && IsSolid(fo) && plausible(fo) != plausible(f))
+    return plausible(fo) ? fo : f;
   if (!f.ok || (IsSolid(fo) && (!IsSolid(f) || FitScore(fo) < 0.8 * FitScore(f)))) return fo;
   return f;
 }

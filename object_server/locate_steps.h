@@ -22,6 +22,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -179,6 +180,14 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
                                             const std::vector<cv::Point>& boundary, double depth,
                                             const DepthSearch& search, const LocateOptions& options,
                                             const Gradients* gradients = nullptr);
+// The cylinder start stretched along its image axis to fill the marked rectangle (shrunk by
+// `margin`, world units, and the radius): the part of a pipe against a dark background has
+// the strongest edges, and the boundary can stop where its background changes. nullopt when
+// it would not grow.
+std::optional<Eigen::VectorXd> CylinderStretchedToMarks(const Eigen::VectorXd& start,
+                                                        const MarkedRegion& marks,
+                                                        const geometry::ProjectiveCamera& camera,
+                                                        double margin);
 // A block (3.8.2), world-axis-aligned: the boundary back-projected onto its front plane at
 // `depth` gives the two extents across the view; the one along the view starts as their
 // mean. That depth is the least seen (a side face's strip, a sliver of the top), so two more
@@ -202,18 +211,24 @@ double FitScore(const FitOutcome& fit, double residual_scale = 1.0);
 double ScoreResidualScale(const LocateOptions& options, int image_width);
 // Of several starts, the one that explains both images best after two passes goes on to the
 // rest of the passes (one start: all passes at once).
+// With `plausible`, a fit it accepts is preferred to any it refuses, whatever their scores
+// (a pipe's half against a dark background explains its edges better than the whole pipe,
+// but leaves the marks' lower half empty).
+using PlausibleFn = std::function<bool(const FitOutcome&)>;
 FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
                          const std::vector<Eigen::VectorXd>& starts,
-                         const std::array<FitView, 2>& views, const FitOptions& fit);
+                         const std::array<FitView, 2>& views, const FitOptions& fit,
+                         const PlausibleFn& plausible = {});
 FitOutcome FitCylinder(const std::vector<Eigen::VectorXd>& starts,
                        const std::array<FitView, 2>& views, const FitOptions& fit,
-                       const LocateOptions& options);
+                       const LocateOptions& options, const PlausibleFn& plausible = {});
 // The thesis's block first: world-aligned (yaw held at 0), which the faces' edges pin down
 // well. Only when its outline misses the edges (or it came out flat) is the box turned:
 // from five yaws, kept when it explains the images clearly better (a turned box seen nearly
 // face-on can trade yaw against depth and fit about as well, wrongly).
 FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<FitView, 2>& views,
-                  const FitOptions& fit, const LocateOptions& options);
+                  const FitOptions& fit, const LocateOptions& options,
+                  const PlausibleFn& plausible = {});
 
 // 5. Which parts of the fitted outline should show an edge, per view: sampled every pixel
 // along it (away from its corners), a sample counts when it lies inside the image and the

@@ -134,6 +134,27 @@ Eigen::Matrix<double, 2, 3> ProjectionJacobian(const geometry::Matrix34& P,
 
 using PixelJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kMaxFitParams>;
 
+// How far p lies beyond a convex counter-clockwise polygon (0 inside), and the gradient of
+// that distance with respect to p: away from the polygon's nearest point.
+double RegionExcess(const std::vector<Eigen::Vector2d>& region, const Eigen::Vector2d& p,
+                    Eigen::Vector2d* grad) {
+  *grad = Eigen::Vector2d::Zero();
+  if (SignedDistance(region, p) <= 0) return 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < region.size(); ++i) {
+    const Eigen::Vector2d& a = region[i];
+    const Eigen::Vector2d d = region[(i + 1) % region.size()] - a;
+    const double len2 = d.squaredNorm();
+    const double t = len2 < 1e-18 ? 0.0 : std::clamp((p - a).dot(d) / len2, 0.0, 1.0);
+    const Eigen::Vector2d off = p - (a + t * d);
+    if (off.norm() < best) {
+      best = off.norm();
+      if (best > 1e-12) *grad = off / best;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 bool ProjectOutline(const std::vector<Eigen::Vector3d>& pts, const geometry::ProjectiveCamera& cam,
@@ -316,14 +337,30 @@ bool OutlineResiduals::Residuals(const Eigen::VectorXd& x, std::vector<Measureme
   std::array<ViewOutline, 2> o;
   if (!Outlines(x, o)) return false;
   const int np = static_cast<int>(x.size());
+  // The outline points beyond their view's region, and which way that distance grows.
+  std::array<std::vector<double>, 2> excess;
+  std::array<std::vector<Eigen::Vector2d>, 2> excess_grad;
+  Eigen::Index region_rows = 0;
+  if (region_weight_ > 0)
+    for (int v = 0; v < 2; ++v) {
+      if (views_[v].region.empty()) continue;
+      excess[v].resize(pts_.size());
+      excess_grad[v].resize(pts_.size());
+      for (size_t i = 0; i < pts_.size(); ++i)
+        excess[v][i] = RegionExcess(views_[v].region, o[v].px[i], &excess_grad[v][i]);
+      region_rows += static_cast<Eigen::Index>(pts_.size());
+    }
   // d(pixel)/d(params) of the outline points a residual depends on in each view: the
-  // hull's and the measured inner edges' (a cylinder's far cap points are neither).
+  // hull's, the measured inner edges' and those beyond the region (a cylinder's far cap
+  // points are often none of these).
   std::array<std::vector<PixelJacobian>, 2> dpx;
   if (J) {
     std::array<std::vector<bool>, 2> needed;
     for (int v = 0; v < 2; ++v) {
       needed[v].assign(pts_.size(), false);
       for (const int i : o[v].hull) needed[v][i] = true;
+      for (size_t i = 0; i < excess[v].size(); ++i)
+        if (excess[v][i] > 0) needed[v][i] = true;
     }
     for (const Measurement& m : ms)
       if (m.a >= 0) needed[m.view][m.a] = needed[m.view][m.b] = true;
@@ -343,9 +380,9 @@ bool OutlineResiduals::Residuals(const Eigen::VectorXd& x, std::vector<Measureme
         for (int k = 0; k < np; ++k) dpx[v][i].col(k) = jp * ((moved[k][i] - base[i]) / step_[k]);
       }
     }
-    J->resize(static_cast<Eigen::Index>(ms.size()), np);
+    J->setZero(static_cast<Eigen::Index>(ms.size()) + region_rows, np);
   }
-  r.resize(static_cast<Eigen::Index>(ms.size()));
+  r.resize(static_cast<Eigen::Index>(ms.size()) + region_rows);
   for (size_t i = 0; i < ms.size(); ++i) {
     const auto row = static_cast<Eigen::Index>(i);
     const ViewOutline& ov = o[ms[i].view];
@@ -367,15 +404,25 @@ bool OutlineResiduals::Residuals(const Eigen::VectorXd& x, std::vector<Measureme
     if (J)
       J->row(row) = da.transpose() * dpx[ms[i].view][ia] + db.transpose() * dpx[ms[i].view][ib];
   }
+  auto row = static_cast<Eigen::Index>(ms.size());
+  const double scale = std::sqrt(region_weight_);
+  for (int v = 0; v < 2; ++v)
+    for (size_t i = 0; i < excess[v].size(); ++i, ++row) {
+      r[row] = scale * excess[v][i];
+      if (J && excess[v][i] > 0) J->row(row) = scale * excess_grad[v][i].transpose() * dpx[v][i];
+    }
   return true;
 }
 
 void RefineParameters(const OutlineResiduals& residuals, const FitOptions& options, double outlier,
                       std::vector<Measurement>& ms, Eigen::VectorXd& x) {
   const int np = static_cast<int>(x.size());
+  // Rows past the measurements are the region's (OutlineResiduals::Residuals): plain squares.
   auto cost_of = [&](const Eigen::VectorXd& res) {
+    const auto measured = static_cast<Eigen::Index>(ms.size());
     double c = 0;
-    for (int i = 0; i < res.size(); ++i) c += RobustCost(res[i], options.huber_px, outlier);
+    for (Eigen::Index i = 0; i < res.size(); ++i)
+      c += i < measured ? RobustCost(res[i], options.huber_px, outlier) : 0.5 * res[i] * res[i];
     return c;
   };
   Eigen::VectorXd r, w;
@@ -384,7 +431,10 @@ void RefineParameters(const OutlineResiduals& residuals, const FitOptions& optio
   for (int inner = 0; inner < options.inner_iterations; ++inner) {
     if (!residuals.Residuals(x, ms, r, &J)) break;
     w.resize(r.size());
-    for (int i = 0; i < r.size(); ++i) w[i] = RobustWeight(r[i], options.huber_px, outlier);
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+      w[i] = i < static_cast<Eigen::Index>(ms.size())
+                 ? RobustWeight(r[i], options.huber_px, outlier)
+                 : 1.0;
     const Eigen::MatrixXd JtW = J.transpose() * w.asDiagonal();
     const Eigen::MatrixXd H = JtW * J;
     const Eigen::VectorXd g = JtW * r;
@@ -432,9 +482,10 @@ bool FinishFit(const OutlineResiduals& residuals, const Eigen::VectorXd& x,
   const int np = static_cast<int>(x.size());
   std::array<double, 2> sum{0, 0};
   std::array<int, 2> count{0, 0};
+  // The region's rows (past the measurements) say nothing of the edges: weight 0.
   Eigen::VectorXd wk = Eigen::VectorXd::Zero(r.size());
   double inner_sum = 0;
-  for (int i = 0; i < r.size(); ++i) {
+  for (int i = 0; i < static_cast<int>(ms.size()); ++i) {
     const bool in = std::abs(r[i]) <= options.outlier_px;
     out->measured[ms[i].view].push_back(ms[i].point);
     out->inlier[ms[i].view].push_back(in);
@@ -516,7 +567,7 @@ FitOutcome FitSilhouette(const OutlineFn& outline, const Eigen::VectorXd& initia
   }
   const Eigen::VectorXd step =
       options.step.size() == np ? options.step : Eigen::VectorXd::Constant(np, 1e-4);
-  const OutlineResiduals residuals(outline, views, step);
+  const OutlineResiduals residuals(outline, views, step, options.region_weight);
   const char* behind = "the model went behind a camera";
   std::vector<Measurement> ms;
   for (int outer = options.first_outer; outer < options.outer_iterations; ++outer) {

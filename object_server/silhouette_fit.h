@@ -73,6 +73,12 @@ struct FitOptions {
   // min_sigma_px, and as shared by correlated_samples neighbours.
   double min_sigma_px = 0.4;
   double correlated_samples = 10;
+  // The views' regions (FitView::region) bound the outline itself, not only the edge search:
+  // each outline point beyond its view's region costs region_weight / 2 times the square of
+  // its distance outside (pixels), with no cut-off, so a model cannot grow past the marks
+  // where no edge holds it (a block's side run along the pipe it carries). 0: the search
+  // alone.
+  double region_weight = 0;
   Eigen::VectorXd step;  // finite-difference step per parameter (world units)
 };
 

@@ -91,13 +91,16 @@ class OutlineResiduals {
  public:
   // `step`: the finite-difference step per parameter (world units).
   OutlineResiduals(const OutlineFn& outline, const std::array<FitView, 2>& views,
-                   const Eigen::VectorXd& step)
-      : outline_(outline), views_(views), step_(step) {}
+                   const Eigen::VectorXd& step, double region_weight = 0)
+      : outline_(outline), views_(views), step_(step), region_weight_(region_weight) {}
 
   // The outline in both views; false when it does not project (ProjectOutline).
   bool Outlines(const Eigen::VectorXd& x, std::array<ViewOutline, 2>& o) const;
   // Signed distances (pixels, positive outside) of `ms` from the outlines at x. Hints of `ms`
   // are updated to the closest segments found. False when the outline does not project.
+  // With a region_weight, `r` goes on past ms.size() with one row per outline point of each
+  // view with a region: how far the point lies beyond it (0 inside), times
+  // sqrt(region_weight), so its square is the point's cost.
   bool Residuals(const Eigen::VectorXd& x, std::vector<Measurement>& ms, Eigen::VectorXd& r,
                  Eigen::MatrixXd* J) const;
 
@@ -105,6 +108,7 @@ class OutlineResiduals {
   OutlineFn outline_;
   std::array<FitView, 2> views_;
   Eigen::VectorXd step_;
+  double region_weight_ = 0;
   mutable std::vector<Eigen::Vector3d> pts_;
 };
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "object_server/locate_steps.h"
 #include "tests/object_server/rig_camera.h"
 
 namespace igms::object {
@@ -318,6 +319,87 @@ TEST_F(PlateScene, RefineParametersBringsTheOutlineOntoItsEdges) {
   EXPECT_EQ(y, before);
 }
 
+// Edge measurements on the outline of a plate with parameters p, every third sample.
+std::vector<Measurement> PlateEdges(const Eigen::VectorXd& p,
+                                    const std::array<geometry::ProjectiveCamera, 2>& cameras) {
+  std::vector<Measurement> ms;
+  for (int v = 0; v < 2; ++v) {
+    ViewOutline o;
+    EXPECT_TRUE(ProjectOutline(PlateOutline(p), cameras[v], o));
+    const OutlineSamples s = SampleOutline(o);
+    for (size_t i = 0; i < s.points.size(); i += 3) ms.push_back({v, s.points[i], s.segment[i]});
+  }
+  return ms;
+}
+
+TEST_F(PlateScene, TheRegionAddsARowPerOutlinePointWithItsJacobian) {
+  // Regions: the true plate's outline in each view. A plate 0.2 in larger (2 px a side) has
+  // every corner beyond them.
+  for (int v = 0; v < 2; ++v) {
+    ViewOutline o;
+    ASSERT_TRUE(ProjectOutline(PlateOutline(truth_), cameras_[v], o));
+    views_[v].region = o.px;
+  }
+  const double weight = 9;
+  const OutlineResiduals residuals(plate_, views_, Eigen::VectorXd::Constant(3, 1e-4), weight);
+  std::vector<Measurement> ms = TrueEdges();
+  const auto measured = static_cast<Eigen::Index>(ms.size());
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  // Inside: a row per corner and view, each 0.
+  ASSERT_TRUE(residuals.Residuals(truth_, ms, r, &J));
+  ASSERT_EQ(r.size(), measured + 8);
+  EXPECT_LT(r.tail(8).cwiseAbs().maxCoeff(), 1e-9);
+  // Beyond: each corner 2 px out along both u and v, so 2 sqrt(2) px from the region's corner,
+  // times sqrt(weight).
+  Eigen::VectorXd larger = truth_;
+  larger[2] += 0.2;
+  ASSERT_TRUE(residuals.Residuals(larger, ms, r, &J));
+  for (Eigen::Index i = measured; i < r.size(); ++i)
+    EXPECT_NEAR(r[i], 3 * 2 * std::sqrt(2.0), 0.05) << i;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::VectorXd xp = larger, xm = larger;
+    xp[k] += 1e-5;
+    xm[k] -= 1e-5;
+    Eigen::VectorXd rp, rm;
+    std::vector<Measurement> mp = ms, mm = ms;
+    ASSERT_TRUE(residuals.Residuals(xp, mp, rp, nullptr));
+    ASSERT_TRUE(residuals.Residuals(xm, mm, rm, nullptr));
+    for (Eigen::Index i = measured; i < r.size(); ++i)
+      EXPECT_NEAR(J(i, k), (rp[i] - rm[i]) / 2e-5, 1e-2) << i << " " << k;
+  }
+}
+
+TEST_F(PlateScene, TheRegionHoldsTheOutlineAgainstEdgesBeyondIt) {
+  // Edges of a plate 0.3 in (3 px a side) larger than the region allows.
+  Eigen::VectorXd larger = truth_;
+  larger[2] += 0.3;
+  const std::vector<Measurement> edges = PlateEdges(larger, cameras_);
+  options_.inner_iterations = 20;
+  // No region: the fit follows the edges.
+  {
+    const OutlineResiduals residuals(plate_, views_, Eigen::VectorXd::Constant(3, 1e-4));
+    std::vector<Measurement> ms = edges;
+    Eigen::VectorXd x = truth_;
+    RefineParameters(residuals, options_, 4.0, ms, x);
+    EXPECT_NEAR(x[2], larger[2], 0.01);
+  }
+  // The true plate's outline as the region, strongly weighted: the outline stays within a
+  // small fraction of a pixel of it.
+  for (int v = 0; v < 2; ++v) {
+    ViewOutline o;
+    ASSERT_TRUE(ProjectOutline(PlateOutline(truth_), cameras_[v], o));
+    views_[v].region = o.px;
+  }
+  const OutlineResiduals residuals(plate_, views_, Eigen::VectorXd::Constant(3, 1e-4), 100);
+  std::vector<Measurement> ms = edges;
+  Eigen::VectorXd x = truth_;
+  RefineParameters(residuals, options_, 4.0, ms, x);
+  EXPECT_NEAR(x[2], truth_[2], 0.02);
+  EXPECT_NEAR(x[0], truth_[0], 0.02);
+  EXPECT_NEAR(x[1], truth_[1], 0.02);
+}
+
 TEST(SilhouetteSteps, OutlineSettledComparesEveryPoint) {
   std::array<ViewOutline, 2> a;
   a[0] = OutlineOf({{0, 0}, {10, 0}, {10, 10}});
@@ -403,6 +485,44 @@ TEST_F(PlateScene, FitSilhouetteSaysWhyItFailed) {
   const FitOutcome f = FitSilhouette(plate_, lost, views_, options_);
   EXPECT_FALSE(f.ok);
   EXPECT_EQ(f.error, "too few edge points along the model's outline");
+}
+
+// Two plates side by side, each fitted perfectly from a start near it: with a plausibility
+// test the fit it accepts wins, whichever start comes first and whatever the scores.
+TEST(SilhouetteSteps, FitFromStartsPrefersAPlausibleFit) {
+  const std::array<geometry::ProjectiveCamera, 2> cameras = {RigCamera(-3), RigCamera(3)};
+  Eigen::VectorXd a(3), b(3);
+  a << -4, 0, 2;
+  b << 4, 0, 2;
+  std::array<cv::Mat, 2> images;
+  std::array<Gradients, 2> gradients;
+  std::array<FitView, 2> views;
+  for (int v = 0; v < 2; ++v) {
+    std::array<std::vector<Eigen::Vector2d>, 2> corners;
+    for (const auto& X : PlateOutline(a)) corners[0].push_back(*cameras[v].Project(X));
+    for (const auto& X : PlateOutline(b)) corners[1].push_back(*cameras[v].Project(X));
+    cv::max(DrawPolygon(corners[0]), DrawPolygon(corners[1]), images[v]);
+    gradients[v] = Gradients(images[v], cv::Rect(0, 0, 256, 192), 1.0);
+    views[v] = FitView{&cameras[v], &gradients[v]};
+  }
+  FitOptions fit;
+  fit.search_px = 6;
+  Eigen::VectorXd near_a = a, near_b = b;
+  near_a += Eigen::Vector3d(0.1, -0.1, 0.05);
+  near_b += Eigen::Vector3d(-0.1, 0.1, -0.05);
+  const OutlineFn outline = PlateOutline;
+  for (const bool want_right : {true, false}) {
+    const PlausibleFn plausible = [&](const FitOutcome& f) {
+      return (f.params[0] > 0) == want_right;
+    };
+    for (const auto& starts : {std::vector<Eigen::VectorXd>{near_a, near_b},
+                               std::vector<Eigen::VectorXd>{near_b, near_a}}) {
+      const FitOutcome f = FitFromStarts(outline, {}, starts, views, fit, plausible);
+      ASSERT_TRUE(f.ok) << f.error;
+      EXPECT_NEAR(f.params[0], want_right ? b[0] : a[0], 0.05);
+      EXPECT_NEAR(f.params[2], 2, 0.05);
+    }
+  }
 }
 
 }  // namespace
