@@ -261,7 +261,8 @@ struct ScriptPlayer::Impl {
         continue;
       }
       if (std::chrono::steady_clock::now() > deadline) {
-        Joystick(0, 0, 0, 0, false);
+        // The stick released on the way out; the failure that follows is what to report.
+        static_cast<void>(Joystick(0, 0, 0, 0, false));
         return Fail(fmt::format("the pointer did not reach the point within {:g} s ({:.3f} away)",
                                 a.timeout_s, e.norm()));
       }

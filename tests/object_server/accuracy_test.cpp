@@ -94,8 +94,9 @@ TEST(Accuracy, TurnedBlocksAreFoundWithTheirYaw) {
     if (!e.result.found || e.wrong)
       std::printf("  %s %s: %s %s\n", e.scene_name.c_str(), e.object_name.c_str(),
                   e.wrong ? "WRONG" : FailureName(e.result.reason), e.result.detail.c_str());
-    if (!e.result.found)
+    if (!e.result.found) {
       EXPECT_NE(e.result.detail.find("do not determine"), std::string::npos) << e.result.detail;
+    }
   }
   ASSERT_GE(b.count, 20);
   EXPECT_GE(b.found_rate, 0.9);

@@ -253,7 +253,9 @@ void ExpectPeriodicScreenshots(bool offscreen) {
   ASSERT_TRUE(three) << "fewer than 3 periodic screenshots in 20 s";
   // Three periods at least: seconds, not frames (the window draws many frames a period).
   EXPECT_GE(third, std::chrono::milliseconds(600));
-  if (!offscreen) EXPECT_GT(frames, PeriodicShots(dir));
+  if (!offscreen) {
+    EXPECT_GT(frames, PeriodicShots(dir));
+  }
   for (const char* name : {"igms-every-0001.png", "igms-every-0002.png", "igms-every-0003.png"}) {
     SCOPED_TRACE(name);
     ASSERT_TRUE(IsPng(dir.File(name)));
@@ -287,7 +289,7 @@ ModelRecord TexturedBox(double pan) {
   corners.reserve(8);
   for (int i = 0; i < 8; ++i) {
     corners.push_back(
-        Pixel(P, {21 + (i & 1 ? 2 : -2), -48 + (i & 2 ? 2 : -2), 3 + (i & 4 ? 2 : -2)}));
+        Pixel(P, {21.0 + (i & 1 ? 2 : -2), -48.0 + (i & 2 ? 2 : -2), 3.0 + (i & 4 ? 2 : -2)}));
   }
   const cv::Rect rect = cv::boundingRect(corners) & cv::Rect(0, 0, 512, 480);
   r.box.set_texture_u0(rect.x);
@@ -319,8 +321,8 @@ double ColourInBox(const cv::Mat& shot, bool blue) {
   std::vector<cv::Point> corners;
   corners.reserve(8);
   for (int i = 0; i < 8; ++i) {
-    corners.push_back(
-        Pixel(Cal().left.P, {21 + (i & 1 ? 2 : -2), -48 + (i & 2 ? 2 : -2), 3 + (i & 4 ? 2 : -2)}));
+    corners.push_back(Pixel(
+        Cal().left.P, {21.0 + (i & 1 ? 2 : -2), -48.0 + (i & 2 ? 2 : -2), 3.0 + (i & 4 ? 2 : -2)}));
   }
   std::vector<cv::Point> hull;
   cv::convexHull(corners, hull);

@@ -1,0 +1,311 @@
+// Steps 4-5 of the locator (object_server/locate_steps.h) and its result on their own: the
+// starting models and the fit on a rendered testbed scene, the scores and checks, and the
+// result from known parameters. Steps 0-3: locate_steps_test.cpp.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "object_server/locate_steps.h"
+#include "object_server/solid_models.h"
+#include "tests/object_server/locate_steps_fixture.h"
+
+namespace igms::object {
+namespace {
+
+using testing::Contains;
+using testing::LocateSteps;
+
+// --- 4. Starting models and the fit ---
+
+TEST_F(LocateSteps, AnUprightCylinderStartsNearItsTruthAndFitsOntoIt) {
+  const LocateInput in = Input(true);
+  const Through3 t = RunThroughStep3(in);
+  const auto starts = CylinderStarts(t.pair, t.boundary.pixels, t.depth, t.search, options_);
+  ASSERT_GE(starts.size(), 1u);
+  ASSERT_LE(starts.size(), 2u);
+  const Eigen::VectorXd& x0 = starts[0];
+  // A second start only when the ends' own matches put them further apart in depth than the
+  // radius.
+  if (starts.size() == 2) {
+    EXPECT_GT(std::abs(in.left_camera.Depth(starts[1].segment<3>(0)) -
+                       in.left_camera.Depth(starts[1].segment<3>(3))),
+              x0[6]);
+  }
+  ASSERT_EQ(x0.size(), 7);
+  EXPECT_NEAR(x0[6], cylinder_->radius, 0.3 * cylinder_->radius);
+  const Eigen::Vector3d axis = (x0.segment<3>(3) - x0.segment<3>(0)).normalized();
+  EXPECT_GT(std::abs(axis.z()), 0.99);
+  EXPECT_LT((0.5 * (x0.segment<3>(0) + x0.segment<3>(3)) - cylinder_->center).norm(), 2.0);
+
+  const cv::Rect image(0, 0, t.pair.right.cols, t.pair.right.rows);
+  const Gradients grad_right(t.pair.right,
+                             RightRegion(t.search, t.match, RegionPad(options_), image),
+                             options_.edge_sigma);
+  const std::array<FitView, 2> views = {FitView{&in.left_camera, &left_gradients_},
+                                        FitView{&in.right_camera, &grad_right}};
+  const FitOutcome f =
+      FitCylinder(starts, views, FitSettings(options_, t.boundary.strongest), options_);
+  ASSERT_TRUE(f.ok) << f.error;
+  EXPECT_FALSE(CheckBothViews(f, options_).has_value());
+  const CylinderResult c = CylinderFromFit(f.params, f.covariance);
+  EXPECT_NEAR(c.radius, cylinder_->radius, 0.05);
+  EXPECT_NEAR(c.height, cylinder_->height, 0.2);
+  EXPECT_LT((c.center - cylinder_->center).norm(), 0.5);
+  EXPECT_GT(c.axis.dot(cylinder_->axis), 0.999);
+}
+
+TEST_F(LocateSteps, ABoxStartsWorldAlignedAtThreeDepthsAndFitsOntoIt) {
+  const LocateInput in = Input(false);
+  const Through3 t = RunThroughStep3(in);
+  const auto starts = BoxStarts(in.left_camera, t.boundary.pixels, t.depth);
+  ASSERT_EQ(starts.size(), 3u);
+  for (const auto& s : starts) {
+    ASSERT_EQ(s.size(), 7);
+    EXPECT_EQ(s[6], 0.0);
+    // The same extent across the view (x, z: the cameras look along -y) from one front plane.
+    EXPECT_DOUBLE_EQ(s[3], starts[0][3]);
+    EXPECT_DOUBLE_EQ(s[5], starts[0][5]);
+    // ... and one front face: the box's near end along y is where the first start's is.
+    const double near_end = std::abs(s[1] + 0.5 * s[4] - (starts[0][1] + 0.5 * starts[0][4])) < 1e-9
+                                ? 0
+                                : std::abs(s[1] - 0.5 * s[4] - (starts[0][1] - 0.5 * starts[0][4]));
+    EXPECT_LT(near_end, 1e-9);
+  }
+  // Along the view: the mean of the two across, then 0.4 and 1.8 times that.
+  const double across = 0.5 * (starts[0][3] + starts[0][5]);
+  EXPECT_NEAR(starts[0][4], across, 1e-9);
+  EXPECT_NEAR(starts[1][4], 0.4 * across, 1e-9);
+  EXPECT_NEAR(starts[2][4], 1.8 * across, 1e-9);
+
+  const cv::Rect image(0, 0, t.pair.right.cols, t.pair.right.rows);
+  const Gradients grad_right(t.pair.right,
+                             RightRegion(t.search, t.match, RegionPad(options_), image),
+                             options_.edge_sigma);
+  const std::array<FitView, 2> views = {FitView{&in.left_camera, &left_gradients_},
+                                        FitView{&in.right_camera, &grad_right}};
+  const FitOutcome f = FitBox(starts, views, FitSettings(options_, t.boundary.strongest), options_);
+  ASSERT_TRUE(f.ok) << f.error;
+  ASSERT_EQ(f.params.size(), 7);
+  EXPECT_EQ(f.covariance.rows(), 7);
+  EXPECT_FALSE(CheckBothViews(f, options_).has_value());
+  const BoxResult b = BoxFromFit(f.params, f.covariance);
+  EXPECT_LT((b.center - box_->center).norm(), 0.5);
+  EXPECT_LT(BoxYawErrorDeg(b.yaw_deg, box_->rotation), 3.0);
+}
+
+TEST(LocateStepsFit, FitSettingsFollowTheLocatorsOptions) {
+  LocateOptions options;
+  options.search_px = 5;
+  options.min_edge_gradient = 6;
+  options.edge_sigma = 0.6;
+  options.camera_blur_px = 0.8;
+  options.outer_iterations = 4;
+  options.inner_iterations = 3;
+  FitOptions fit = FitSettings(options, 100);
+  EXPECT_EQ(fit.search_px, 5);
+  EXPECT_EQ(fit.min_gradient, 25);  // a quarter of the strongest, above the floor
+  EXPECT_NEAR(fit.edge_blur_px, 1.0, 1e-12);
+  EXPECT_EQ(fit.outer_iterations, 4);
+  EXPECT_EQ(fit.inner_iterations, 3);
+  EXPECT_EQ(FitSettings(options, 10).min_gradient, 6);
+}
+
+TEST(LocateStepsFit, FitScoreAddsBothViewsResidualsAndTwiceTheMissedShare) {
+  FitOutcome f;
+  EXPECT_EQ(FitScore(f), 1e18);  // failed
+  f.ok = true;
+  f.rms_px = {0.2, 0.3};
+  f.sampled = {100, 100};
+  f.used = {90, 70};
+  EXPECT_NEAR(FitScore(f), 0.5 + 2 * 0.2, 1e-12);
+  f.sampled = {0, 0};
+  f.used = {0, 0};
+  EXPECT_NEAR(FitScore(f), 0.5 + 2.0, 1e-12);        // nothing sampled: all missed
+  EXPECT_NEAR(FitScore(f, 0.5), 0.25 + 2.0, 1e-12);  // the residuals scaled, not the share
+}
+
+TEST(LocateStepsFit, TheSupportedScoreCountsOnlyTheOutlineThatShouldShowAnEdge) {
+  FitOutcome f;
+  f.ok = true;
+  f.rms_px = {0.2, 0.3};
+  f.sampled = {100, 100};
+  f.used = {60, 70};  // 35% of the whole outline without an edge
+  // Of the samples with a visible step, 10 of 80 and 5 of 70 without an edge.
+  std::array<OutlineSupport, 2> support;
+  support[0].contrasted = 80;
+  support[0].edged = 70;
+  support[1].contrasted = 70;
+  support[1].edged = 65;
+  EXPECT_NEAR(SupportedFitScore(f, support), 0.5 + 2 * 0.1, 1e-12);
+  EXPECT_NEAR(SupportedFitScore(f, support, 0.5), 0.25 + 2 * 0.1, 1e-12);
+  // No sample with a step: the whole outline's share, as FitScore.
+  EXPECT_NEAR(SupportedFitScore(f, {}), FitScore(f), 1e-12);
+  f.ok = false;
+  EXPECT_EQ(SupportedFitScore(f, support), 1e18);
+}
+
+TEST(LocateStepsFit, TheScoresResidualsAreInTheReferenceCamerasPixels) {
+  LocateOptions options;
+  options.score_reference_width_px = 512;
+  options.score_width_power = 0.5;
+  EXPECT_NEAR(ScoreResidualScale(options, 512), 1.0, 1e-12);
+  EXPECT_NEAR(ScoreResidualScale(options, 2048), 0.5, 1e-12);
+  EXPECT_NEAR(ScoreResidualScale(options, 128), 2.0, 1e-12);
+  options.score_width_power = 0;  // plain pixels
+  EXPECT_NEAR(ScoreResidualScale(options, 1920), 1.0, 1e-12);
+  options.score_reference_width_px = 0;
+  std::string error;
+  EXPECT_FALSE(options.Check(&error));
+}
+
+// --- 5. Both views ---
+
+TEST(LocateStepsFit, CheckBothViewsNamesTheViewThatIsNotExplained) {
+  LocateOptions options;
+  options.min_inlier_share = 0.6;
+  options.max_rms_px = 0.8;
+  FitOutcome f;
+  f.ok = true;
+  f.sampled = {100, 100};
+  f.used = {90, 50};
+  f.rms_px = {0.3, 0.3};
+  auto failure = CheckBothViews(f, options);
+  ASSERT_TRUE(failure.has_value());
+  EXPECT_EQ(failure->reason, Failure::kLeftRightInconsistent);
+  EXPECT_TRUE(Contains(failure->detail, "only 50%")) << failure->detail;
+  EXPECT_TRUE(Contains(failure->detail, "right image")) << failure->detail;
+  f.used = {90, 90};
+  f.rms_px = {0.9, 0.3};
+  failure = CheckBothViews(f, options);
+  ASSERT_TRUE(failure.has_value());
+  EXPECT_TRUE(Contains(failure->detail, "misses the left image's edges by 0.90 px"))
+      << failure->detail;
+  f.rms_px = {0.3, 0.3};
+  EXPECT_FALSE(CheckBothViews(f, options).has_value());
+}
+
+// --- The result ---
+
+TEST(LocateStepsResult, CylinderFromFitGivesItsCentreSizeAndAnUpwardAxis) {
+  Eigen::VectorXd x(7);
+  x << 1, 2, 5, 1, 2, 1, -0.5;  // caps at z = 5 and z = 1, the radius's sign does not matter
+  const CylinderResult c = CylinderFromFit(x, Eigen::MatrixXd::Zero(7, 7));
+  EXPECT_TRUE(c.center.isApprox(Eigen::Vector3d(1, 2, 3)));
+  EXPECT_DOUBLE_EQ(c.radius, 0.5);
+  EXPECT_DOUBLE_EQ(c.height, 4);
+  EXPECT_TRUE(c.axis.isApprox(Eigen::Vector3d::UnitZ()));
+  EXPECT_EQ(c.radius_sigma, 0);
+  // A level axis points along +x.
+  x << 3, 0, 0, -1, 0, 0, 1;
+  EXPECT_TRUE(
+      CylinderFromFit(x, Eigen::MatrixXd::Zero(7, 7)).axis.isApprox(Eigen::Vector3d::UnitX()));
+  // The deviations come from the covariance: the radius's own variance of 0.04.
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(7, 7);
+  cov(6, 6) = 0.04;
+  EXPECT_NEAR(CylinderFromFit(x, cov).radius_sigma, 0.2, 1e-6);
+  EXPECT_NEAR(CylinderFromFit(x, cov).height_sigma, 0, 1e-6);
+  // No size, no axis.
+  x << 1, 1, 1, 1, 1, 1, 0.5;
+  const CylinderResult flat = CylinderFromFit(x, Eigen::MatrixXd::Zero(7, 7));
+  EXPECT_LT(flat.height, 1e-6);
+  EXPECT_EQ(flat.axis, Eigen::Vector3d::UnitZ());
+}
+
+TEST(LocateStepsResult, BoxFromFitGivesTheCanonicalBoxAndItsExtent) {
+  Eigen::VectorXd x(7);
+  x << 1, 2, 3, 4, 2, 6, 0;
+  BoxResult b = BoxFromFit(x, Eigen::MatrixXd::Zero(7, 7));
+  EXPECT_TRUE(b.center.isApprox(Eigen::Vector3d(1, 2, 3)));
+  EXPECT_TRUE(b.size.isApprox(Eigen::Vector3d(4, 2, 6)));
+  EXPECT_NEAR(b.yaw_deg, 0, 1e-12);
+  EXPECT_TRUE(b.min.isApprox(Eigen::Vector3d(-1, 1, 0)));
+  EXPECT_TRUE(b.max.isApprox(Eigen::Vector3d(3, 3, 6)));
+  // Turned a quarter turn and a bit: the same box turned a bit, its x and y sizes swapped.
+  x[6] = (90 + 10) * M_PI / 180;
+  b = BoxFromFit(x, Eigen::MatrixXd::Zero(7, 7));
+  EXPECT_NEAR(b.yaw_deg, 10, 1e-9);
+  EXPECT_NEAR(b.size.x(), 2, 1e-9);
+  EXPECT_NEAR(b.size.y(), 4, 1e-9);
+}
+
+geometry::ProjectiveCamera SmallCamera() {
+  // 256 x 192 pixels, focal length 400 px, at the origin looking along +y, z up.
+  Eigen::Matrix3d K, R;
+  K << 400, 0, 127.5, 0, 400, 95.5, 0, 0, 1;
+  R << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  geometry::Matrix34 P;
+  P.leftCols<3>() = K * R;
+  P.col(3).setZero();
+  return geometry::ProjectiveCamera(P, {256, 192});
+}
+
+TEST(LocateStepsResult, BoxTextureRectIsItsCornersBoundsAndFailsWhenOneHasNoImage) {
+  const geometry::ProjectiveCamera camera = SmallCamera();
+  const cv::Rect image(0, 0, 256, 192);
+  Eigen::VectorXd x(7);
+  x << 0, 40, 0, 4, 4, 4, 0;  // a 4 in cube 40 in ahead, centred in the view
+  auto rect = BoxTextureRect(x, camera, image);
+  ASSERT_TRUE(rect.ok()) << rect.failure().detail;
+  // Its front face (at 38 in) spans 400 * 2 / 38 = 21.05 px either side of the centre.
+  EXPECT_EQ(rect->x, static_cast<int>(std::floor(127.5 - 400.0 * 2 / 38)));
+  EXPECT_EQ(rect->x + rect->width, static_cast<int>(std::ceil(127.5 + 400.0 * 2 / 38)) + 1);
+  // Partly outside the image (u from 222.7 to 274.9): cut to it.
+  x[0] = 12;
+  rect = BoxTextureRect(x, camera, image);
+  ASSERT_TRUE(rect.ok());
+  EXPECT_EQ(rect->x, 222);
+  EXPECT_EQ(rect->x + rect->width, 256);
+  // Wholly outside: no pixels to cut.
+  x[0] = 20;
+  rect = BoxTextureRect(x, camera, image);
+  ASSERT_TRUE(rect.ok());
+  EXPECT_TRUE(rect->empty());
+  // A corner in front of the camera yet at infinity in the image: no rectangle (this read an
+  // empty projection before).
+  x << 0, 40, 0, 4e24, 4, 4, 0;
+  rect = BoxTextureRect(x, camera, image);
+  ASSERT_FALSE(rect.ok());
+  EXPECT_EQ(rect.failure().reason, Failure::kFitFailed);
+  EXPECT_TRUE(Contains(rect.failure().detail, "does not project")) << rect.failure().detail;
+}
+
+TEST(LocateStepsResult, TheRangeIsCheckedAgainstTheLocatedCylinder) {
+  LocateInput in;
+  in.type = SolidType::kCylinder;
+  in.ranger_origin = Eigen::Vector3d::Zero();
+  in.ranger_axis = Eigen::Vector3d::UnitY();
+  LocateOptions options;
+  Eigen::VectorXd x(7);
+  x << 0, 50, -3, 0, 50, 3, 2;  // upright, radius 2, its front at 48 in along the beam
+  RangeCheck check;
+  check.measured = 48.1;
+  CheckRange(in, options, x, &check);
+  EXPECT_TRUE(check.agrees) << check.detail;
+  EXPECT_NEAR(check.expected_max, 48, 0.1);
+  EXPECT_LE(check.expected_min, check.expected_max);
+
+  check = RangeCheck{};
+  check.measured = 44;
+  CheckRange(in, options, x, &check);
+  EXPECT_FALSE(check.agrees);
+  EXPECT_TRUE(Contains(check.detail, "shorter than")) << check.detail;
+
+  check = RangeCheck{};
+  check.measured = 53;
+  CheckRange(in, options, x, &check);
+  EXPECT_FALSE(check.agrees);
+  EXPECT_TRUE(Contains(check.detail, "beyond where the beam meets")) << check.detail;
+
+  // Aimed away from it: the beam does not reach it.
+  in.ranger_axis = Eigen::Vector3d::UnitX();
+  check = RangeCheck{};
+  check.measured = 48;
+  CheckRange(in, options, x, &check);
+  EXPECT_FALSE(check.agrees);
+  EXPECT_TRUE(Contains(check.detail, "does not reach")) << check.detail;
+}
+
+}  // namespace
+}  // namespace igms::object

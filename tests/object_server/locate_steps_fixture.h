@@ -1,0 +1,100 @@
+// The locator's steps on a rendered testbed scene (the tests of object_server/locate_steps.h):
+// a scene with its first upright cylinder and its first box marked as the operator's marks
+// are modelled, and steps 0-3 run on it as Locate runs them.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "common/sim/marks.h"
+#include "common/sim/renderer.h"
+#include "common/sim/testbed.h"
+#include "object_server/locate_steps.h"
+
+namespace igms::object::testing {
+
+inline bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// A rendered scene with its first upright cylinder and its first box marked.
+class LocateSteps : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    scene_ = new site::Scene(site::RandomTestbedScene(42));
+    images_ = new site::StereoImages(site::RenderStereo(*scene_));
+  }
+  static void TearDownTestSuite() {
+    delete images_;
+    delete scene_;
+  }
+  void SetUp() override {
+    for (size_t i = 0; i < scene_->objects.size(); ++i) {
+      const auto& shape = scene_->objects[i].shape;
+      if (const auto* c = std::get_if<site::Cylinder>(&shape); c && !cylinder_ && c->axis.z() > 0.9)
+        cylinder_ = c;
+      if (const auto* b = std::get_if<site::Box>(&shape); b && !box_) box_ = b;
+    }
+    ASSERT_NE(cylinder_, nullptr);
+    ASSERT_NE(box_, nullptr);
+  }
+  LocateInput Input(bool cylinder) const {
+    LocateInput in;
+    in.type = cylinder ? SolidType::kCylinder : SolidType::kBox;
+    const site::Shape shape = cylinder ? site::Shape(*cylinder_) : site::Shape(*box_);
+    in.marks = *site::GenerateMarks(shape, scene_->cameras.left, 7);
+    in.left = images_->left;
+    in.right = images_->right;
+    in.left_camera = scene_->cameras.left;
+    in.right_camera = scene_->cameras.right;
+    return in;
+  }
+  // The object's bounding rectangle in the left image.
+  cv::Rect2d TrueBounds(const site::Shape& shape) const {
+    double u0, v0, u1, v1;
+    EXPECT_TRUE(site::ImageBounds(shape, scene_->cameras.left, u0, v0, u1, v1));
+    return cv::Rect2d(u0, v0, u1 - u0, v1 - v0);
+  }
+  // Steps 0-3 of a good input, as Locate runs them.
+  struct Through3 {
+    StereoPair pair;
+    MarkedRegion marks;
+    Boundary boundary;
+    DepthSearch search;
+    SsdMatch match;
+    double depth = 0;
+  };
+  Through3 RunThroughStep3(const LocateInput& in, const Gradients** grad_left = nullptr) {
+    Through3 t;
+    const auto pair = PrepareImages(in);
+    EXPECT_TRUE(pair.ok()) << pair.failure().detail;
+    t.pair = *pair;
+    const auto marks = MarkRegion(in);
+    EXPECT_TRUE(marks.ok()) << marks.failure().detail;
+    t.marks = *marks;
+    const cv::Rect image(0, 0, t.pair.left.cols, t.pair.left.rows);
+    left_gradients_ =
+        Gradients(t.pair.left, GrowRect(cv::boundingRect(t.marks.hull), RegionPad(options_), image),
+                  options_.edge_sigma);
+    if (grad_left) *grad_left = &left_gradients_;
+    t.boundary = FindBoundary(left_gradients_, t.marks, cv::Mat(), options_);
+    t.search = ObjectDepthSearch(t.boundary.pixels, t.marks.depth, options_);
+    const auto match = MatchObject(t.pair, t.search, options_);
+    EXPECT_TRUE(match.ok()) << match.failure().detail;
+    t.match = *match;
+    const auto x = TriangulateMatch(t.pair, t.search, t.match);
+    EXPECT_TRUE(x.has_value());
+    t.depth = x ? in.left_camera.Depth(*x) : 0;
+    return t;
+  }
+
+  inline static site::Scene* scene_ = nullptr;
+  inline static site::StereoImages* images_ = nullptr;
+  const site::Cylinder* cylinder_ = nullptr;
+  const site::Box* box_ = nullptr;
+  LocateOptions options_;
+  Gradients left_gradients_;
+};
+
+}  // namespace igms::object::testing
