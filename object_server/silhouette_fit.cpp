@@ -139,7 +139,14 @@ using PixelJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kMaxFitPara
 double RegionExcess(const std::vector<Eigen::Vector2d>& region, const Eigen::Vector2d& p,
                     Eigen::Vector2d* grad) {
   *grad = Eigen::Vector2d::Zero();
-  if (SignedDistance(region, p) <= 0) return 0;
+  // Inside every side's line: inside (most points, so this is tried first).
+  bool inside = true;
+  for (size_t i = 0; i < region.size() && inside; ++i) {
+    const Eigen::Vector2d& a = region[i];
+    const Eigen::Vector2d d = region[(i + 1) % region.size()] - a;
+    inside = (p - a).x() * d.y() - (p - a).y() * d.x() <= 0;
+  }
+  if (inside) return 0;
   double best = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < region.size(); ++i) {
     const Eigen::Vector2d& a = region[i];
@@ -234,13 +241,26 @@ double SearchRange(int outer, double search_px) {
 }
 
 // How far along the normal from p (at most `range`) the search may go and stay inside the
-// region; below -range when even the innermost point is outside.
+// region; below -range when even the innermost point is outside. The region is convex: the
+// line p + t n leaves it where it first crosses one of its sides' lines outward.
 static double OuterLimit(const std::vector<Eigen::Vector2d>& region, const Eigen::Vector2d& p,
                          const Eigen::Vector2d& n, double range) {
   if (region.empty()) return range;
-  for (double t = range; t >= -range; t -= 0.5)
-    if (SignedDistance(region, p + t * n) <= 0) return t;
-  return -range - 1;
+  double hi = range, lo = -range;
+  for (size_t i = 0; i < region.size(); ++i) {
+    const Eigen::Vector2d& a = region[i];
+    const Eigen::Vector2d d = region[(i + 1) % region.size()] - a;
+    if (d.squaredNorm() < 1e-18) continue;
+    const Eigen::Vector2d out(d.y(), -d.x());  // outward for a counter-clockwise polygon
+    const double along = out.dot(n), at = out.dot(a - p);  // inside while t * along <= at
+    if (along > 1e-12)
+      hi = std::min(hi, at / along);
+    else if (along < -1e-12)
+      lo = std::max(lo, at / along);
+    else if (at < 0)
+      return -range - 1;  // parallel to the side and outside it
+  }
+  return hi >= lo ? hi : -range - 1;
 }
 
 std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int view,
@@ -344,9 +364,10 @@ bool OutlineResiduals::Residuals(const Eigen::VectorXd& x, std::vector<Measureme
   if (region_weight_ > 0)
     for (int v = 0; v < 2; ++v) {
       if (views_[v].region.empty()) continue;
-      excess[v].resize(pts_.size());
-      excess_grad[v].resize(pts_.size());
-      for (size_t i = 0; i < pts_.size(); ++i)
+      // Only the hull's points can lie beyond a convex region the hull does not leave.
+      excess[v].assign(pts_.size(), 0.0);
+      excess_grad[v].assign(pts_.size(), Eigen::Vector2d::Zero());
+      for (const int i : o[v].hull)
         excess[v][i] = RegionExcess(views_[v].region, o[v].px[i], &excess_grad[v][i]);
       region_rows += static_cast<Eigen::Index>(pts_.size());
     }
