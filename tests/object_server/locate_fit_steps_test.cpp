@@ -39,12 +39,7 @@ TEST_F(LocateSteps, AnUprightCylinderStartsNearItsTruthAndFitsOntoIt) {
   EXPECT_GT(std::abs(axis.z()), 0.99);
   EXPECT_LT((0.5 * (x0.segment<3>(0) + x0.segment<3>(3)) - cylinder_->center).norm(), 2.0);
 
-  const cv::Rect image(0, 0, t.pair.right.cols, t.pair.right.rows);
-  const Gradients grad_right(t.pair.right,
-                             RightRegion(t.search, t.match, RegionPad(options_), image),
-                             options_.edge_sigma);
-  const std::array<FitView, 2> views = {FitView{&in.left_camera, &left_gradients_},
-                                        FitView{&in.right_camera, &grad_right}};
+  const std::array<FitView, 2> views = FitViews(in, t);
   const FitOutcome f =
       FitCylinder(starts, views, FitSettings(options_, t.boundary.strongest), options_);
   ASSERT_TRUE(f.ok) << f.error;
@@ -79,12 +74,7 @@ TEST_F(LocateSteps, ABoxStartsWorldAlignedAtThreeDepthsAndFitsOntoIt) {
   EXPECT_NEAR(starts[1][4], 0.4 * across, 1e-9);
   EXPECT_NEAR(starts[2][4], 1.8 * across, 1e-9);
 
-  const cv::Rect image(0, 0, t.pair.right.cols, t.pair.right.rows);
-  const Gradients grad_right(t.pair.right,
-                             RightRegion(t.search, t.match, RegionPad(options_), image),
-                             options_.edge_sigma);
-  const std::array<FitView, 2> views = {FitView{&in.left_camera, &left_gradients_},
-                                        FitView{&in.right_camera, &grad_right}};
+  const std::array<FitView, 2> views = FitViews(in, t);
   const FitOutcome f = FitBox(starts, views, FitSettings(options_, t.boundary.strongest), options_);
   ASSERT_TRUE(f.ok) << f.error;
   ASSERT_EQ(f.params.size(), 7);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <string>
 
 #include "common/sim/marks.h"
@@ -89,12 +90,23 @@ class LocateSteps : public ::testing::Test {
     return t;
   }
 
+  // Both views for the fit after RunThroughStep3: the right image's gradients over the patch
+  // moved by the match.
+  std::array<FitView, 2> FitViews(const LocateInput& in, const Through3& t) {
+    const cv::Rect image(0, 0, t.pair.right.cols, t.pair.right.rows);
+    right_gradients_ =
+        Gradients(t.pair.right, RightRegion(t.search, t.match, RegionPad(options_), image),
+                  options_.edge_sigma);
+    return {FitView{&in.left_camera, &left_gradients_},
+            FitView{&in.right_camera, &right_gradients_}};
+  }
+
   inline static site::Scene* scene_ = nullptr;
   inline static site::StereoImages* images_ = nullptr;
   const site::Cylinder* cylinder_ = nullptr;
   const site::Box* box_ = nullptr;
   LocateOptions options_;
-  Gradients left_gradients_;
+  Gradients left_gradients_, right_gradients_;
 };
 
 }  // namespace igms::object::testing

@@ -65,6 +65,19 @@ double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }
 
+// Edge measurements on the outline of a plate with parameters p, every third sample.
+std::vector<Measurement> PlateEdges(const Eigen::VectorXd& p,
+                                    const std::array<geometry::ProjectiveCamera, 2>& cameras) {
+  std::vector<Measurement> ms;
+  for (int v = 0; v < 2; ++v) {
+    ViewOutline o;
+    EXPECT_TRUE(ProjectOutline(PlateOutline(p), cameras[v], o));
+    const OutlineSamples s = SampleOutline(o);
+    for (size_t i = 0; i < s.points.size(); i += 3) ms.push_back({v, s.points[i], s.segment[i]});
+  }
+  return ms;
+}
+
 // The plate rendered in both cameras, with the fit's views on it.
 class PlateScene : public ::testing::Test {
  protected:
@@ -82,15 +95,14 @@ class PlateScene : public ::testing::Test {
     options_.edge_blur_px = 0;  // straight edges: nothing to correct
   }
   // Edge measurements exactly on the true plate's outline, every few pixels along each side.
-  std::vector<Measurement> TrueEdges() const {
-    std::vector<Measurement> ms;
+  std::vector<Measurement> TrueEdges() const { return PlateEdges(truth_, cameras_); }
+  // Each view's region: the true plate's outline.
+  void BoundByTruth() {
     for (int v = 0; v < 2; ++v) {
       ViewOutline o;
-      EXPECT_TRUE(ProjectOutline(PlateOutline(truth_), cameras_[v], o));
-      const OutlineSamples s = SampleOutline(o);
-      for (size_t i = 0; i < s.points.size(); i += 3) ms.push_back({v, s.points[i], s.segment[i]});
+      ASSERT_TRUE(ProjectOutline(PlateOutline(truth_), cameras_[v], o));
+      views_[v].region = o.px;
     }
-    return ms;
   }
 
   const std::array<geometry::ProjectiveCamera, 2> cameras_ = {RigCamera(-3), RigCamera(3)};
@@ -319,27 +331,10 @@ TEST_F(PlateScene, RefineParametersBringsTheOutlineOntoItsEdges) {
   EXPECT_EQ(y, before);
 }
 
-// Edge measurements on the outline of a plate with parameters p, every third sample.
-std::vector<Measurement> PlateEdges(const Eigen::VectorXd& p,
-                                    const std::array<geometry::ProjectiveCamera, 2>& cameras) {
-  std::vector<Measurement> ms;
-  for (int v = 0; v < 2; ++v) {
-    ViewOutline o;
-    EXPECT_TRUE(ProjectOutline(PlateOutline(p), cameras[v], o));
-    const OutlineSamples s = SampleOutline(o);
-    for (size_t i = 0; i < s.points.size(); i += 3) ms.push_back({v, s.points[i], s.segment[i]});
-  }
-  return ms;
-}
-
 TEST_F(PlateScene, TheRegionAddsARowPerOutlinePointWithItsJacobian) {
   // Regions: the true plate's outline in each view. A plate 0.2 in larger (2 px a side) has
   // every corner beyond them.
-  for (int v = 0; v < 2; ++v) {
-    ViewOutline o;
-    ASSERT_TRUE(ProjectOutline(PlateOutline(truth_), cameras_[v], o));
-    views_[v].region = o.px;
-  }
+  BoundByTruth();
   const double weight = 9;
   const OutlineResiduals residuals(plate_, views_, Eigen::VectorXd::Constant(3, 1e-4), weight);
   std::vector<Measurement> ms = TrueEdges();
@@ -386,11 +381,7 @@ TEST_F(PlateScene, TheRegionHoldsTheOutlineAgainstEdgesBeyondIt) {
   }
   // The true plate's outline as the region, strongly weighted: the outline stays within a
   // small fraction of a pixel of it.
-  for (int v = 0; v < 2; ++v) {
-    ViewOutline o;
-    ASSERT_TRUE(ProjectOutline(PlateOutline(truth_), cameras_[v], o));
-    views_[v].region = o.px;
-  }
+  BoundByTruth();
   const OutlineResiduals residuals(plate_, views_, Eigen::VectorXd::Constant(3, 1e-4), 100);
   std::vector<Measurement> ms = edges;
   Eigen::VectorXd x = truth_;
