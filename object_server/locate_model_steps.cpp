@@ -272,7 +272,121 @@ std::vector<cv::Point> BetweenVerticalEdges(const geometry::ProjectiveCamera& le
   return out;
 }
 
+// A block turned by `yaw` from its silhouette: its near bottom corner is the boundary's lowest
+// pixel at `depth`; its two bottom edges recede from there along the yaw's two directions
+// until they reach the boundary's sides, and its height brings the far top corner to the
+// boundary's top (each a ratio of linear functions of the length, solved in closed form).
+std::optional<Eigen::VectorXd> TurnedBoxStart(const geometry::ProjectiveCamera& left_camera,
+                                              const std::vector<cv::Point>& boundary, double depth,
+                                              double yaw) {
+  if (boundary.size() < 8) return std::nullopt;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : boundary) mean += Eigen::Vector2d(p.x, p.y) / boundary.size();
+  const Eigen::Vector3d X = PointOnPixelRay(left_camera, mean, depth);
+  const auto a = left_camera.Project(X), b = left_camera.Project(X + Eigen::Vector3d::UnitZ());
+  if (!a || !b || (*b - *a).norm() < 1e-9) return std::nullopt;
+  const Eigen::Vector2d up = (*b - *a).normalized(), across(-up.y(), up.x());
+  Eigen::Vector2d lowest = mean;
+  double left = 1e18, right = -1e18, top = -1e18;
+  for (const auto& p : boundary) {
+    const Eigen::Vector2d q(p.x, p.y);
+    if (up.dot(q) < up.dot(lowest)) lowest = q;
+    left = std::min(left, across.dot(q));
+    right = std::max(right, across.dot(q));
+    top = std::max(top, up.dot(q));
+  }
+  const Eigen::Matrix<double, 3, 4>& P = left_camera.P();
+  // The length t along world direction e that brings the image coordinate along `dir` to
+  // `target`: dir . (m + t n)_xy = target (m + t n)_z with n = P e.
+  const auto reach = [&](const Eigen::Vector3d& from, const Eigen::Vector3d& e,
+                         const Eigen::Vector2d& dir, double target) {
+    const Eigen::Vector3d m0 = P.leftCols<3>() * from + P.col(3), n = P.leftCols<3>() * e;
+    const double den = dir.dot(n.head<2>()) - target * n.z();
+    return std::abs(den) < 1e-12 ? -1.0 : (target * m0.z() - dir.dot(m0.head<2>())) / den;
+  };
+  const Eigen::Vector3d view = left_camera.ViewDirection().normalized();
+  Eigen::Vector3d d1(std::cos(yaw), std::sin(yaw), 0), d2(-std::sin(yaw), std::cos(yaw), 0);
+  if (d1.dot(view) < 0) d1 = -d1;  // both bottom edges recede from the near corner
+  if (d2.dot(view) < 0) d2 = -d2;
+  const double mid_up = up.dot(mean);
+  const double extent = (PointOnPixelRay(left_camera, left * across + mid_up * up, depth) -
+                         PointOnPixelRay(left_camera, right * across + mid_up * up, depth))
+                            .norm();
+  // The match's depth is the visible faces', a quarter of their recession behind the corner:
+  // the corner found at `depth`, then again that much nearer.
+  Eigen::Vector3d corner;
+  double s1 = 0, s2 = 0;
+  for (double corner_depth = depth, pass = 0; pass < 2; ++pass) {
+    corner = PointOnPixelRay(left_camera, lowest, corner_depth);
+    const Eigen::Vector3d m = P.leftCols<3>() * corner + P.col(3);
+    // Which edge runs to the left in the image.
+    const auto moves = [&](const Eigen::Vector3d& e) {
+      const Eigen::Vector3d n = P.leftCols<3>() * e;
+      return across.dot(n.head<2>() * m.z() - m.head<2>() * n.z());
+    };
+    const bool d1_left = moves(d1) < moves(d2);
+    s1 = std::clamp(reach(corner, d1, across, d1_left ? left : right), 0.05 * extent, 2.0 * extent);
+    s2 = std::clamp(reach(corner, d2, across, d1_left ? right : left), 0.05 * extent, 2.0 * extent);
+    corner_depth = depth - 0.25 * (s1 * d1 + s2 * d2).dot(view);
+  }
+  const Eigen::Vector3d far = corner + s1 * d1 + s2 * d2;
+  const double h =
+      std::clamp(reach(far, Eigen::Vector3d::UnitZ(), up, top), 0.05 * extent, 4.0 * extent);
+  Eigen::VectorXd v(7);
+  v << corner + 0.5 * (s1 * d1 + s2 * d2) + 0.5 * h * Eigen::Vector3d::UnitZ(), 0, 0, h, yaw;
+  // Sizes along the box's own axes: d1 is +-x, d2 is +-y.
+  v[3] = s1;
+  v[4] = s2;
+  return v;
+}
+
 }  // namespace
+
+std::vector<double> HorizontalEdgeYaws(const geometry::ProjectiveCamera& left_camera,
+                                       const std::vector<cv::Point>& boundary, double depth,
+                                       const Gradients& gradients, int count) {
+  constexpr int kBins = 45;  // 2 degrees each
+  std::vector<double> hist(kBins, 0.0);
+  const Eigen::Matrix<double, 3, 4>& P = left_camera.P();
+  for (const auto& p : boundary) {
+    const Eigen::Vector2d q(p.x, p.y);
+    const Eigen::Vector2d n = gradients.At(q);
+    const double mag = n.norm();
+    if (mag <= 0) continue;
+    const Eigen::Vector3d X = PointOnPixelRay(left_camera, q, depth);
+    const Eigen::Vector3d x = P.leftCols<3>() * X + P.col(3);
+    if (std::abs(x.z()) < 1e-12) continue;
+    const Eigen::Vector2d uv = x.head<2>() / x.z();
+    // The projection's Jacobian at X: a world direction D moves the pixel by J D.
+    Eigen::Matrix<double, 2, 3> J;
+    J.row(0) = (P.block<1, 3>(0, 0) - uv.x() * P.block<1, 3>(2, 0)) / x.z();
+    J.row(1) = (P.block<1, 3>(1, 0) - uv.y() * P.block<1, 3>(2, 0)) / x.z();
+    const Eigen::Vector2d up = (J * Eigen::Vector3d::UnitZ()).normalized();
+    const Eigen::Vector2d tangent = Eigen::Vector2d(-n.y(), n.x()) / mag;
+    if (std::abs(tangent.dot(up)) > std::cos(30 * M_PI / 180)) continue;
+    // The horizontal D along the edge: normal to the gradient after projection, n' J D = 0.
+    const Eigen::Vector3d w = J.transpose() * n;
+    const double yaw = std::atan2(-w.x(), w.y());
+    double folded = std::remainder(yaw * 180 / M_PI, 90.0);  // [-45, 45]
+    const int bin = std::clamp(static_cast<int>(std::floor((folded + 45.0) / 2.0)), 0, kBins - 1);
+    hist[bin] += mag;
+  }
+  std::vector<double> smooth(kBins, 0.0);
+  for (int i = 0; i < kBins; ++i)
+    for (int d = -1; d <= 1; ++d) smooth[i] += (d == 0 ? 2.0 : 1.0) * hist[(i + d + kBins) % kBins];
+  std::vector<double> yaws;
+  std::vector<bool> taken(kBins, false);
+  const double top = *std::max_element(smooth.begin(), smooth.end());
+  while (static_cast<int>(yaws.size()) < count && top > 0) {
+    int best = -1;
+    for (int i = 0; i < kBins; ++i)
+      if (!taken[i] && (best < 0 || smooth[i] > smooth[best])) best = i;
+    if (best < 0 || smooth[best] < 0.75 * top) break;
+    for (int d = -5; d <= 5; ++d) taken[(best + d + kBins) % kBins] = true;
+    yaws.push_back((-45.0 + 2.0 * best + 1.0) * M_PI / 180);
+  }
+  return yaws;
+}
 
 std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_camera,
                                        const std::vector<cv::Point>& boundary, double depth,
@@ -283,6 +397,17 @@ std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_ca
         BetweenVerticalEdges(left_camera, boundary, depth, *gradients);
     if (inner.size() >= 8)
       for (auto& st : BoxStartsFrom(left_camera, inner, depth)) starts.push_back(std::move(st));
+    // A block turned about the vertical: one start at each yaw its horizontal edges show,
+    // none when the strongest says it is not turned.
+    const std::vector<double> yaws =
+        HorizontalEdgeYaws(left_camera, boundary, depth, *gradients, 2);
+    for (const double yaw : yaws) {
+      if (std::abs(yaws[0]) < 5 * M_PI / 180) break;
+      if (std::abs(yaw) < 5 * M_PI / 180) continue;
+      if (auto st = TurnedBoxStart(left_camera, boundary, depth, yaw)) starts.push_back(*st);
+      if (inner.size() >= 8)
+        if (auto st = TurnedBoxStart(left_camera, inner, depth, yaw)) starts.push_back(*st);
+    }
   }
   return starts;
 }
@@ -399,9 +524,14 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
     q << p, 0.0;
     return q;
   };
-  std::vector<Eigen::VectorXd> starts6;
+  std::vector<Eigen::VectorXd> starts6, yawed;
   starts6.reserve(starts.size());
-  for (const auto& st : starts) starts6.push_back(st.head<6>());
+  for (const auto& st : starts) {
+    if (st[6] == 0.0)
+      starts6.push_back(st.head<6>());
+    else
+      yawed.push_back(st);
+  }
   InnerEdgesFn inner6;
   if (inner)
     inner6 = [&](const Eigen::VectorXd& p, const Eigen::Vector3d& c) {
@@ -415,15 +545,24 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
     cov.topLeftCorner<6, 6>() = f.covariance;
     f.covariance = cov;
   }
-  const bool turn = !IsSolid(f) || 0.5 * (f.rms_px[0] + f.rms_px[1]) > options.box_turn_rms_px;
-  if (!turn) return f;
-  std::vector<Eigen::VectorXd> turned;
+  const bool poor = !IsSolid(f) || 0.5 * (f.rms_px[0] + f.rms_px[1]) > options.box_turn_rms_px;
+  if (!poor && yawed.empty()) return f;
+  // A poor aligned fit is turned both ways by up to 36 degrees; a good one only to the yaws
+  // the edges show, beside the starts at those yaws.
+  std::vector<Eigen::VectorXd> turned = yawed;
   const Eigen::VectorXd from = IsSolid(f) ? f.params : starts[0];
-  for (const double yaw_deg : {-36.0, -18.0, 0.0, 18.0, 36.0}) {
+  const auto turn_to = [&](double yaw) {
     Eigen::VectorXd st = from;
-    st[6] = yaw_deg * M_PI / 180;
+    st[6] = yaw;
     turned.push_back(st);
-  }
+  };
+  if (poor)
+    for (const double yaw_deg : {-36.0, -18.0, 0.0, 18.0, 36.0}) turn_to(yaw_deg * M_PI / 180);
+  else
+    for (const auto& st : yawed)
+      if (std::none_of(turned.begin() + static_cast<long>(yawed.size()), turned.end(),
+                       [&](const Eigen::VectorXd& t) { return t[6] == st[6]; }))
+        turn_to(st[6]);
   FitOutcome fo = FitFromStarts(outline, inner, turned, views, fit, plausible);
   spdlog::debug("locate: turned box: score {:.3f} against aligned {:.3f}", FitScore(fo),
                 FitScore(f));

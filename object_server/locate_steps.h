@@ -194,10 +194,22 @@ std::optional<Eigen::VectorXd> CylinderStretchedToMarks(const Eigen::VectorXd& s
 // starts take 0.4 and 1.8 times it.
 // With the left image's gradients, three more starts from the boundary between the block's
 // outermost vertical edges, when those lie inside it: a block under a pipe without the
-// pipe's ends.
+// pipe's ends. Then, for each yaw over 5 degrees its horizontal edges show
+// (HorizontalEdgeYaws, at most two), a turned start from each of those boundaries: its near
+// bottom corner at the boundary's lowest pixel, its bottom edges receding along the yaw to the
+// boundary's sides and its far top corner at the boundary's top. FitBox fits these turned.
 std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_camera,
                                        const std::vector<cv::Point>& boundary, double depth,
                                        const Gradients* gradients = nullptr);
+// The yaws of a block's horizontal edges, folded into [-45, 45) degrees (radians out): each
+// boundary pixel's edge back-projected to the horizontal direction that projects along it at
+// `depth`. The peaks of a gradient-weighted histogram in 2-degree bins, strongest first, at
+// least 10 degrees apart and at least 0.75 of the strongest; at most `count`. Edges near the
+// image's vertical say nothing (a block's vertical edges, a horizontal one pointing at the
+// camera) and are left out.
+std::vector<double> HorizontalEdgeYaws(const geometry::ProjectiveCamera& left_camera,
+                                       const std::vector<cv::Point>& boundary, double depth,
+                                       const Gradients& gradients, int count);
 // The three starts from the given boundary pixels alone.
 std::vector<Eigen::VectorXd> BoxStartsFrom(const geometry::ProjectiveCamera& left_camera,
                                            const std::vector<cv::Point>& boundary, double depth);

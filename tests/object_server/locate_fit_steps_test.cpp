@@ -85,6 +85,61 @@ TEST_F(LocateSteps, ABoxStartsWorldAlignedAtThreeDepthsAndFitsOntoIt) {
   EXPECT_LT(BoxYawErrorDeg(b.yaw_deg, box_->rotation), 3.0);
 }
 
+TEST_F(LocateSteps, AnAlignedBlocksEdgesShowNoTurn) {
+  const LocateInput in = Input(false);
+  const Gradients* grad = nullptr;
+  const Through3 t = RunThroughStep3(in, &grad);
+  ASSERT_NEAR(std::atan2(box_->rotation(1, 0), box_->rotation(0, 0)), 0.0, 1e-9);
+  const auto yaws = HorizontalEdgeYaws(in.left_camera, t.boundary.pixels, t.depth, *grad, 2);
+  ASSERT_FALSE(yaws.empty());
+  EXPECT_NEAR(yaws[0] * 180 / M_PI, 0.0, 3.0);
+  for (const auto& s : BoxStarts(in.left_camera, t.boundary.pixels, t.depth, grad))
+    EXPECT_EQ(s[6], 0.0);
+}
+
+// The same scene with its block turned by 30 degrees about the vertical.
+class TurnedBlockSteps : public LocateSteps {
+ protected:
+  static void SetUpTestSuite() {
+    scene_ = new site::Scene(site::RandomTestbedScene(42));
+    for (auto& o : scene_->objects)
+      if (auto* b = std::get_if<site::Box>(&o.shape)) {
+        b->rotation = Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitZ()).matrix();
+        break;
+      }
+    images_ = new site::StereoImages(site::RenderStereo(*scene_));
+  }
+};
+
+TEST_F(TurnedBlockSteps, ATurnedBlockStartsAtTheYawItsEdgesShowAndFitsOntoIt) {
+  const LocateInput in = Input(false);
+  const Gradients* grad = nullptr;
+  const Through3 t = RunThroughStep3(in, &grad);
+  const auto yaws = HorizontalEdgeYaws(in.left_camera, t.boundary.pixels, t.depth, *grad, 2);
+  ASSERT_FALSE(yaws.empty());
+  EXPECT_NEAR(yaws[0] * 180 / M_PI, 30.0, 3.0);
+
+  const auto starts = BoxStarts(in.left_camera, t.boundary.pixels, t.depth, grad);
+  std::vector<Eigen::VectorXd> turned;
+  for (const auto& s : starts)
+    if (s[6] != 0.0) turned.push_back(s);
+  ASSERT_FALSE(turned.empty());
+  // The turned start from the silhouette's corner, sides and top: near the block before any
+  // fit (sizes along the box's own axes, x along the yaw), within half its size (the depth
+  // matched on its faces puts it a little far).
+  const Eigen::VectorXd& s = turned[0];
+  EXPECT_NEAR(s[6], yaws[0], 1e-12);
+  EXPECT_LT((s.head<3>() - box_->center).norm(), 0.5 * box_->size.maxCoeff());
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(s[3 + k], box_->size[k], 0.2 * box_->size[k]) << k;
+
+  const std::array<FitView, 2> views = FitViews(in, t);
+  const FitOutcome f = FitBox(starts, views, FitSettings(options_, t.boundary.strongest), options_);
+  ASSERT_TRUE(f.ok) << f.error;
+  const BoxResult b = BoxFromFit(f.params, f.covariance);
+  EXPECT_LT((b.center - box_->center).norm(), 0.3);
+  EXPECT_LT(BoxYawErrorDeg(b.yaw_deg, box_->rotation), 1.5);
+}
+
 TEST(LocateStepsFit, FitSettingsFollowTheLocatorsOptions) {
   LocateOptions options;
   options.search_px = 5;
