@@ -22,25 +22,6 @@ LocateResult Fail(LocateResult r, const StepFailure& failure) {
   return r;
 }
 
-// The other type's fit against this one's: a cylinder is refused when a box explains the
-// outline much better, a box unless it clearly beats a cylinder.
-std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
-                                          const FitOutcome& other, const LocateOptions& opt) {
-  if (!other.ok) return std::nullopt;
-  if (cylinder && !CheckBothViews(other, opt) &&
-      opt.other_type_ratio * FitScore(other) < FitScore(f))
-    return StepFailure{Failure::kFitFailed, "a box explains the outline much better (score " +
-                                                FormatFixed(FitScore(other)) + " against " +
-                                                FormatFixed(FitScore(f)) +
-                                                "): is the object a box?"};
-  if (!cylinder && FitScore(f) > opt.box_over_cylinder * FitScore(other))
-    return StepFailure{Failure::kFitFailed,
-                       "a cylinder explains the outline about as well as a box (score " +
-                           FormatFixed(FitScore(other)) + " against " + FormatFixed(FitScore(f)) +
-                           "): is the object a cylinder?"};
-  return std::nullopt;
-}
-
 // A size the images leave open (a block's depth behind a pipe resting on it, read off the
 // pipe's far limb) would be a guess, however well the outline fits.
 std::optional<StepFailure> CheckBoxSizesDetermined(const BoxResult& box, const LocateOptions& opt) {
@@ -292,7 +273,10 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     res.other_type_supported_fit_score =
         other.ok ? SupportedFitScore(other, measure_support(other), score_scale)
                  : res.other_type_fit_score;
-    if (const auto failure = CheckOtherType(cylinder, f, other, opt)) return fail(*failure);
+    const bool other_within_marks =
+        other.ok && !CheckWithinMarks(other.outline[0], *marks, in.left_camera, opt);
+    if (const auto failure = CheckOtherType(cylinder, f, other, other_within_marks, opt))
+      return fail(*failure);
   }
 
   // The result.

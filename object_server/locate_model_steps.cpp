@@ -748,6 +748,24 @@ std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOpt
   return std::nullopt;
 }
 
+std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
+                                          const FitOutcome& other, bool other_within_marks,
+                                          const LocateOptions& opt) {
+  if (!other.ok) return std::nullopt;
+  if (cylinder && other_within_marks && !CheckBothViews(other, opt) &&
+      opt.other_type_ratio * FitScore(other) < FitScore(f))
+    return StepFailure{Failure::kFitFailed, "a box explains the outline much better (score " +
+                                                FormatFixed(FitScore(other)) + " against " +
+                                                FormatFixed(FitScore(f)) +
+                                                "): is the object a box?"};
+  if (!cylinder && FitScore(f) > opt.box_over_cylinder * FitScore(other))
+    return StepFailure{Failure::kFitFailed,
+                       "a cylinder explains the outline about as well as a box (score " +
+                           FormatFixed(FitScore(other)) + " against " + FormatFixed(FitScore(f)) +
+                           "): is the object a cylinder?"};
+  return std::nullopt;
+}
+
 CylinderResult CylinderFromFit(const Eigen::VectorXd& params, const Eigen::MatrixXd& covariance) {
   // Centre, radius and height, with their deviations.
   auto outputs = [](const Eigen::VectorXd& p) {

@@ -282,6 +282,15 @@ std::optional<StepFailure> CheckWithinMarks(const std::vector<Eigen::Vector2d>& 
 // outline's support, the share is of the samples that should show an edge.
 std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options,
                                           const std::array<OutlineSupport, 2>* support = nullptr);
+// The other type's fit against this one's: a cylinder is refused when a box explains the
+// outline much better (`other_type_ratio`), a box unless it clearly beats a cylinder
+// (`box_over_cylinder`). A box the marks do not bound (`other_within_marks` false: it leaves
+// part of them empty or runs beyond them, as it does on the top half of a cylinder whose
+// bottom stands against the table) explains part of the object, and is not held against a
+// cylinder; a cylinder is held against a box wherever it lies, so a box must beat them all.
+std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
+                                          const FitOutcome& other, bool other_within_marks,
+                                          const LocateOptions& opt);
 
 // The result from the fit's parameters, with one standard deviation from its covariance. A
 // cylinder's axis points up (along +x when level); it is left as the default when the

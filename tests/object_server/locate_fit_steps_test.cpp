@@ -171,6 +171,33 @@ TEST(LocateStepsFit, FitScoreAddsBothViewsResidualsAndTwiceTheMissedShare) {
   EXPECT_NEAR(FitScore(f, 0.5), 0.25 + 2.0, 1e-12);  // the residuals scaled, not the share
 }
 
+TEST(LocateStepsFit, APartialBoxIsNotHeldAgainstACylinderButEveryCylinderAgainstABox) {
+  const LocateOptions options;
+  FitOutcome loose, tight;  // scores 1.0 and 0.3: 0.3 is over 1.5 times better
+  loose.ok = tight.ok = true;
+  loose.rms_px = {0.3, 0.3};
+  tight.rms_px = {0.1, 0.1};
+  loose.sampled = tight.sampled = {100, 100};
+  loose.used = {80, 80};
+  tight.used = {95, 95};
+  ASSERT_NEAR(FitScore(loose), 1.0, 1e-12);
+  ASSERT_NEAR(FitScore(tight), 0.3, 1e-12);
+  // A cylinder against a box that explains the outline much better: refused, unless that box
+  // leaves part of the marks empty (the top half of a pipe standing against the table).
+  const auto refused = CheckOtherType(true, loose, tight, true, options);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->reason, Failure::kFitFailed);
+  EXPECT_NE(refused->detail.find("is the object a box?"), std::string::npos) << refused->detail;
+  EXPECT_FALSE(CheckOtherType(true, loose, tight, false, options).has_value());
+  // A box must beat the cylinder, wherever the cylinder lies.
+  EXPECT_TRUE(CheckOtherType(false, loose, tight, true, options).has_value());
+  EXPECT_TRUE(CheckOtherType(false, loose, tight, false, options).has_value());
+  EXPECT_FALSE(CheckOtherType(false, tight, loose, false, options).has_value());
+  // A failed other fit says nothing.
+  FitOutcome failed;
+  EXPECT_FALSE(CheckOtherType(true, loose, failed, true, options).has_value());
+}
+
 TEST(LocateStepsFit, TheSupportedScoreCountsOnlyTheOutlineThatShouldShowAnEdge) {
   FitOutcome f;
   f.ok = true;

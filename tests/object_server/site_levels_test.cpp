@@ -64,5 +64,22 @@ TEST(SiteLevels, SeededScenesOfEachLevel) {
   EXPECT_LE(wrong_types, 7);
 }
 
+// A thin upright pipe (radius 0.25 in, 5.5 in tall, 46 in away, 1920x1080) whose lower half
+// stands against the table: a box fits its upper half, against the black above the table's
+// horizon, better than the whole pipe fits, but leaves the marks' bottom empty; it must not
+// refuse the pipe.
+TEST(SiteLevels, ABoxOnAPipesUpperHalfDoesNotRefuseThePipe) {
+  cv::setNumThreads(1);
+  const auto scene = site::SiteScene(6, site::SiteLevel::kClutter, true);
+  const auto evals = EvaluateScene(scene, "clutter_hd_6", 6);
+  const ObjectEvaluation* pipe = nullptr;
+  for (const auto& e : evals)
+    if (e.object_name == "upright_0") pipe = &e;
+  ASSERT_NE(pipe, nullptr);
+  ASSERT_GE(pipe->visible, kFullView);
+  EXPECT_TRUE(pipe->result.found) << pipe->result.detail;
+  EXPECT_FALSE(pipe->wrong);
+}
+
 }  // namespace
 }  // namespace igms::object
