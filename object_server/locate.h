@@ -117,7 +117,7 @@ struct LocateOptions {
   double other_type_ratio = 1.5;
   // A box is reported only when it explains the outline clearly better than a cylinder: its
   // score at most this share of the cylinder's (a box fits an upright cylinder about as well).
-  double box_over_cylinder = 0.8;
+  double box_over_cylinder = 0.7;
   // A fit scoring worse than this explains too little of the outline to be the object: on
   // the site scenes it was a wrong model (another object's edges, the other type) far more
   // often than a right one.
