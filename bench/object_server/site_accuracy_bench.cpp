@@ -2,9 +2,12 @@
 // pair, per object type, how many objects in full view (at least 95% visible in both images)
 // were found and how many of those were wrong models; how many partly hidden ones were
 // refused (a correct answer) or found wrong; the errors of what was found and the share of
-// errors within two reported sigma.
+// errors within two reported sigma; and the lying pipes' length by the rule (within
+// 0.1 in up to 7 ft where the axis lies within 60 degrees of the image's rows, beyond that
+// within two reported sigma).
 // Usage: bench_site_accuracy [scenes=40] [first_seed=1] [levels=pipes,clutter,far]
 //                            [cameras=thesis,hd] [-v [DEBUG_IMAGE_DIR]]
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -57,6 +60,37 @@ void PrintTable(const std::vector<ObjectEvaluation>& all) {
       "%d wrong\n",
       t.full_found, t.full, 100 * t.full_found_rate, t.full_wrong, t.hidden, t.hidden_refused,
       t.hidden_wrong);
+}
+
+// The rule for a lying pipe's length: within 0.1 in up to 7 ft where its axis lies
+// within 60 degrees of the image's rows; pointing further away, judged by its sigma.
+void PrintLyingLengths(const std::vector<ObjectEvaluation>& all) {
+  std::vector<double> across;
+  int within = 0, away = 0, away_within_2_sigma = 0;
+  for (const auto& e : all) {
+    if (e.kind != "lying" || !e.result.found || e.wrong || e.visible < igms::object::kFullView)
+      continue;
+    if (e.axis_from_rows_deg <= 60) {
+      if (e.distance > 84) continue;
+      across.push_back(e.height_error);
+      within += e.height_error <= 0.1;
+    } else {
+      ++away;
+      away_within_2_sigma += e.height_error <= 2 * e.result.cylinder.height_sigma;
+    }
+  }
+  std::printf("  lying length, found right: within 60 deg of the rows and 7 ft: ");
+  if (across.empty()) {
+    std::printf("none");
+  } else {
+    std::sort(across.begin(), across.end());
+    std::printf("%zu, median %.3f, p90 %.3f, within 0.1 in %.0f%%", across.size(),
+                across[across.size() / 2], across[across.size() * 9 / 10],
+                100.0 * within / static_cast<double>(across.size()));
+  }
+  std::printf("; further away: %d", away);
+  if (away > 0) std::printf(", within 2 sigma %.0f%%", 100.0 * away_within_2_sigma / away);
+  std::printf("\n");
 }
 
 void PrintNothing(const std::vector<igms::object::NothingThereEvaluation>& all) {
@@ -151,6 +185,7 @@ int RunBenchmark(int argc, char** argv) {
       std::printf("\nlevel %s, %s cameras (%zu objects, %.0f s CPU):\n", level_name.c_str(),
                   camera.c_str(), all.size(), cpu_s);
       PrintTable(all);
+      PrintLyingLengths(all);
       PrintNothing(nothing);
       everything_nothing.insert(everything_nothing.end(), nothing.begin(), nothing.end());
       everything.insert(everything.end(), all.begin(), all.end());
@@ -158,6 +193,7 @@ int RunBenchmark(int argc, char** argv) {
   }
   std::printf("\nevery level:\n");
   PrintTable(everything);
+  PrintLyingLengths(everything);
   PrintNothing(everything_nothing);
   return 0;
 }

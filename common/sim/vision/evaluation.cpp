@@ -1,5 +1,6 @@
 #include "common/sim/vision/evaluation.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
@@ -51,6 +52,12 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
       e.lying = std::abs(cyl->axis.z()) < 0.7;
       e.kind = e.lying ? "lying" : "upright";
       e.distance = (cyl->center - eye).norm();
+      // The image rows' direction in space: neither the row nor the depth changes along it.
+      const Eigen::Matrix3d M = scene.cameras.left.P().leftCols<3>();
+      const Eigen::Vector3d v_row = M.row(1).transpose(), depth_row = M.row(2).transpose();
+      const Eigen::Vector3d rows = v_row.cross(depth_row).normalized();
+      e.axis_from_rows_deg =
+          std::acos(std::min(1.0, std::abs(rows.dot(cyl->axis.normalized())))) * 180 / M_PI;
       if (e.result.found) {
         const auto& c = e.result.cylinder;
         e.radius_signed = c.radius - cyl->radius;

@@ -17,6 +17,10 @@ struct ObjectEvaluation {
   std::string kind;  // cylinder (upright or lying) or box
   bool lying = false;
   double distance = 0;  // from the left camera centre to the object's centre
+  // A lying cylinder's axis against the left image's rows, in space: 0 across the view, 90
+  // pointing straight at the camera (the rule judges a pipe's length by a fixed figure
+  // within 60 degrees, by its sigma beyond).
+  double axis_from_rows_deg = 0;
   // The share of its silhouette the cameras see (the lesser of the two; renderer.h's
   // VisibleFractions): under 1 when another object hides part of it or part is out of view.
   double visible = 1;
