@@ -273,9 +273,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     res.other_type_supported_fit_score =
         other.ok ? SupportedFitScore(other, measure_support(other), score_scale)
                  : res.other_type_fit_score;
-    const bool other_within_marks =
-        other.ok && !CheckWithinMarks(other.outline[0], *marks, in.left_camera, opt);
-    if (const auto failure = CheckOtherType(cylinder, f, other, other_within_marks, opt))
+    if (const auto failure = CheckOtherType(cylinder, f, other, other.ok && plausible(other), opt))
       return fail(*failure);
   }
 

@@ -8,6 +8,7 @@
 #include <functional>
 #include <opencv2/imgproc.hpp>
 
+#include "common/geometry/triangulation.h"
 #include "object_server/locate_steps.h"
 #include "object_server/ranger.h"
 #include "object_server/solid_models.h"
@@ -221,6 +222,26 @@ std::optional<Eigen::VectorXd> CylinderStretchedToMarks(const Eigen::VectorXd& s
 
 namespace {
 
+// The boundary's mean pixel, and the world's vertical as the left camera sees it there at
+// `depth` (`up`, and `across` it). nullopt for under 8 pixels or a camera looking straight
+// down.
+struct UprightFrame {
+  Eigen::Vector2d mean, up, across;
+};
+std::optional<UprightFrame> BoundaryUpright(const geometry::ProjectiveCamera& left_camera,
+                                            const std::vector<cv::Point>& boundary, double depth) {
+  if (boundary.size() < 8) return std::nullopt;
+  UprightFrame f;
+  f.mean = Eigen::Vector2d::Zero();
+  for (const auto& p : boundary) f.mean += Eigen::Vector2d(p.x, p.y) / boundary.size();
+  const Eigen::Vector3d X = PointOnPixelRay(left_camera, f.mean, depth);
+  const auto a = left_camera.Project(X), b = left_camera.Project(X + Eigen::Vector3d::UnitZ());
+  if (!a || !b || (*b - *a).norm() < 1e-9) return std::nullopt;
+  f.up = (*b - *a).normalized();
+  f.across = Eigen::Vector2d(-f.up.y(), f.up.x());
+  return f;
+}
+
 // The boundary pixels between a block's outermost vertical edges (those whose gradient runs
 // across the world's vertical as the left camera sees it, gathered by their position across
 // it; an edge is a run at least half the longest): without a pipe resting on the block and
@@ -229,13 +250,9 @@ namespace {
 std::vector<cv::Point> BetweenVerticalEdges(const geometry::ProjectiveCamera& left_camera,
                                             const std::vector<cv::Point>& boundary, double depth,
                                             const Gradients& gradients) {
-  if (boundary.size() < 8) return {};
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const auto& p : boundary) mean += Eigen::Vector2d(p.x, p.y) / boundary.size();
-  const Eigen::Vector3d X = PointOnPixelRay(left_camera, mean, depth);
-  const auto a = left_camera.Project(X), b = left_camera.Project(X + Eigen::Vector3d::UnitZ());
-  if (!a || !b || (*b - *a).norm() < 1e-9) return {};
-  const Eigen::Vector2d up = (*b - *a).normalized(), across(-up.y(), up.x());
+  const auto frame = BoundaryUpright(left_camera, boundary, depth);
+  if (!frame) return {};
+  const Eigen::Vector2d &up = frame->up, &across = frame->across;
   double lo = 1e18, hi = -1e18;
   for (const auto& p : boundary) {
     const double c = across.dot(Eigen::Vector2d(p.x, p.y));
@@ -279,13 +296,9 @@ std::vector<cv::Point> BetweenVerticalEdges(const geometry::ProjectiveCamera& le
 std::optional<Eigen::VectorXd> TurnedBoxStart(const geometry::ProjectiveCamera& left_camera,
                                               const std::vector<cv::Point>& boundary, double depth,
                                               double yaw) {
-  if (boundary.size() < 8) return std::nullopt;
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const auto& p : boundary) mean += Eigen::Vector2d(p.x, p.y) / boundary.size();
-  const Eigen::Vector3d X = PointOnPixelRay(left_camera, mean, depth);
-  const auto a = left_camera.Project(X), b = left_camera.Project(X + Eigen::Vector3d::UnitZ());
-  if (!a || !b || (*b - *a).norm() < 1e-9) return std::nullopt;
-  const Eigen::Vector2d up = (*b - *a).normalized(), across(-up.y(), up.x());
+  const auto frame = BoundaryUpright(left_camera, boundary, depth);
+  if (!frame) return std::nullopt;
+  const Eigen::Vector2d &mean = frame->mean, &up = frame->up, &across = frame->across;
   Eigen::Vector2d lowest = mean;
   double left = 1e18, right = -1e18, top = -1e18;
   for (const auto& p : boundary) {
@@ -332,11 +345,9 @@ std::optional<Eigen::VectorXd> TurnedBoxStart(const geometry::ProjectiveCamera& 
   const Eigen::Vector3d far = corner + s1 * d1 + s2 * d2;
   const double h =
       std::clamp(reach(far, Eigen::Vector3d::UnitZ(), up, top), 0.05 * extent, 4.0 * extent);
-  Eigen::VectorXd v(7);
-  v << corner + 0.5 * (s1 * d1 + s2 * d2) + 0.5 * h * Eigen::Vector3d::UnitZ(), 0, 0, h, yaw;
   // Sizes along the box's own axes: d1 is +-x, d2 is +-y.
-  v[3] = s1;
-  v[4] = s2;
+  Eigen::VectorXd v(7);
+  v << corner + 0.5 * (s1 * d1 + s2 * d2) + 0.5 * h * Eigen::Vector3d::UnitZ(), s1, s2, h, yaw;
   return v;
 }
 
@@ -347,20 +358,14 @@ std::vector<double> HorizontalEdgeYaws(const geometry::ProjectiveCamera& left_ca
                                        const Gradients& gradients, int count) {
   constexpr int kBins = 45;  // 2 degrees each
   std::vector<double> hist(kBins, 0.0);
-  const Eigen::Matrix<double, 3, 4>& P = left_camera.P();
   for (const auto& p : boundary) {
     const Eigen::Vector2d q(p.x, p.y);
     const Eigen::Vector2d n = gradients.At(q);
     const double mag = n.norm();
     if (mag <= 0) continue;
-    const Eigen::Vector3d X = PointOnPixelRay(left_camera, q, depth);
-    const Eigen::Vector3d x = P.leftCols<3>() * X + P.col(3);
-    if (std::abs(x.z()) < 1e-12) continue;
-    const Eigen::Vector2d uv = x.head<2>() / x.z();
-    // The projection's Jacobian at X: a world direction D moves the pixel by J D.
-    Eigen::Matrix<double, 2, 3> J;
-    J.row(0) = (P.block<1, 3>(0, 0) - uv.x() * P.block<1, 3>(2, 0)) / x.z();
-    J.row(1) = (P.block<1, 3>(1, 0) - uv.y() * P.block<1, 3>(2, 0)) / x.z();
+    const Eigen::Matrix<double, 2, 3> J =
+        geometry::ProjectionJacobian(left_camera.P(), PointOnPixelRay(left_camera, q, depth));
+    if (!J.allFinite()) continue;
     const Eigen::Vector2d up = (J * Eigen::Vector3d::UnitZ()).normalized();
     const Eigen::Vector2d tangent = Eigen::Vector2d(-n.y(), n.x()) / mag;
     if (std::abs(tangent.dot(up)) > std::cos(30 * M_PI / 180)) continue;

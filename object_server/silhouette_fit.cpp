@@ -9,6 +9,7 @@
 #include <limits>
 #include <string>
 
+#include "common/geometry/triangulation.h"
 #include "object_server/silhouette_fit_steps.h"
 
 namespace igms::object {
@@ -119,17 +120,6 @@ double SignedFromClosest(const ViewOutline& o, const Closest& c, const Eigen::Ve
     *d_b = c.t <= 0 ? Eigen::Vector2d::Zero() : g;
   }
   return d;
-}
-
-// d(pixel)/d(world point) of a camera at X: 2x3.
-Eigen::Matrix<double, 2, 3> ProjectionJacobian(const geometry::Matrix34& P,
-                                               const Eigen::Vector3d& X) {
-  const Eigen::Vector3d x = P * X.homogeneous();
-  const double w = x.z();
-  Eigen::Matrix<double, 2, 3> J;
-  J.row(0) = (P.block<1, 3>(0, 0) - (x.x() / w) * P.block<1, 3>(2, 0)) / w;
-  J.row(1) = (P.block<1, 3>(1, 0) - (x.y() / w) * P.block<1, 3>(2, 0)) / w;
-  return J;
 }
 
 using PixelJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, kMaxFitParams>;
@@ -396,7 +386,8 @@ bool OutlineResiduals::Residuals(const Eigen::VectorXd& x, std::vector<Measureme
       dpx[v].resize(base.size());
       for (size_t i = 0; i < base.size(); ++i) {
         if (!needed[v][i]) continue;
-        const Eigen::Matrix<double, 2, 3> jp = ProjectionJacobian(views_[v].camera->P(), base[i]);
+        const Eigen::Matrix<double, 2, 3> jp =
+            geometry::ProjectionJacobian(views_[v].camera->P(), base[i]);
         dpx[v][i].resize(2, np);
         for (int k = 0; k < np; ++k) dpx[v][i].col(k) = jp * ((moved[k][i] - base[i]) / step_[k]);
       }

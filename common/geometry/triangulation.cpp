@@ -8,6 +8,15 @@
 #include "common/base/result.h"
 
 namespace igms::geometry {
+
+Eigen::Matrix<double, 2, 3> ProjectionJacobian(const Matrix34& P, const Eigen::Vector3d& X) {
+  const Eigen::Vector3d h = P * X.homogeneous();
+  Eigen::Matrix<double, 2, 3> J;
+  J.row(0) = (P.block<1, 3>(0, 0) - h.x() / h.z() * P.block<1, 3>(2, 0)) / h.z();
+  J.row(1) = (P.block<1, 3>(1, 0) - h.y() / h.z() * P.block<1, 3>(2, 0)) / h.z();
+  return J;
+}
+
 namespace {
 
 using Pixels = Eigen::Vector4d;  // left u, left v, right u, right v
@@ -38,15 +47,6 @@ std::optional<Eigen::Vector3d> Midpoint(const Matrix34& L, const Matrix34& R, co
   const double s = (c * e - d) / den;
   const double t = (e - c * d) / den;
   return 0.5 * (a.At(s) + b.At(t));
-}
-
-// Rows: d(u, v)/dX of one camera at X.
-Eigen::Matrix<double, 2, 3> ProjectionJacobian(const Matrix34& P, const Eigen::Vector3d& X) {
-  const Eigen::Vector3d h = P * X.homogeneous();
-  Eigen::Matrix<double, 2, 3> J;
-  J.row(0) = (P.block<1, 3>(0, 0) - h.x() / h.z() * P.block<1, 3>(2, 0)) / h.z();
-  J.row(1) = (P.block<1, 3>(1, 0) - h.y() / h.z() * P.block<1, 3>(2, 0)) / h.z();
-  return J;
 }
 
 Eigen::Vector4d Residuals(const Matrix34& L, const Matrix34& R, const Pixels& x,

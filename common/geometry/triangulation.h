@@ -29,6 +29,10 @@
 
 namespace igms::geometry {
 
+// d(u, v)/dX of the ideal projection by P at world point X: a world direction D moves the
+// pixel by J D. Not finite on P's focal plane.
+Eigen::Matrix<double, 2, 3> ProjectionJacobian(const Matrix34& P, const Eigen::Vector3d& X);
+
 enum class TriangulationMethod { kLinear, kMidpoint, kRefined };
 
 const char* ToString(TriangulationMethod method);
