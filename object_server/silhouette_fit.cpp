@@ -521,7 +521,21 @@ bool FinishFit(const OutlineResiduals& residuals, const Eigen::VectorXd& x,
       std::max((sum[0] + sum[1] + inner_sum) / dof, options.min_sigma_px * options.min_sigma_px) *
       std::max(1.0, options.correlated_samples);
   const Eigen::MatrixXd H = J.transpose() * wk.asDiagonal() * J;
-  out->covariance = sigma2 * H.completeOrthogonalDecomposition().pseudoInverse();
+  // A direction no edge holds (the height of a block whose top the pipe it carries hides) must
+  // come out unknown, not exact as a pseudo-inverse would have it: a prior of kUnheldSigma
+  // (world units, radians for a yaw) on every parameter, far weaker than any measurement.
+  constexpr double kUnheldSigma = 100.0;
+  const Eigen::MatrixXd H_inv =
+      (H + Eigen::MatrixXd::Identity(np, np) * (sigma2 / (kUnheldSigma * kUnheldSigma)))
+          .ldlt()
+          .solve(Eigen::MatrixXd::Identity(np, np));
+  out->covariance = sigma2 * H_inv;
+  // The parameters' move for every kept silhouette edge shifted outline_shift_px outward.
+  Eigen::VectorXd shift = Eigen::VectorXd::Zero(r.size());
+  for (int i = 0; i < static_cast<int>(ms.size()); ++i)
+    if (wk[i] > 0 && ms[i].a < 0) shift[i] = options.outline_shift_px;
+  const Eigen::VectorXd moved = H_inv * (J.transpose() * shift);
+  out->covariance += moved * moved.transpose();
   std::array<ViewOutline, 2> o;
   if (residuals.Outlines(x, o))
     for (int v = 0; v < 2; ++v)

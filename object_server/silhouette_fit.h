@@ -73,6 +73,11 @@ struct FitOptions {
   // min_sigma_px, and as shared by correlated_samples neighbours.
   double min_sigma_px = 0.4;
   double correlated_samples = 10;
+  // The silhouette's edges can all sit off the true outline the same way: a shaded pipe's
+  // limb, darkening towards it, reads inside its outline. No number of samples averages that
+  // away, so the covariance takes in a shift of this many pixels all round (inner edges,
+  // between two of the object's faces, stay put).
+  double outline_shift_px = 0.1;
   // The views' regions (FitView::region) bound the outline itself, not only the edge search:
   // each outline point beyond its view's region costs region_weight / 2 times the square of
   // its distance outside (pixels), with no cut-off, so a model cannot grow past the marks

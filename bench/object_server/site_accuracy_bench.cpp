@@ -160,6 +160,13 @@ int RunBenchmark(int argc, char** argv) {
                                : (std::string(igms::object::FailureName(e.result.reason)) + ": " +
                                   e.result.detail)
                                      .c_str());
+          // Each error in reported sigmas: a cylinder's radius, height and centre x, y, z; a
+          // box's size and centre, axis by axis.
+          if (verbose && e.result.found) {
+            std::printf("  z %s %s:", e.scene_name.c_str(), e.object_name.c_str());
+            for (double z : e.z_scores) std::printf(" %.2f", z);
+            std::printf("\n");
+          }
           all.push_back(e);
         }
         for (const auto& n : igms::object::EvaluateNothingThere(scene, name, first + s, 2)) {

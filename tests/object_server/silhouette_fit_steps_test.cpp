@@ -424,20 +424,61 @@ TEST_F(PlateScene, FinishFitCountsOnlyMeasurementsWithinTheOutlierBound) {
   EXPECT_EQ(out.measured[0].size() + out.measured[1].size(), exact + 3);
   EXPECT_EQ(std::count(out.inlier[0].begin(), out.inlier[0].end(), false), 3);
   EXPECT_EQ(out.outline[0].size(), 4u);
-  // The covariance: each point's error at least min_sigma_px, shared by 10 neighbours.
+  // The covariance: each point's error at least min_sigma_px, shared by 10 neighbours (the
+  // plate's centre does not move when its outline shifts all round).
   ASSERT_EQ(out.covariance.rows(), 3);
   EXPECT_TRUE(out.covariance.allFinite());
   EXPECT_GT(out.covariance(0, 0), 0);
   options_.min_sigma_px = 0.8;
   FitOutcome wider;
   ASSERT_TRUE(FinishFit(residuals, truth_, ms, options_, &wider));
-  EXPECT_NEAR(wider.covariance(0, 0), 4 * out.covariance(0, 0), 1e-9 * wider.covariance(0, 0));
+  EXPECT_NEAR(wider.covariance(0, 0), 4 * out.covariance(0, 0), 1e-6 * wider.covariance(0, 0));
   // A plate shrunk to a point has no outline: no outcome.
   Eigen::VectorXd point = truth_;
   point[2] = 0;
   FitOutcome none;
   EXPECT_FALSE(FinishFit(residuals, point, ms, options_, &none));
   EXPECT_TRUE(none.measured[0].empty());
+}
+
+TEST_F(PlateScene, TheCovarianceTakesInTheOutlineShiftedAllRound) {
+  const OutlineResiduals residuals(plate_, views_, Eigen::VectorXd::Constant(3, 1e-4));
+  const std::vector<Measurement> ms = TrueEdges();
+  FitOutcome without, with;
+  options_.outline_shift_px = 0;
+  std::vector<Measurement> m0 = ms, m1 = ms;
+  ASSERT_TRUE(FinishFit(residuals, truth_, m0, options_, &without));
+  options_.outline_shift_px = 0.1;
+  ASSERT_TRUE(FinishFit(residuals, truth_, m1, options_, &with));
+  // Every side 0.1 px out: at depth 40 and focal length 400 px the half-size grows by 0.01,
+  // the centre stays.
+  const Eigen::MatrixXd added = with.covariance - without.covariance;
+  EXPECT_NEAR(std::sqrt(added(2, 2)), 0.01, 1e-4);
+  EXPECT_NEAR(added(0, 0), 0, 1e-9);
+  EXPECT_NEAR(added(1, 1), 0, 1e-9);
+}
+
+TEST_F(PlateScene, ADirectionNoEdgeHoldsComesOutUnknown) {
+  const OutlineResiduals residuals(plate_, views_, Eigen::VectorXd::Constant(3, 1e-4));
+  // Only the plate's upright sides measured: they give its centre across and its size, and
+  // nothing holds its height in the picture (as a pipe resting on a block hides its top).
+  std::vector<Measurement> sides;
+  for (const Measurement& m : TrueEdges()) {
+    ViewOutline o;
+    ASSERT_TRUE(ProjectOutline(PlateOutline(truth_), cameras_[m.view], o));
+    double u0 = 1e18, u1 = -1e18;
+    for (const auto& p : o.px) {
+      u0 = std::min(u0, p.x());
+      u1 = std::max(u1, p.x());
+    }
+    if (std::min(std::abs(m.point.x() - u0), std::abs(m.point.x() - u1)) < 1e-6) sides.push_back(m);
+  }
+  ASSERT_GT(sides.size(), 20u);
+  FitOutcome out;
+  ASSERT_TRUE(FinishFit(residuals, truth_, sides, options_, &out));
+  EXPECT_LT(std::sqrt(out.covariance(0, 0)), 0.05);
+  EXPECT_LT(std::sqrt(out.covariance(2, 2)), 0.05);
+  EXPECT_GT(std::sqrt(out.covariance(1, 1)), 50.0);
 }
 
 // --- The whole fit ---
