@@ -140,6 +140,12 @@ int RunBenchmark(int argc, char** argv) {
         name += '_';
         name += std::to_string(first + s);
         for (const auto& e : igms::object::EvaluateScene(scene, name, first + s, {}, debug_dir)) {
+          // Sigmas: a box's sizes; a cylinder's radius, height and centre (its largest).
+          const Eigen::Vector3d sd =
+              e.kind == "box"
+                  ? e.result.box.size_sigma
+                  : Eigen::Vector3d(e.result.cylinder.radius_sigma, e.result.cylinder.height_sigma,
+                                    e.result.cylinder.center_sigma.maxCoeff());
           if (verbose)
             std::printf(
                 "%-18s %-11s %-7s d=%5.1f vis=%.2f %s r=%+.3f h=%+.3f pos=%.3f "
@@ -151,8 +157,7 @@ int RunBenchmark(int argc, char** argv) {
                 : e.visible < 0.95 ? "refus"
                                    : "MISS ",
                 e.radius_signed, e.height_signed, e.position_error, e.size_signed.x(),
-                e.size_signed.y(), e.size_signed.z(), e.result.box.size_sigma.x(),
-                e.result.box.size_sigma.y(), e.result.box.size_sigma.z(), e.result.fit_score,
+                e.size_signed.y(), e.size_signed.z(), sd.x(), sd.y(), sd.z(), e.result.fit_score,
                 e.result.other_type_fit_score, e.result.supported_fit_score,
                 e.result.other_type_supported_fit_score, e.result.rms_left_px,
                 e.result.rms_right_px,
