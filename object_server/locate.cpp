@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -72,7 +73,41 @@ void BoundByMarks(const MarkedRegion& marks, const StereoPair& pair, double dept
   (*views)[1].region = std::move(regions[1]);
 }
 
+void HideBehindKnown(const std::vector<KnownInFront>& in_front, std::array<FitView, 2>* views) {
+  for (const KnownInFront& k : in_front)
+    for (int v = 0; v < 2; ++v) (*views)[v].hidden.push_back(k.outline[v]);
+}
+
+// The failure with the known solids in front that hide part of the left outline named, for
+// the operator.
+StepFailure NameWhatHides(StepFailure failure, const std::vector<KnownInFront>& in_front,
+                          const std::vector<Eigen::Vector2d>& left_outline) {
+  std::string names;
+  for (const KnownInFront& k : in_front) {
+    const bool hides = std::any_of(left_outline.begin(), left_outline.end(),
+                                   [&](const auto& p) { return InsideAny({k.outline[0]}, p); });
+    if (hides) names += (names.empty() ? "" : ", ") + k.name;
+  }
+  if (!names.empty()) failure.detail += " (hidden in part by " + names + ")";
+  return failure;
+}
+
 }  // namespace
+
+KnownShape KnownFromResult(const LocateResult& result, std::string name) {
+  KnownShape k;
+  k.name = std::move(name);
+  k.type = result.type;
+  k.params.resize(7);
+  if (result.type == SolidType::kCylinder) {
+    const CylinderResult& c = result.cylinder;
+    k.params << c.center - 0.5 * c.height * c.axis, c.center + 0.5 * c.height * c.axis, c.radius;
+  } else {
+    const BoxResult& b = result.box;
+    k.params << b.center, b.size, b.yaw_deg * M_PI / 180;
+  }
+  return k;
+}
 
 const char* FailureName(Failure f) {
   switch (f) {
@@ -149,6 +184,17 @@ static void DebugOutlineSupport(const std::array<OutlineSupport, 2>& support) {
                 support[1].outside, support[1].contrasted, support[1].edged);
 }
 
+// The depths, the match and the first start, for a person following a locate.
+static void DebugStart(double mark_depth, double depth0, double ssd_rms, size_t boundary_px,
+                       const Eigen::VectorXd& x0) {
+  spdlog::debug(
+      "locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
+      mark_depth, depth0, ssd_rms, boundary_px,
+      FormatFixed(x0[0]) + " " + FormatFixed(x0[1]) + " " + FormatFixed(x0[2]) + " / " +
+          FormatFixed(x0[3]) + " " + FormatFixed(x0[4]) + " " + FormatFixed(x0[5]) + " / " +
+          FormatFixed(x0[6]));
+}
+
 LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const auto start = Clock::now();
   LocateResult res;
@@ -167,11 +213,13 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const StepResult<MarkedRegion> marks = MarkRegion(in);
   if (!marks.ok()) return fail(marks.failure());
 
-  // 2. Boundary in the left image (3.8.1).
+  // 2. Boundary in the left image (3.8.1), without the edges of known solids in front.
+  const std::vector<KnownInFront> in_front = KnownSolidsInFront(in, *marks, opt);
   const int pad = RegionPad(opt);
   const Gradients grad_left(pair->left, GrowRect(cv::boundingRect(marks->hull), pad, image_rect),
                             opt.edge_sigma);
-  const Boundary boundary = FindBoundary(grad_left, *marks, in.left_edges, opt);
+  const Boundary boundary = FindBoundary(
+      grad_left, *marks, VisibleEdgeMask(in_front, in.left_edges, pair->left.size()), opt);
   res.boundary_pixels = static_cast<int>(boundary.pixels.size());
   if (const auto failure = CheckBoundary(boundary, *marks, opt)) return fail(*failure);
 
@@ -201,6 +249,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const bool cylinder = in.type == SolidType::kCylinder;
   fit.region_weight = opt.region_weight;
   if (opt.keep_to_marks) BoundByMarks(*marks, *pair, depth0, cylinder, opt, &views);
+  HideBehindKnown(in_front, &views);
   std::vector<Eigen::VectorXd> starts =
       cylinder ? CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left)
                : BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left);
@@ -211,12 +260,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
         starts.push_back(*st);
   }
   const Eigen::VectorXd& x0 = starts[0];
-  spdlog::debug(
-      "locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
-      marks->depth, depth0, match.rms, boundary.pixels.size(),
-      FormatFixed(x0[0]) + " " + FormatFixed(x0[1]) + " " + FormatFixed(x0[2]) + " / " +
-          FormatFixed(x0[3]) + " " + FormatFixed(x0[4]) + " " + FormatFixed(x0[5]) + " / " +
-          FormatFixed(x0[6]));
+  DebugStart(marks->depth, depth0, match.rms, boundary.pixels.size(), x0);
   // Of the starts' fits, one the marks bound snugly goes before any that leaves part of them
   // empty or runs beyond them, whatever its score.
   const PlausibleFn plausible = [&](const FitOutcome& o) {
@@ -240,15 +284,16 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   if (!f.ok) return fail({Failure::kFitFailed, "model fit: " + f.error});
   // 5. Consistency between the views, on the parts of the outline that should show an edge.
   const auto measure_support = [&](const FitOutcome& o) -> std::array<OutlineSupport, 2> {
-    return {MeasureOutlineSupport(o.outline[0], pair->left, grad_left, fit),
-            MeasureOutlineSupport(o.outline[1], pair->right, grad_right, fit)};
+    return {MeasureOutlineSupport(o.outline[0], pair->left, grad_left, fit, views[0].hidden),
+            MeasureOutlineSupport(o.outline[1], pair->right, grad_right, fit, views[1].hidden)};
   };
   const std::array<OutlineSupport, 2> support = measure_support(f);
   const double score_scale = ScoreResidualScale(opt, pair->left.cols);
   res.fit_score = FitScore(f, score_scale);
   res.supported_fit_score = SupportedFitScore(f, support, score_scale);
   DebugOutlineSupport(support);
-  if (const auto failure = CheckOutlineVisible(support, opt)) return fail(*failure);
+  if (auto failure = CheckOutlineVisible(support, opt))
+    return fail(NameWhatHides(*failure, in_front, f.outline[0]));
   if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
     return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);

@@ -70,6 +70,7 @@ struct LocateOptions {
   // SSD limit refuses dark, noisy or differently lit objects and accepts bare bright ones.
   double min_match_zncc = 0.5;
   double boundary_grow_px = 4.0;     // the marked region is grown by this for the boundary
+  double hidden_grow_px = 1.5;       // a known solid's silhouette, grown by this, hides edges
   double search_px = 6.0;            // edge search either side of the predicted outline
   int outer_iterations = 5;          // re-measure edges this many times
   int inner_iterations = 6;          // Levenberg-Marquardt steps per measurement
@@ -134,6 +135,17 @@ struct LocateOptions {
   bool Check(std::string* error) const;
 };
 
+// A solid already modelled (the geometric database's; named apart from igms.object.KnownSolid
+// in object.proto), which can stand in front of the object
+// being located: its edges are not the object's, and the object's outline behind it shows
+// none. Its parameters are the fit's (solid_models.h): a cylinder's two end-cap centres and
+// its radius; a box's centre, size along its own axes and yaw (radians).
+struct KnownShape {
+  std::string name;
+  SolidType type = SolidType::kCylinder;
+  Eigen::VectorXd params;
+};
+
 struct LocateInput {
   SolidType type = SolidType::kCylinder;
   std::array<Eigen::Vector3d, 4> marks;
@@ -146,6 +158,8 @@ struct LocateInput {
   Eigen::Vector3d ranger_origin = Eigen::Vector3d::Zero();
   Eigen::Vector3d ranger_axis = Eigen::Vector3d::UnitX();
   bool want_trace = false;  // fill LocateResult::trace (for debug images)
+  // What the database already holds near the marks (a pipe resting on the block marked).
+  std::vector<KnownShape> known;
 };
 
 struct CylinderResult {
@@ -221,5 +235,8 @@ struct LocateResult {
 };
 
 LocateResult Locate(const LocateInput& input, const LocateOptions& options = {});
+
+// A found result as a known solid, for the next objects' locates.
+KnownShape KnownFromResult(const LocateResult& result, std::string name);
 
 }  // namespace igms::object

@@ -9,6 +9,7 @@
 
 #include "common/geometry/triangulation.h"
 #include "object_server/locate_steps.h"
+#include "object_server/solid_models.h"
 
 namespace igms::object {
 namespace {
@@ -152,6 +153,65 @@ Boundary FindBoundary(const Gradients& left_gradients, const MarkedRegion& marks
       LargestConnected(StrongEdgePixels(left_gradients, b.region, edge_map, options.edge_fraction,
                                         options.min_edge_gradient, &b.strongest));
   return b;
+}
+
+std::vector<KnownInFront> KnownSolidsInFront(const LocateInput& in, const MarkedRegion& marks,
+                                             const LocateOptions& options) {
+  std::vector<KnownInFront> out;
+  Eigen::Vector2d centre(0, 0);
+  for (const auto& p : marks.hull) centre += Eigen::Vector2d(p.x, p.y) / marks.hull.size();
+  const std::array<const geometry::ProjectiveCamera*, 2> cameras = {&in.left_camera,
+                                                                    &in.right_camera};
+  for (const KnownShape& k : in.known) {
+    const bool cylinder = k.type == SolidType::kCylinder;
+    if (k.params.size() != 7 || !k.params.allFinite()) continue;
+    const std::vector<Eigen::Vector3d> points =
+        cylinder ? CylinderOutline(k.params) : BoxOutline(k.params);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& X : points) nearest = std::min(nearest, in.left_camera.Depth(X));
+    if (!(nearest < marks.depth + 0.5 * options.depth_tolerance)) continue;
+    KnownInFront f{k.name, {}};
+    bool projects = true;
+    for (int v = 0; v < 2 && projects; ++v) {
+      std::vector<Eigen::Vector2d> px;
+      for (const auto& X : points) {
+        const auto q = cameras[v]->Project(X);
+        if (!q || cameras[v]->Depth(X) <= 0) {
+          projects = false;
+          break;
+        }
+        px.push_back(*q);
+      }
+      if (!projects) break;
+      const std::vector<Eigen::Vector2d> hull = ConvexHull(px);
+      if (v == 0 && hull.size() >= 3 && SignedDistance(hull, centre) < 0) projects = false;
+      Eigen::Vector2d mean(0, 0);
+      for (const auto& q : hull) mean += q / static_cast<double>(hull.size());
+      for (const auto& q : hull) {
+        const double len = (q - mean).norm();
+        f.outline[v].push_back(
+            len > 0 ? Eigen::Vector2d(q + (q - mean) * (options.hidden_grow_px / len)) : q);
+      }
+    }
+    if (projects && f.outline[0].size() >= 3 && f.outline[1].size() >= 3)
+      out.push_back(std::move(f));
+  }
+  return out;
+}
+
+cv::Mat VisibleEdgeMask(const std::vector<KnownInFront>& in_front, const cv::Mat& edge_map,
+                        cv::Size image_size) {
+  if (in_front.empty()) return edge_map;
+  cv::Mat mask(image_size, CV_8U, cv::Scalar(255));
+  if (!edge_map.empty() && edge_map.size() == image_size) mask.setTo(0, edge_map == 0);
+  for (const KnownInFront& f : in_front) {
+    std::vector<cv::Point> polygon;
+    constexpr int kShift = 4;
+    for (const auto& q : f.outline[0])
+      polygon.emplace_back(cvRound(q.x() * (1 << kShift)), cvRound(q.y() * (1 << kShift)));
+    cv::fillConvexPoly(mask, polygon, cv::Scalar(0), cv::LINE_8, kShift);
+  }
+  return mask;
 }
 
 std::optional<StepFailure> CheckBoundary(const Boundary& boundary, const MarkedRegion& marks,

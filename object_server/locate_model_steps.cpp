@@ -170,7 +170,8 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
 
 OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline,
                                      const cv::Mat& image, const Gradients& gradients,
-                                     const FitOptions& fit) {
+                                     const FitOptions& fit,
+                                     const std::vector<std::vector<Eigen::Vector2d>>& hidden) {
   OutlineSupport out;
   const int n = static_cast<int>(outline.size());
   if (n < 3 || image.empty()) return out;
@@ -241,6 +242,10 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
       ++out.samples;
       if (!inside(p + 4 * normal) || !inside(p - 4 * normal)) {
         ++out.outside;
+        continue;
+      }
+      if (InsideAny(hidden, p)) {
+        ++out.hidden;
         continue;
       }
       double in_sum = 0, out_sum = 0;

@@ -112,6 +112,22 @@ Boundary FindBoundary(const Gradients& left_gradients, const MarkedRegion& marks
 std::optional<StepFailure> CheckBoundary(const Boundary& boundary, const MarkedRegion& marks,
                                          const LocateOptions& options);
 
+// The known solids (LocateInput::known) that can hide the object: those whose nearest point
+// lies nearer to the left camera than the marks' depth plus half the depth tolerance, with
+// their silhouette in each view grown by hidden_grow_px. A known solid whose left silhouette
+// holds the marked region's centre is the object itself, modelled again, and is left out, as
+// is one that does not project into both views.
+struct KnownInFront {
+  std::string name;
+  std::array<std::vector<Eigen::Vector2d>, 2> outline;  // convex, counter-clockwise
+};
+std::vector<KnownInFront> KnownSolidsInFront(const LocateInput& in, const MarkedRegion& marks,
+                                             const LocateOptions& options);
+// The left image's pixels not behind a known solid (255), and not off the edge map when one
+// is given: the boundary's candidates. Empty when nothing is in front and there is no map.
+cv::Mat VisibleEdgeMask(const std::vector<KnownInFront>& in_front, const cv::Mat& edge_map,
+                        cv::Size image_size);
+
 // 3. The object's patch in the left image (its boundary's rectangle and a 3 px margin) and
 // the range of left-camera depths its match is searched over: the marks' depth +/- the
 // tolerance, never nearer than half the marks' depth.
@@ -252,13 +268,15 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
 struct OutlineSupport {
   int samples = 0;         // along the outline
   int outside = 0;         // beyond the image's edge
+  int hidden = 0;          // inside, behind a known solid (FitView::hidden)
   int contrasted = 0;      // inside, with a step the detector can see
   int edged = 0;           // of those, with an edge on the outline
   double noise_sigma = 0;  // the image's noise near the object, grey levels
 };
 OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline,
                                      const cv::Mat& image, const Gradients& gradients,
-                                     const FitOptions& fit);
+                                     const FitOptions& fit,
+                                     const std::vector<std::vector<Eigen::Vector2d>>& hidden = {});
 // FitScore with the share without an edge taken, as CheckBothViews takes it, of the samples
 // that should show one (OutlineSupport::contrasted, both views together): an outline against
 // a background of the object's own shade, hidden by an object in front or beyond the image

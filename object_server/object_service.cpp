@@ -79,7 +79,47 @@ net::Status ValidateLocateRequest(const igms::object::LocateRequest& request) {
   if (!std::isfinite(request.range()) || request.range() < 0) {
     return net::Status::Error(igms::BAD_REQUEST, "range must be finite and not negative");
   }
+  for (int i = 0; i < request.known_size(); ++i) {
+    std::string why;
+    if (!KnownFromProto(request.known(i), &why))
+      return net::Status::Error(igms::BAD_REQUEST, "known solid " + std::to_string(i + 1) + " (" +
+                                                       request.known(i).name() + "): " + why);
+  }
   return net::Status::Ok();
+}
+
+std::optional<KnownShape> KnownFromProto(const igms::object::KnownSolid& k, std::string* why) {
+  const auto vec = [](const igms::object::Vec3& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); };
+  KnownShape out;
+  out.name = k.name();
+  out.params.resize(7);
+  if (k.type() == igms::object::OBJECT_TYPE_CYLINDER) {
+    const auto& c = k.cylinder();
+    const Eigen::Vector3d axis = vec(c.axis());
+    if (!(axis.norm() > 1e-9) || !(c.radius() > 0) || !(c.height() > 0)) {
+      *why = "a cylinder needs an axis, a positive radius and a positive height";
+      return std::nullopt;
+    }
+    const Eigen::Vector3d half = 0.5 * c.height() * axis.normalized();
+    out.type = SolidType::kCylinder;
+    out.params << vec(c.center()) - half, vec(c.center()) + half, c.radius();
+  } else if (k.type() == igms::object::OBJECT_TYPE_BOX) {
+    const auto& b = k.box();
+    if (!(vec(b.size()).minCoeff() > 0)) {
+      *why = "a box needs a positive size";
+      return std::nullopt;
+    }
+    out.type = SolidType::kBox;
+    out.params << vec(b.center()), vec(b.size()), b.yaw_deg() * M_PI / 180;
+  } else {
+    *why = "type must be OBJECT_TYPE_CYLINDER or OBJECT_TYPE_BOX";
+    return std::nullopt;
+  }
+  if (!out.params.allFinite()) {
+    *why = "not finite numbers";
+    return std::nullopt;
+  }
+  return out;
 }
 
 void ResultToProto(const LocateResult& r, igms::object::LocateResponse* out) {
@@ -333,6 +373,10 @@ void ObjectService::Run(const igms::object::LocateRequest& request,
   for (int i = 0; i < 4; ++i) {
     const auto& m = request.marks(i);
     input.marks[i] = Eigen::Vector3d(m.x(), m.y(), m.z());
+  }
+  for (const auto& k : request.known()) {
+    std::string why;
+    if (auto known = KnownFromProto(k, &why)) input.known.push_back(std::move(*known));
   }
   input.left = frame.left;
   input.right = frame.right;

@@ -24,6 +24,7 @@
 #include <list>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <thread>
@@ -85,6 +86,9 @@ geometry::ProjectiveCamera CameraAtPose(const geometry::ProjectiveCamera& camera
 
 // The response form of a locator result.
 void ResultToProto(const LocateResult& result, igms::object::LocateResponse* response);
+// A request's known solid as the locator's, or nullopt with why not (an unknown type, a
+// number that is not finite, a size that is not positive).
+std::optional<KnownShape> KnownFromProto(const igms::object::KnownSolid& known, std::string* why);
 // A client's side: the operator's four marks (world units) into a request, after any there.
 void MarksToProto(const std::array<Eigen::Vector3d, 4>& marks,
                   igms::object::LocateRequest* request);

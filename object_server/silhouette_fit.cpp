@@ -253,6 +253,13 @@ static double OuterLimit(const std::vector<Eigen::Vector2d>& region, const Eigen
   return hi >= lo ? hi : -range - 1;
 }
 
+bool InsideAny(const std::vector<std::vector<Eigen::Vector2d>>& polygons,
+               const Eigen::Vector2d& p) {
+  for (const auto& polygon : polygons)
+    if (polygon.size() >= 3 && SignedDistance(polygon, p) < 0) return true;
+  return false;
+}
+
 std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int view,
                                                 const FitView& fv, double range,
                                                 const FitOptions& options, int* sampled) {
@@ -260,6 +267,10 @@ std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int 
   *sampled = static_cast<int>(samples.points.size());
   std::vector<Measurement> ms;
   for (size_t i = 0; i < samples.points.size(); ++i) {
+    if (InsideAny(fv.hidden, samples.points[i])) {
+      --*sampled;
+      continue;
+    }
     // The search from -range to the region's border (EdgeAlongNormal searches either side
     // of a centre): shifted by `mid`, half as wide as what is left.
     const double limit = OuterLimit(fv.region, samples.points[i], samples.normals[i], range);
@@ -281,6 +292,7 @@ std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int 
     const double k =
         std::min(samples.curvature[i], 1.0 / std::max(1e-9, 1.5 * options.edge_blur_px));
     s += 0.5 * options.edge_blur_px * options.edge_blur_px * k;
+    if (InsideAny(fv.hidden, samples.points[i] + s * samples.normals[i])) continue;
     ms.push_back({view, samples.points[i] + s * samples.normals[i], samples.segment[i]});
   }
   return ms;
@@ -317,7 +329,8 @@ void MeasureInnerEdges(const std::vector<InnerEdge>& edges, const ViewOutline& o
       for (; next < walked + len && next <= total - 3; next += 1.0) {
         const Eigen::Vector2d p = a + (next - walked) * dir;
         double s;
-        if (EdgeNearPoint(*fv.gradients, p, normal, reach, min_gradient, &s))
+        if (!InsideAny(fv.hidden, p) &&
+            EdgeNearPoint(*fv.gradients, p, normal, reach, min_gradient, &s))
           ms.push_back({view, p + s * normal, 0, e.chain[i], e.chain[i + 1]});
       }
       walked += len;

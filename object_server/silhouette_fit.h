@@ -51,7 +51,14 @@ struct FitView {
   // u-v; empty: anywhere). The search for the outline's edge stops at its border: an edge
   // beyond it is a neighbour's (a pipe resting on a block), however much outermost.
   std::vector<Eigen::Vector2d> region;
+  // Where a known solid in front hides the object (convex polygons, counter-clockwise): the
+  // outline there is not measured and not counted, and an edge found there is not the
+  // object's.
+  std::vector<std::vector<Eigen::Vector2d>> hidden;
 };
+
+// Whether p lies inside one of the polygons.
+bool InsideAny(const std::vector<std::vector<Eigen::Vector2d>>& polygons, const Eigen::Vector2d& p);
 
 struct FitOptions {
   double search_px = 4.0;     // first outer iteration's search range; later ones use half

@@ -24,6 +24,21 @@ void Session::Identify(object::ObjectType type, int64_t now_ns) {
   for (const auto& m : marks_) *locate_request_.add_marks() = ToVec3(m);
   locate_request_.set_frame_id(frozen_->grab.frame_id());
   locate_request_.set_range(range_);
+  // The models built so far: one in front hides part of this object (a pipe on the block
+  // marked), and its edges are not this object's. Boxes go without their texture.
+  for (const SessionModel& m : models_) {
+    if (m.removed) continue;
+    object::KnownSolid* k = locate_request_.add_known();
+    k->set_name(std::string(m.type == object::OBJECT_TYPE_BOX ? "box " : "cylinder ") +
+                std::to_string(m.id));
+    k->set_type(m.type);
+    if (m.type == object::OBJECT_TYPE_BOX) {
+      *k->mutable_box() = m.box;
+      k->mutable_box()->clear_texture_png();
+    } else {
+      *k->mutable_cylinder() = m.cylinder;
+    }
+  }
   locate_started_ns_ = now_ns;
   please_wait_said_ = false;
   resent_ = false;
@@ -78,6 +93,7 @@ void Session::On(const LocateReply& e) {
   Provenance provenance;
   provenance.grab = frozen_->grab;
   provenance.request = locate_request_;
+  provenance.request.clear_known();  // the database holds those models already
   provenance.response = r;
   provenance.range = range_reading_;
   out_.push_back(StoreModelEffect{model, std::move(provenance)});

@@ -133,6 +133,44 @@ TEST_F(LocateSteps, MarkWhoseImageIsAtInfinityIsOutsideTheImage) {
 
 // --- 2. Boundary ---
 
+TEST_F(LocateSteps, KnownSolidsInFrontAreThoseNearerThanTheMarks) {
+  LocateInput in = Input(true);
+  const Eigen::Vector3d eye = scene_->cameras.left.Center();
+  const Eigen::Vector3d to = (cylinder_->center - eye).normalized();
+  const Eigen::Vector3d side = to.cross(Eigen::Vector3d::UnitZ()).normalized();
+  auto block = [&](const std::string& name, double nearer) {
+    KnownShape k{name, SolidType::kBox, Eigen::VectorXd(7)};
+    k.params << cylinder_->center - nearer * to + 3 * side, 1, 1, 1, 0;
+    return k;
+  };
+  KnownShape itself{"itself", SolidType::kCylinder, Eigen::VectorXd(7)};
+  const Eigen::Vector3d half = 0.5 * cylinder_->height * cylinder_->axis;
+  itself.params << cylinder_->center - half, cylinder_->center + half, cylinder_->radius;
+  KnownShape broken = block("broken", 10);
+  broken.params[3] = std::numeric_limits<double>::quiet_NaN();
+  in.known = {block("behind", -10), itself, block("in front", 10), broken};
+  const auto marks = MarkRegion(in);
+  ASSERT_TRUE(marks.ok());
+  const auto in_front = KnownSolidsInFront(in, *marks, options_);
+  ASSERT_EQ(in_front.size(), 1u);
+  EXPECT_EQ(in_front[0].name, "in front");
+  // Its silhouette in each view, grown by hidden_grow_px: its centre inside, the object's
+  // centre not.
+  const Eigen::Vector3d centre = cylinder_->center - 10 * to + 3 * side;
+  for (int v = 0; v < 2; ++v) {
+    const auto& camera = v == 0 ? scene_->cameras.left : scene_->cameras.right;
+    EXPECT_TRUE(InsideAny({in_front[0].outline[v]}, *camera.Project(centre)));
+    EXPECT_FALSE(InsideAny({in_front[0].outline[v]}, *camera.Project(cylinder_->center)));
+  }
+  // The boundary's candidates leave its pixels out; without a solid in front, no mask.
+  const cv::Mat mask = VisibleEdgeMask(in_front, cv::Mat(), in.left.size());
+  const Eigen::Vector2d c = *scene_->cameras.left.Project(centre);
+  const Eigen::Vector2d o = *scene_->cameras.left.Project(cylinder_->center);
+  EXPECT_EQ(mask.at<uint8_t>(cvRound(c.y()), cvRound(c.x())), 0);
+  EXPECT_EQ(mask.at<uint8_t>(cvRound(o.y()), cvRound(o.x())), 255);
+  EXPECT_TRUE(VisibleEdgeMask({}, cv::Mat(), in.left.size()).empty());
+}
+
 TEST(LocateStepsGeometry, GrowPolygonMovesEveryVertexAwayFromTheCentre) {
   const std::vector<cv::Point2f> square = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
   const auto grown = GrowPolygon(square, std::sqrt(2.0));

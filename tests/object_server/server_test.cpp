@@ -219,6 +219,22 @@ TEST_F(ObjectServerTest, BadRequestsAndUnknownFrames) {
   got = client->CallSync<LocateResponse>(kLocate, negative, 10s);
   EXPECT_EQ(got.status.code, igms::BAD_REQUEST);
 
+  // A known solid that is no solid is refused by name; a good one is used.
+  LocateRequest known = good;
+  auto* pipe = known.add_known();
+  pipe->set_name("cylinder 7");
+  pipe->set_type(OBJECT_TYPE_CYLINDER);
+  pipe->mutable_cylinder()->mutable_axis()->set_z(1);
+  pipe->mutable_cylinder()->set_radius(1);
+  pipe->mutable_cylinder()->set_height(std::numeric_limits<double>::quiet_NaN());
+  got = client->CallSync<LocateResponse>(kLocate, known, 10s);
+  EXPECT_EQ(got.status.code, igms::BAD_REQUEST);
+  EXPECT_NE(got.status.message.find("cylinder 7"), std::string::npos) << got.status.message;
+  pipe->mutable_cylinder()->set_height(4);
+  pipe->mutable_cylinder()->mutable_center()->set_x(-200);  // far out of view
+  got = client->CallSync<LocateResponse>(kLocate, known, 60s);
+  EXPECT_TRUE(got.ok()) << got.status.message;
+
   // After all that the server still answers.
   got = client->CallSync<LocateResponse>(kLocate, good, 60s);
   EXPECT_TRUE(got.ok()) << got.status.message;

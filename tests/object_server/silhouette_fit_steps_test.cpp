@@ -236,6 +236,29 @@ TEST(SilhouetteSteps, MeasureSilhouetteEdgesFindsADiscsEdgeAndCorrectsItForBlur)
                   .empty());
 }
 
+TEST_F(PlateScene, AKnownSolidInFrontHidesItsPartOfTheOutline) {
+  ViewOutline o;
+  ASSERT_TRUE(ProjectOutline(PlateOutline(truth_), cameras_[0], o));
+  int sampled = 0;
+  const auto all = MeasureSilhouetteEdges(o, 0, views_[0], 3.0, options_, &sampled);
+  double top = 1e18, bottom = -1e18;
+  for (const auto& p : o.px) {
+    top = std::min(top, p.y());
+    bottom = std::max(bottom, p.y());
+  }
+  const double mid = 0.5 * (top + bottom);
+  // A solid in front over the plate's upper half: nothing measured or counted there.
+  FitView hidden = views_[0];
+  hidden.hidden = {{{-10, -10}, {300, -10}, {300, mid}, {-10, mid}}};  // as ConvexHull turns
+  int sampled_hidden = 0;
+  const auto seen = MeasureSilhouetteEdges(o, 0, hidden, 3.0, options_, &sampled_hidden);
+  EXPECT_GT(seen.size(), 10u);
+  EXPECT_LT(seen.size(), all.size());
+  EXPECT_LT(sampled_hidden, sampled);
+  EXPECT_EQ(all.size() - seen.size(), static_cast<size_t>(sampled - sampled_hidden));
+  for (const auto& m : seen) EXPECT_GT(m.point.y(), mid - 1e-9);
+}
+
 TEST(SilhouetteSteps, MeasureInnerEdgesFindsTheEdgeBetweenTwoFaces) {
   // Two faces side by side inside one silhouette, meeting at u = 101.25 (fine pixel 814,
   // as DrawPolygon maps them).

@@ -81,5 +81,21 @@ TEST(SiteLevels, ABoxOnAPipesUpperHalfDoesNotRefuseThePipe) {
   EXPECT_FALSE(pipe->wrong);
 }
 
+// A block under a pipe (86 in away, 1920x1080): with the pipe built first, its edges are not
+// taken for the block's, and the block is found right; without it, the block is refused.
+TEST(SiteLevels, APipeBuiltFirstLetsTheBlockItRestsOnBeFound) {
+  cv::setNumThreads(1);
+  const auto scene = site::SiteScene(5000, site::SiteLevel::kFar, true);
+  for (const bool database : {false, true}) {
+    const auto evals = EvaluateScene(scene, "far_hd_5000", 5000, {}, "", database);
+    const ObjectEvaluation* block = nullptr;
+    for (const auto& e : evals)
+      if (e.object_name == "support_5") block = &e;
+    ASSERT_NE(block, nullptr);
+    ASSERT_GE(block->visible, kFullView);
+    EXPECT_EQ(block->result.found && !block->wrong, database) << block->result.detail;
+  }
+}
+
 }  // namespace
 }  // namespace igms::object

@@ -17,11 +17,12 @@ namespace igms::object {
 
 std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
                                             uint64_t mark_seed, const LocateOptions& options,
-                                            const std::string& debug_dir) {
+                                            const std::string& debug_dir, bool database) {
   const site::StereoImages images = site::RenderStereo(scene);
   const std::vector<double> seen_left = site::VisibleFractions(scene, scene.cameras.left);
   const std::vector<double> seen_right = site::VisibleFractions(scene, scene.cameras.right);
   std::vector<ObjectEvaluation> out;
+  std::vector<KnownShape> known;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const auto& object = scene.objects[i];
     const auto* cyl = std::get_if<site::Cylinder>(&object.shape);
@@ -41,7 +42,9 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
     in.left_camera = scene.cameras.left;
     in.right_camera = scene.cameras.right;
     in.want_trace = !debug_dir.empty();
+    if (database) in.known = known;
     e.result = Locate(in, options);
+    if (e.result.found) known.push_back(KnownFromResult(e.result, object.name));
     if (!debug_dir.empty()) {
       std::string file = debug_dir;
       file.append("/").append(scene_name).append("_").append(object.name).append(".png");

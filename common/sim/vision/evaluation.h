@@ -51,11 +51,14 @@ inline constexpr double kFullView = 0.95;
 bool WrongModel(const ObjectEvaluation& e);
 
 // Renders the scene's stereo pair, generates marks for each cylinder and box from the
-// ground truth (seeded by mark_seed and the object's index), locates and compares. With a
-// debug_dir, writes each object's debug image (debug_image.h) there as SCENE_OBJECT.png.
+// ground truth (seeded by mark_seed and the object's index), locates and compares. The objects
+// are marked in the scene's order (a pipe before its supports) and, with `database`, each
+// locate knows those found before it (LocateInput::known), as in a session. With a debug_dir,
+// writes each object's debug image (debug_image.h) there as SCENE_OBJECT.png.
 std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
                                             uint64_t mark_seed, const LocateOptions& options = {},
-                                            const std::string& debug_dir = "");
+                                            const std::string& debug_dir = "",
+                                            bool database = true);
 
 // Requests with nothing to find (the "nothing there"): marks around bare table, marks
 // around a gap between objects, and each object in full view asked for as the other type (a

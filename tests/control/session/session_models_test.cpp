@@ -46,6 +46,20 @@ TEST_F(SessionTest, IdentifyLocatesAndStoresTheModel) {
   EXPECT_EQ(session_->mode(), Mode::kModelBuilding);
   // The same answer again is not stored twice.
   EXPECT_TRUE(Send(LocateReply{calls[0].call, Found({1, 2, 3}), now_}).empty());
+  // The next locate carries the model built (it may stand in front of the next object); the
+  // database's record of it does not.
+  FourMarks();
+  const auto next = All<LocateEffect>(Voice(devices::VOICE_BOX, 2));
+  ASSERT_EQ(next.size(), 1u);
+  ASSERT_EQ(next[0].request.known_size(), 1);
+  const object::KnownSolid& known = next[0].request.known(0);
+  EXPECT_EQ(known.name(), "cylinder 1");
+  EXPECT_EQ(known.type(), object::OBJECT_TYPE_CYLINDER);
+  EXPECT_EQ(known.cylinder().center().x(), stored[0].model.cylinder.center().x());
+  const auto second =
+      All<StoreModelEffect>(Send(LocateReply{next[0].call, Found({5, 2, 3}), now_}));
+  ASSERT_EQ(second.size(), 1u);
+  EXPECT_EQ(second[0].provenance.request.known_size(), 0);
 }
 
 TEST_F(SessionTest, PleaseWaitAfterTwoSecondsOfLocatingOnce) {
