@@ -175,8 +175,9 @@ std::vector<KnownInFront> KnownSolidsInFront(const LocateInput& in, const Marked
     for (int v = 0; v < 2 && projects; ++v) {
       std::vector<Eigen::Vector2d> px;
       for (const auto& X : points) {
+        // Beyond 1e5 px it cannot be drawn (nor hide anything in the image).
         const auto q = cameras[v]->Project(X);
-        if (!q || cameras[v]->Depth(X) <= 0) {
+        if (!q || cameras[v]->Depth(X) <= 0 || !(q->cwiseAbs().maxCoeff() < 1e5)) {
           projects = false;
           break;
         }

@@ -116,7 +116,7 @@ std::optional<StepFailure> CheckBoundary(const Boundary& boundary, const MarkedR
 // lies nearer to the left camera than the marks' depth plus half the depth tolerance, with
 // their silhouette in each view grown by hidden_grow_px. A known solid whose left silhouette
 // holds the marked region's centre is the object itself, modelled again, and is left out, as
-// is one that does not project into both views.
+// is one that does not project into both views (or lands over 1e5 px out).
 struct KnownInFront {
   std::string name;
   std::array<std::vector<Eigen::Vector2d>, 2> outline;  // convex, counter-clockwise

@@ -1,5 +1,6 @@
 // Feeds arbitrary requests to the locator: a type, four marks (near the cameras' view, or
-// raw doubles: NaN, infinities, huge values), a range, and a stereo pair drawn from the
+// raw doubles: NaN, infinities, huge values), a range, known solids (near the marks, or raw
+// doubles), and a stereo pair drawn from the
 // input (a few filled shapes, the right image's shifted by a disparity), sometimes empty
 // or of the wrong size. Every input must give a result, found or a failure with a reason:
 // no crash, no hang and no undefined behaviour (the fuzz build runs ASan and UBSan).
@@ -95,6 +96,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     input.range = flags & 128 ? in.Raw() : std::abs(in.Signed(2e-3));
     input.ranger_origin = Eigen::Vector3d(in.Signed(1e-3), in.Signed(1e-3), in.Signed(1e-3));
     input.ranger_axis = Eigen::Vector3d(in.Signed(1e-4), 1.0, in.Signed(1e-4));
+  }
+  // Known solids: near the marks, or raw doubles.
+  for (int k = in.Byte() % 3; k > 0; --k) {
+    const uint8_t how = in.Byte();
+    KnownShape known{"known", how & 1 ? SolidType::kBox : SolidType::kCylinder, Eigen::VectorXd(7)};
+    // Near: a cylinder's two end centres, or a box's centre, about `ahead`.
+    const bool cylinder = known.type == SolidType::kCylinder;
+    for (int i = 0; i < 7; ++i) {
+      const double near = i < 3 ? ahead[i] : cylinder && i < 6 ? ahead[i - 3] : 0.0;
+      known.params[i] = how & 2 ? in.Raw() : near + in.Signed(1e-3);
+    }
+    input.known.push_back(known);
   }
   input.want_trace = (flags & 24) == 24;
 
