@@ -16,10 +16,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-LocateResult Fail(LocateResult r, const StepFailure& failure) {
+// With the known solids in front of part of the marks named, for the operator (what may hide
+// the object, or lend it edges).
+LocateResult Fail(LocateResult r, const StepFailure& failure, const std::string& in_front) {
   r.found = false;
   r.reason = failure.reason;
   r.detail = failure.detail;
+  if (!in_front.empty()) r.detail += " (in front of part of the marks: " + in_front + ")";
   return r;
 }
 
@@ -78,18 +81,21 @@ void HideBehindKnown(const std::vector<KnownInFront>& in_front, std::array<FitVi
     for (int v = 0; v < 2; ++v) (*views)[v].hidden.push_back(k.outline[v]);
 }
 
-// The failure with the known solids in front that hide part of the left outline named, for
-// the operator.
-StepFailure NameWhatHides(StepFailure failure, const std::vector<KnownInFront>& in_front,
-                          const std::vector<Eigen::Vector2d>& left_outline) {
+// The names of the known solids in front of part of the marked region.
+std::string NamesInFront(const std::vector<KnownInFront>& in_front,
+                         const std::vector<cv::Point2f>& hull) {
+  std::vector<Eigen::Vector2d> marked;
+  for (const auto& p : hull) marked.emplace_back(p.x, p.y);
   std::string names;
   for (const KnownInFront& k : in_front) {
-    const bool hides = std::any_of(left_outline.begin(), left_outline.end(),
-                                   [&](const auto& p) { return InsideAny({k.outline[0]}, p); });
-    if (hides) names += (names.empty() ? "" : ", ") + k.name;
+    const auto inside = [](const std::vector<Eigen::Vector2d>& polygon) {
+      return [&polygon](const Eigen::Vector2d& p) { return InsideAny({polygon}, p); };
+    };
+    const bool overlaps = std::any_of(marked.begin(), marked.end(), inside(k.outline[0])) ||
+                          std::any_of(k.outline[0].begin(), k.outline[0].end(), inside(marked));
+    if (overlaps) names += (names.empty() ? "" : ", ") + k.name;
   }
-  if (!names.empty()) failure.detail += " (hidden in part by " + names + ")";
-  return failure;
+  return names;
 }
 
 }  // namespace
@@ -203,7 +209,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     r.elapsed_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     return r;
   };
-  auto fail = [&](const StepFailure& failure) { return finish(Fail(res, failure)); };
+  std::string in_front_names;  // of the known solids in front of part of the marks
+  auto fail = [&](const StepFailure& f) { return finish(Fail(res, f, in_front_names)); };
   if (std::string e; !opt.Check(&e)) return fail({Failure::kBadInput, "options: " + e});
   const StepResult<StereoPair> pair = PrepareImages(in);
   if (!pair.ok()) return fail(pair.failure());
@@ -215,6 +222,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
 
   // 2. Boundary in the left image (3.8.1), without the edges of known solids in front.
   const std::vector<KnownInFront> in_front = KnownSolidsInFront(in, *marks, opt);
+  in_front_names = NamesInFront(in_front, marks->hull);
   const int pad = RegionPad(opt);
   const Gradients grad_left(pair->left, GrowRect(cv::boundingRect(marks->hull), pad, image_rect),
                             opt.edge_sigma);
@@ -292,8 +300,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   res.fit_score = FitScore(f, score_scale);
   res.supported_fit_score = SupportedFitScore(f, support, score_scale);
   DebugOutlineSupport(support);
-  if (auto failure = CheckOutlineVisible(support, opt))
-    return fail(NameWhatHides(*failure, in_front, f.outline[0]));
+  if (auto failure = CheckOutlineVisible(support, opt)) return fail(*failure);
   if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
     return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);

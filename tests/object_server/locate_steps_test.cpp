@@ -171,6 +171,27 @@ TEST_F(LocateSteps, KnownSolidsInFrontAreThoseNearerThanTheMarks) {
   EXPECT_TRUE(VisibleEdgeMask({}, cv::Mat(), in.left.size()).empty());
 }
 
+// A known slab 6 in in front of the marks' right part (seen beside the pipe's side): a
+// refusal names it.
+TEST_F(LocateSteps, ARefusalNamesTheKnownSolidsInFrontOfTheMarks) {
+  LocateInput in = Input(true);
+  const Eigen::Vector3d eye = scene_->cameras.left.Center();
+  const Eigen::Vector3d to = (cylinder_->center - eye).normalized();
+  const Eigen::Vector3d side = to.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const double depth = (cylinder_->center - eye).dot(to), nearer = (depth - 6) / depth;
+  // Seen where a point 0.5 in beyond the pipe's side is, 1 in wide there.
+  KnownShape slab{"slab", SolidType::kBox, Eigen::VectorXd(7)};
+  slab.params << cylinder_->center - 6 * to + (cylinder_->radius + 0.5) * nearer * side, nearer,
+      0.3, 2 * cylinder_->height, std::atan2(side.y(), side.x());
+  in.known = {slab};
+  in.right = cv::Mat(in.right.size(), in.right.type(), cv::Scalar(90));  // nothing to match
+  const LocateResult r = Locate(in);
+  EXPECT_FALSE(r.found);
+  EXPECT_TRUE(Contains(r.detail, "(in front of part of the marks: slab)")) << r.detail;
+  in.known.clear();
+  EXPECT_FALSE(Contains(Locate(in).detail, "in front of"));
+}
+
 TEST(LocateStepsGeometry, GrowPolygonMovesEveryVertexAwayFromTheCentre) {
   const std::vector<cv::Point2f> square = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
   const auto grown = GrowPolygon(square, std::sqrt(2.0));
