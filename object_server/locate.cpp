@@ -85,6 +85,7 @@ void HideBehindKnown(const std::vector<KnownInFront>& in_front, std::array<FitVi
 std::string NamesInFront(const std::vector<KnownInFront>& in_front,
                          const std::vector<cv::Point2f>& hull) {
   std::vector<Eigen::Vector2d> marked;
+  marked.reserve(hull.size());
   for (const auto& p : hull) marked.emplace_back(p.x, p.y);
   std::string names;
   for (const KnownInFront& k : in_front) {
