@@ -109,9 +109,11 @@ KnownShape KnownFromResult(const LocateResult& result, std::string name) {
   if (result.type == SolidType::kCylinder) {
     const CylinderResult& c = result.cylinder;
     k.params << c.center - 0.5 * c.height * c.axis, c.center + 0.5 * c.height * c.axis, c.radius;
+    k.sigma = c.center_sigma.z() + c.radius_sigma;
   } else {
     const BoxResult& b = result.box;
     k.params << b.center, b.size, b.yaw_deg * M_PI / 180;
+    k.sigma = b.center_sigma.z() + 0.5 * b.size_sigma.z();
   }
   return k;
 }
@@ -341,6 +343,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     res.box = BoxFromFit(f.params, f.covariance);
     if (res.box.size.minCoeff() < 1e-6)
       return fail({Failure::kFitFailed, "the fitted box has no size"});
+    ReachUpToKnown(in.known, opt, &res.box);
     if (const auto failure = CheckBoxSizesDetermined(res.box, opt)) return fail(*failure);
     const StepResult<cv::Rect> rect = BoxTextureRect(f.params, in.left_camera, image_rect);
     if (!rect.ok()) return fail(rect.failure());

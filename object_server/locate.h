@@ -144,6 +144,7 @@ struct KnownShape {
   std::string name;
   SolidType type = SolidType::kCylinder;
   Eigen::VectorXd params;
+  double sigma = 0;  // how far its underside's height may be off (one sigma, world units)
 };
 
 struct LocateInput {

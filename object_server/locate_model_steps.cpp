@@ -422,6 +422,41 @@ BoxResult BoxFromFit(const Eigen::VectorXd& params, const Eigen::MatrixXd& covar
   return b;
 }
 
+void ReachUpToKnown(const std::vector<KnownShape>& known, const LocateOptions& opt,
+                    BoxResult* box) {
+  if (!(box->size_sigma.z() > opt.max_box_size_sigma)) return;
+  const double bottom = box->min.z();
+  const Eigen::Vector2d c = box->center.head<2>();
+  const double reach = 0.5 * box->size.head<2>().norm();
+  std::optional<double> top;
+  double top_sigma = 0;
+  for (const KnownShape& k : known) {
+    if (k.type != SolidType::kCylinder || k.params.size() != 7 || !k.params.allFinite()) continue;
+    const Eigen::Vector3d p0 = k.params.head<3>(), p1 = k.params.segment<3>(3);
+    const double len = (p1 - p0).norm(), r = k.params[6];
+    if (len < 1e-9) continue;
+    const Eigen::Vector3d a = (p1 - p0) / len;
+    const double h2 = a.head<2>().squaredNorm();
+    // Along the axis to above the block's centre (an upright pipe: its lower end).
+    const double t =
+        h2 > 1e-12 ? std::clamp((c - p0.head<2>()).dot(a.head<2>()) / h2, 0.0, len) : 0.0;
+    const Eigen::Vector3d on = p0 + t * a;
+    if ((on.head<2>() - c).norm() > reach) continue;
+    const double underside = on.z() - r * std::sqrt(std::max(0.0, 1 - a.z() * a.z()));
+    if (underside > bottom + 0.1 && (!top || underside < *top)) {
+      top = underside;
+      top_sigma = k.sigma;
+    }
+  }
+  if (!top) return;
+  box->size.z() = *top - bottom;
+  box->center.z() = 0.5 * (*top + bottom);
+  box->max.z() = *top;
+  box->max_sigma.z() = top_sigma;
+  box->size_sigma.z() = std::hypot(box->min_sigma.z(), top_sigma);
+  box->center_sigma.z() = 0.5 * box->size_sigma.z();
+}
+
 StepResult<cv::Rect> BoxTextureRect(const Eigen::VectorXd& params,
                                     const geometry::ProjectiveCamera& left_camera,
                                     const cv::Rect& image) {

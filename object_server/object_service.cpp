@@ -103,6 +103,7 @@ std::optional<KnownShape> KnownFromProto(const igms::object::KnownSolid& k, std:
     const Eigen::Vector3d half = 0.5 * c.height() * axis.normalized();
     out.type = SolidType::kCylinder;
     out.params << vec(c.center()) - half, vec(c.center()) + half, c.radius();
+    out.sigma = std::abs(c.center_sigma().z()) + std::abs(c.radius_sigma());
   } else if (k.type() == igms::object::OBJECT_TYPE_BOX) {
     const auto& b = k.box();
     if (!(vec(b.size()).minCoeff() > 0)) {
@@ -111,11 +112,12 @@ std::optional<KnownShape> KnownFromProto(const igms::object::KnownSolid& k, std:
     }
     out.type = SolidType::kBox;
     out.params << vec(b.center()), vec(b.size()), b.yaw_deg() * M_PI / 180;
+    out.sigma = std::abs(b.center_sigma().z()) + 0.5 * std::abs(b.size_sigma().z());
   } else {
     *why = "type must be OBJECT_TYPE_CYLINDER or OBJECT_TYPE_BOX";
     return std::nullopt;
   }
-  if (!out.params.allFinite()) {
+  if (!out.params.allFinite() || !std::isfinite(out.sigma)) {
     *why = "not finite numbers";
     return std::nullopt;
   }

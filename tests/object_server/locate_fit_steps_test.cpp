@@ -379,5 +379,33 @@ TEST(LocateStepsResult, TheRangeIsCheckedAgainstTheLocatedCylinder) {
   EXPECT_TRUE(Contains(check.detail, "does not reach")) << check.detail;
 }
 
+TEST(KnownSteps, ABlockWithItsTopHiddenReachesUpToThePipeItCarries) {
+  BoxResult box;
+  box.center = {0, 0, 1};
+  box.size = {1, 1, 2};
+  box.min = {-0.5, -0.5, 0};
+  box.min_sigma = {0.02, 0.02, 0.02};
+  box.size_sigma = {0.03, 0.03, 50};  // the top held by no edge
+  // A pipe of radius 0.5 lying along x over the block, its underside at 2.5; another beside.
+  KnownShape pipe{"pipe", SolidType::kCylinder, Eigen::VectorXd(7), 0.03};
+  pipe.params << -4, 0.2, 3, 4, 0.2, 3, 0.5;
+  KnownShape beside = pipe;
+  beside.params[1] = beside.params[4] = 5;
+  BoxResult reached = box;
+  ReachUpToKnown({beside, pipe}, LocateOptions{}, &reached);
+  EXPECT_NEAR(reached.size.z(), 2.5, 1e-12);
+  EXPECT_NEAR(reached.center.z(), 1.25, 1e-12);
+  EXPECT_NEAR(reached.max.z(), 2.5, 1e-12);
+  EXPECT_NEAR(reached.size_sigma.z(), std::hypot(0.02, 0.03), 1e-12);
+  // Nothing over it, or a height the edges hold: left as it is.
+  BoxResult alone = box;
+  ReachUpToKnown({beside}, LocateOptions{}, &alone);
+  EXPECT_EQ(alone.size.z(), 2);
+  BoxResult held = box;
+  held.size_sigma.z() = 0.05;
+  ReachUpToKnown({pipe}, LocateOptions{}, &held);
+  EXPECT_EQ(held.size.z(), 2);
+}
+
 }  // namespace
 }  // namespace igms::object
