@@ -90,7 +90,7 @@ std::string NamesInFront(const std::vector<KnownInFront>& in_front,
   std::string names;
   for (const KnownInFront& k : in_front) {
     const auto inside = [](const std::vector<Eigen::Vector2d>& polygon) {
-      return [&polygon](const Eigen::Vector2d& p) { return InsideAny({polygon}, p); };
+      return [&polygon](const Eigen::Vector2d& p) { return SignedDistance(polygon, p) < 0; };
     };
     const bool overlaps = std::any_of(marked.begin(), marked.end(), inside(k.outline[0])) ||
                           std::any_of(k.outline[0].begin(), k.outline[0].end(), inside(marked));
@@ -303,7 +303,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   res.fit_score = FitScore(f, score_scale);
   res.supported_fit_score = SupportedFitScore(f, support, score_scale);
   DebugOutlineSupport(support);
-  if (auto failure = CheckOutlineVisible(support, opt)) return fail(*failure);
+  if (const auto failure = CheckOutlineVisible(support, opt)) return fail(*failure);
   if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
     return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);

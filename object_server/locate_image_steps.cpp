@@ -186,13 +186,12 @@ std::vector<KnownInFront> KnownSolidsInFront(const LocateInput& in, const Marked
       if (!projects) break;
       const std::vector<Eigen::Vector2d> hull = ConvexHull(px);
       if (v == 0 && hull.size() >= 3 && SignedDistance(hull, centre) < 0) projects = false;
-      Eigen::Vector2d mean(0, 0);
-      for (const auto& q : hull) mean += q / static_cast<double>(hull.size());
-      for (const auto& q : hull) {
-        const double len = (q - mean).norm();
-        f.outline[v].push_back(
-            len > 0 ? Eigen::Vector2d(q + (q - mean) * (options.hidden_grow_px / len)) : q);
-      }
+      std::vector<cv::Point2f> corners;
+      corners.reserve(hull.size());
+      for (const auto& q : hull)
+        corners.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()));
+      for (const auto& q : GrowPolygon(corners, options.hidden_grow_px))
+        f.outline[v].emplace_back(q.x, q.y);
     }
     if (projects && f.outline[0].size() >= 3 && f.outline[1].size() >= 3)
       out.push_back(std::move(f));

@@ -90,9 +90,8 @@ net::Status ValidateLocateRequest(const igms::object::LocateRequest& request) {
 
 std::optional<KnownShape> KnownFromProto(const igms::object::KnownSolid& k, std::string* why) {
   const auto vec = [](const igms::object::Vec3& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); };
-  KnownShape out;
-  out.name = k.name();
-  out.params.resize(7);
+  // As the locator's result it was, then as every found result becomes a known solid.
+  LocateResult r;
   if (k.type() == igms::object::OBJECT_TYPE_CYLINDER) {
     const auto& c = k.cylinder();
     const Eigen::Vector3d axis = vec(c.axis());
@@ -100,23 +99,30 @@ std::optional<KnownShape> KnownFromProto(const igms::object::KnownSolid& k, std:
       *why = "a cylinder needs an axis, a positive radius and a positive height";
       return std::nullopt;
     }
-    const Eigen::Vector3d half = 0.5 * c.height() * axis.normalized();
-    out.type = SolidType::kCylinder;
-    out.params << vec(c.center()) - half, vec(c.center()) + half, c.radius();
-    out.sigma = std::abs(c.center_sigma().z()) + std::abs(c.radius_sigma());
+    r.type = SolidType::kCylinder;
+    r.cylinder.center = vec(c.center());
+    r.cylinder.axis = axis.normalized();
+    r.cylinder.radius = c.radius();
+    r.cylinder.height = c.height();
+    r.cylinder.center_sigma = vec(c.center_sigma()).cwiseAbs();
+    r.cylinder.radius_sigma = std::abs(c.radius_sigma());
   } else if (k.type() == igms::object::OBJECT_TYPE_BOX) {
     const auto& b = k.box();
     if (!(vec(b.size()).minCoeff() > 0)) {
       *why = "a box needs a positive size";
       return std::nullopt;
     }
-    out.type = SolidType::kBox;
-    out.params << vec(b.center()), vec(b.size()), b.yaw_deg() * M_PI / 180;
-    out.sigma = std::abs(b.center_sigma().z()) + 0.5 * std::abs(b.size_sigma().z());
+    r.type = SolidType::kBox;
+    r.box.center = vec(b.center());
+    r.box.size = vec(b.size());
+    r.box.yaw_deg = b.yaw_deg();
+    r.box.center_sigma = vec(b.center_sigma()).cwiseAbs();
+    r.box.size_sigma = vec(b.size_sigma()).cwiseAbs();
   } else {
     *why = "type must be OBJECT_TYPE_CYLINDER or OBJECT_TYPE_BOX";
     return std::nullopt;
   }
+  KnownShape out = KnownFromResult(r, k.name());
   if (!out.params.allFinite() || !std::isfinite(out.sigma)) {
     *why = "not finite numbers";
     return std::nullopt;
