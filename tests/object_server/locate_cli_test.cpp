@@ -42,6 +42,12 @@ std::string MarkArgs(const site::Marks& marks) {
   return s.str();
 }
 
+// Whether the JSON text is an object (its opening brace, 0x7b, first) whose first members are
+// `members`.
+bool JsonBegins(const std::string& json, const std::string& members) {
+  return !json.empty() && json[0] == 0x7b && json.compare(1, members.size(), members) == 0;
+}
+
 double JsonNumber(const std::string& json, const std::string& key) {
   const auto at = json.find("\"" + key + "\": ");
   if (at == std::string::npos) return std::nan("");
@@ -81,7 +87,7 @@ TEST_F(LocateCli, FindsEachObjectAndPrintsJson) {
     if (const auto* c = std::get_if<site::Cylinder>(&shape)) {
       const ProcessRun r = Exec(base_ + " --type cylinder --json" + MarkArgs(marks));
       ASSERT_EQ(r.status, 0) << r.out;
-      EXPECT_EQ(r.out.rfind("{\"found\": true, \"type\": \"cylinder\"", 0), 0u) << r.out;
+      EXPECT_TRUE(JsonBegins(r.out, "\"found\": true, \"type\": \"cylinder\"")) << r.out;
       EXPECT_NEAR(JsonNumber(r.out, "radius"), c->radius, 0.05) << r.out;
       EXPECT_NEAR(JsonNumber(r.out, "height"), c->height, 0.3) << r.out;
       EXPECT_NE(r.out.find("\"axis\": ["), std::string::npos);
@@ -107,7 +113,7 @@ TEST_F(LocateCli, NotFoundExitsOne) {
                             std::to_string(c.x() - 3) + "," + std::to_string(y) + ",27";
   const ProcessRun r = Exec(base_ + " --type box --json" + marks);
   EXPECT_EQ(r.status, 1) << r.out;
-  EXPECT_EQ(r.out.rfind("{\"found\": false", 0), 0u) << r.out;
+  EXPECT_TRUE(JsonBegins(r.out, "\"found\": false")) << r.out;
   EXPECT_NE(r.out.find("\"reason\": \"no_edge_near_marks\""), std::string::npos) << r.out;
 }
 
@@ -154,7 +160,7 @@ TEST_F(LocateCli, DebugImageShowsEdgesPointsAndOutline) {
     int magenta = 0, green = 0, blue = 0;
     for (int y = 0; y < img.rows; ++y)
       for (int x = 0; x < img.cols; ++x) {
-        const cv::Vec3b p = img.at<cv::Vec3b>(y, x);
+        const cv::Vec3b& p = img.at<cv::Vec3b>(y, x);
         magenta += p[0] > 200 && p[1] < 80 && p[2] > 200;
         green += p[0] < 60 && p[1] > 180 && p[2] < 60;
         blue += p[0] > 200 && p[1] > 100 && p[1] < 180 && p[2] < 60;
