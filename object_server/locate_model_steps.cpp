@@ -84,18 +84,31 @@ FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
   first.step = Eigen::VectorXd::Constant(starts[0].size(), 1e-4);
   first.outer_iterations =
       starts.size() == 1 ? fit.outer_iterations : std::min(2, fit.outer_iterations);
-  FitOutcome best = FitSilhouette(outline, starts[0], views, first, inner);
+  // The two best of the short fits both run to the end: a short fit's score ranks the starts
+  // only roughly, and the runner-up often ends better.
+  FitOutcome best = FitSilhouette(outline, starts[0], views, first, inner), second;
   for (size_t i = 1; i < starts.size(); ++i) {
     FitOutcome g = FitSilhouette(outline, starts[i], views, first, inner);
     spdlog::debug("locate: another start: score {:.3f} against {:.3f}", FitScore(g),
                   FitScore(best));
-    if (better(g, best)) best = std::move(g);
+    if (better(g, best)) {
+      second = std::move(best);
+      best = std::move(g);
+    } else if (!second.ok || better(g, second)) {
+      second = std::move(g);
+    }
   }
-  if (best.ok && first.outer_iterations < fit.outer_iterations) {
+  if (first.outer_iterations < fit.outer_iterations) {
     FitOptions rest = first;
     rest.outer_iterations = fit.outer_iterations;
     rest.first_outer = first.outer_iterations;
-    best = FitSilhouette(outline, best.params, views, rest, inner);
+    if (best.ok) best = FitSilhouette(outline, best.params, views, rest, inner);
+    if (second.ok) {
+      FitOutcome g = FitSilhouette(outline, second.params, views, rest, inner);
+      spdlog::debug("locate: the runner-up ends at {:.3f} against {:.3f}", FitScore(g),
+                    FitScore(best));
+      if (better(g, best)) best = std::move(g);
+    }
   }
   return best;
 }

@@ -102,6 +102,46 @@ std::vector<cv::Point> LimbPixels(const std::vector<cv::Point>& boundary,
   return out;
 }
 
+// Of the limb pixels, those of the line nearest the image's top (a histogram of each pixel's
+// offset across the limbs' common direction, 1 px bins; its first peak of at least a fifth of
+// the tallest, and the pixels within 2 px of it): a raised pipe's upper limb, above its lower
+// limb and the supports' feet. Empty unless the limbs lie within 45 degrees of the rows, where
+// "up" is the image's.
+std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs,
+                                   const Gradients& gradients) {
+  if (limbs.size() < 16) return {};
+  Eigen::Vector2d across = Eigen::Vector2d::Zero();
+  for (const auto& p : limbs) {
+    Eigen::Vector2d g = gradients.At(Eigen::Vector2d(p.x, p.y));
+    if (g.y() < 0) g = -g;  // one sense: down the image
+    across += g;
+  }
+  if (across.norm() < 1e-9) return {};
+  across.normalize();
+  if (std::abs(across.y()) < std::sqrt(0.5)) return {};
+  std::vector<double> offset(limbs.size());
+  double lo = 1e18, hi = -1e18;
+  for (size_t i = 0; i < limbs.size(); ++i) {
+    offset[i] = across.dot(Eigen::Vector2d(limbs[i].x, limbs[i].y));
+    lo = std::min(lo, offset[i]);
+    hi = std::max(hi, offset[i]);
+  }
+  const int bins = static_cast<int>(hi - lo) + 3;
+  std::vector<double> hist(bins, 0.0), smooth(bins, 0.0);
+  for (const double o : offset) hist[static_cast<int>(o - lo) + 1] += 1;
+  for (int b = 1; b + 1 < bins; ++b) smooth[b] = hist[b - 1] + hist[b] + hist[b + 1];
+  const double tallest = *std::max_element(smooth.begin(), smooth.end());
+  int peak = -1;
+  for (int b = 1; b + 1 < bins && peak < 0; ++b)
+    if (smooth[b] >= std::max(6.0, 0.2 * tallest) && smooth[b] >= smooth[b - 1] &&
+        smooth[b] >= smooth[b + 1])
+      peak = b;
+  std::vector<cv::Point> line;
+  for (size_t i = 0; i < limbs.size(); ++i)
+    if (peak >= 0 && std::abs(offset[i] - lo + 1 - peak) <= 2.0) line.push_back(limbs[i]);
+  return line;
+}
+
 }  // namespace
 
 std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
@@ -150,6 +190,25 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
     };
     // Only when the blocks' edges made the boundary clearly wider than the limbs.
     if (limbs.size() >= 8 && width(limbs) < 0.8 * width(boundary) - 1) from_points(limbs, false);
+    // Or the limb line nearest the top alone, as a pipe's upper limb whose lower one the
+    // blocks under it hide or the background swallows: its copy a fraction of the way down to
+    // the boundary's lowest pixel stands for the lower limb. Only for a line at least that
+    // long (a pipe's side, not an upright's end).
+    const std::vector<cv::Point> top = TopLimbLine(limbs, *gradients);
+    if (!top.empty()) {
+      double lowest = -1e18, mean_v = 0;
+      for (const auto& q : boundary) lowest = std::max(lowest, double(q.y));
+      for (const auto& q : top) mean_v += q.y;
+      const double below = lowest - mean_v / double(top.size());
+      const cv::RotatedRect r = cv::minAreaRect(std::vector<cv::Point2f>(top.begin(), top.end()));
+      if (std::max(r.size.width, r.size.height) >= below)
+        for (const double f : {0.3, 0.45, 0.6}) {
+          std::vector<cv::Point> pixels = top;
+          for (const auto& q : top)
+            pixels.emplace_back(q.x, q.y + static_cast<int>(std::lround(f * below)));
+          from_points(pixels, false);
+        }
+    }
   }
   return starts;
 }

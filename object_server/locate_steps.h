@@ -189,9 +189,11 @@ std::array<std::vector<Eigen::Vector2d>, 2> OutlineRegions(const MarkedRegion& m
 // into the right image on its own (within the marks' depth range, widened by the pipe's
 // length across the view) and, when the two ends' depths differ by more than the radius, that
 // tilted cylinder is a second start.
-// With the left image's gradients, one more start from the boundary's limb pixels alone (those
+// With the left image's gradients, more starts from the boundary's limb pixels alone (those
 // whose gradient follows its dominant orientation): a pipe raised on blocks without the
-// blocks' edges.
+// blocks' edges, and its upper limb (the limb line nearest the image's top) with a lower limb
+// at three guessed depths below it, for a pipe whose lower limb the blocks or the background
+// hide from the boundary.
 std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
                                             const std::vector<cv::Point>& boundary, double depth,
                                             const DepthSearch& search, const LocateOptions& options,
