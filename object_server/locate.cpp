@@ -76,6 +76,25 @@ void BoundByMarks(const MarkedRegion& marks, const StereoPair& pair, double dept
   (*views)[1].region = std::move(regions[1]);
 }
 
+// Each start also stretched along its axis to fill the marks (CylinderStretchedToMarks).
+void AddStretched(const MarkedRegion& marks, const geometry::ProjectiveCamera& left_camera,
+                  const LocateOptions& opt, std::vector<Eigen::VectorXd>* starts) {
+  const size_t n = starts->size();
+  for (size_t i = 0; i < n; ++i)
+    if (auto st = CylinderStretchedToMarks((*starts)[i], marks, left_camera, opt.stretch_margin))
+      starts->push_back(*st);
+}
+
+// A raised pipe's upper-limb starts (CylinderStarts), fitted only when the other starts' fit
+// is poor (poor_fit_score) or leaves the marks, and kept when they fit better.
+void TryUpperLimb(const std::vector<Eigen::VectorXd>& upper_limb,
+                  const std::array<FitView, 2>& views, const FitOptions& fit,
+                  const LocateOptions& opt, const PlausibleFn& plausible, FitOutcome* f) {
+  if (upper_limb.empty() || (f->ok && plausible(*f) && FitScore(*f) <= opt.poor_fit_score)) return;
+  FitOutcome g = FitCylinder(upper_limb, views, fit, opt, plausible);
+  if (g.ok && (!f->ok || BetterFit(g, *f, plausible))) *f = std::move(g);
+}
+
 void HideBehindKnown(const std::vector<KnownInFront>& in_front, std::array<FitView, 2>* views) {
   for (const KnownInFront& k : in_front)
     for (int v = 0; v < 2; ++v) (*views)[v].hidden.push_back(k.outline[v]);
@@ -261,15 +280,13 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   fit.region_weight = opt.region_weight;
   if (opt.keep_to_marks) BoundByMarks(*marks, *pair, depth0, cylinder, opt, &views);
   HideBehindKnown(in_front, &views);
+  std::vector<Eigen::VectorXd> upper_limb;  // a raised pipe's, tried when the others fit poorly
   std::vector<Eigen::VectorXd> starts =
-      cylinder ? CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left)
-               : BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left);
-  if (cylinder) {  // each start also stretched to fill the marks along its axis
-    const size_t n = starts.size();
-    for (size_t i = 0; i < n; ++i)
-      if (auto st = CylinderStretchedToMarks(starts[i], *marks, in.left_camera, opt.stretch_margin))
-        starts.push_back(*st);
-  }
+      cylinder
+          ? CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left, &upper_limb)
+          : BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left);
+  if (cylinder)  // each start also stretched to fill the marks along its axis
+    for (auto* list : {&starts, &upper_limb}) AddStretched(*marks, in.left_camera, opt, list);
   const Eigen::VectorXd& x0 = starts[0];
   DebugStart(marks->depth, depth0, match.rms, boundary.pixels.size(), x0);
   // Of the starts' fits, one the marks bound snugly goes before any that leaves part of them
@@ -277,8 +294,9 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const PlausibleFn plausible = [&](const FitOutcome& o) {
     return !CheckWithinMarks(o.outline[0], *marks, in.left_camera, opt);
   };
-  const FitOutcome f = cylinder ? FitCylinder(starts, views, fit, opt, plausible)
-                                : FitBox(starts, views, fit, opt, plausible);
+  FitOutcome f = cylinder ? FitCylinder(starts, views, fit, opt, plausible)
+                          : FitBox(starts, views, fit, opt, plausible);
+  TryUpperLimb(upper_limb, views, fit, opt, plausible, &f);
   spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}, inner {} {}",
                 f.ok ? "ok" : f.error, f.used[0], f.sampled[0], f.rms_px[0], f.used[1],
                 f.sampled[1], f.rms_px[1], f.inner_used[0], f.inner_used[1]);

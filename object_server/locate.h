@@ -115,6 +115,10 @@ struct LocateOptions {
   double max_mark_gap = 1.6;
   double max_beyond_marks_px = 6.0;
   double other_type_score = 0.25;
+  // A fit scoring (FitScore) above this is poor: the runner-up of the starts' short fits also
+  // runs to the end, and a cylinder is tried from its upper limb alone (a raised pipe). A good
+  // fit is rarely beaten, and either costs more fits.
+  double poor_fit_score = 0.25;
   double other_type_ratio = 1.5;
   // A box is reported only when it explains the outline clearly better than a cylinder: its
   // score at most this share of the cylinder's (a box fits an upright cylinder about as well).

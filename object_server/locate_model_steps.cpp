@@ -46,6 +46,7 @@ FitOptions FitSettings(const LocateOptions& options, double strongest) {
   fit.edge_blur_px = std::hypot(options.edge_sigma, options.camera_blur_px);
   fit.outer_iterations = options.outer_iterations;
   fit.inner_iterations = options.inner_iterations;
+  fit.runner_up_above = options.poor_fit_score;
   return fit;
 }
 
@@ -68,24 +69,27 @@ double ScoreResidualScale(const LocateOptions& options, int image_width) {
   return std::pow(options.score_reference_width_px / image_width, options.score_width_power);
 }
 
+bool BetterFit(const FitOutcome& a, const FitOutcome& b, const PlausibleFn& plausible) {
+  if (plausible && a.ok && b.ok) {
+    const bool pa = plausible(a), pb = plausible(b);
+    if (pa != pb) return pa;
+  }
+  return FitScore(a) < FitScore(b);
+}
+
 FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
                          const std::vector<Eigen::VectorXd>& starts,
                          const std::array<FitView, 2>& views, const FitOptions& fit,
                          const PlausibleFn& plausible) {
-  // Plausible fits first, then by score.
   const auto better = [&](const FitOutcome& a, const FitOutcome& b) {
-    if (plausible && a.ok && b.ok) {
-      const bool pa = plausible(a), pb = plausible(b);
-      if (pa != pb) return pa;
-    }
-    return FitScore(a) < FitScore(b);
+    return BetterFit(a, b, plausible);
   };
   FitOptions first = fit;
   first.step = Eigen::VectorXd::Constant(starts[0].size(), 1e-4);
   first.outer_iterations =
       starts.size() == 1 ? fit.outer_iterations : std::min(2, fit.outer_iterations);
-  // The two best of the short fits both run to the end: a short fit's score ranks the starts
-  // only roughly, and the runner-up often ends better.
+  // The runner-up of the short fits also runs to the end when the best ends poorly: a short
+  // fit's score ranks the starts only roughly, and the runner-up may end better.
   FitOutcome best = FitSilhouette(outline, starts[0], views, first, inner), second;
   for (size_t i = 1; i < starts.size(); ++i) {
     FitOutcome g = FitSilhouette(outline, starts[i], views, first, inner);
@@ -103,7 +107,7 @@ FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
     rest.outer_iterations = fit.outer_iterations;
     rest.first_outer = first.outer_iterations;
     if (best.ok) best = FitSilhouette(outline, best.params, views, rest, inner);
-    if (second.ok) {
+    if (second.ok && (!best.ok || FitScore(best) > fit.runner_up_above)) {
       FitOutcome g = FitSilhouette(outline, second.params, views, rest, inner);
       spdlog::debug("locate: the runner-up ends at {:.3f} against {:.3f}", FitScore(g),
                     FitScore(best));

@@ -110,14 +110,16 @@ std::vector<cv::Point> LimbPixels(const std::vector<cv::Point>& boundary,
 std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs,
                                    const Gradients& gradients) {
   if (limbs.size() < 16) return {};
-  Eigen::Vector2d across = Eigen::Vector2d::Zero();
+  // The gradients' mean orientation, modulo 180 degrees (their doubled angles averaged).
+  Eigen::Vector2d doubled = Eigen::Vector2d::Zero();
   for (const auto& p : limbs) {
-    Eigen::Vector2d g = gradients.At(Eigen::Vector2d(p.x, p.y));
-    if (g.y() < 0) g = -g;  // one sense: down the image
-    across += g;
+    const Eigen::Vector2d g = gradients.At(Eigen::Vector2d(p.x, p.y));
+    doubled +=
+        Eigen::Vector2d(g.x() * g.x() - g.y() * g.y(), 2 * g.x() * g.y()) / (g.norm() + 1e-9);
   }
-  if (across.norm() < 1e-9) return {};
-  across.normalize();
+  if (doubled.norm() < 1e-9) return {};
+  const double angle = 0.5 * std::atan2(doubled.y(), doubled.x());
+  const Eigen::Vector2d across(std::cos(angle), std::sin(angle));
   if (std::abs(across.y()) < std::sqrt(0.5)) return {};
   std::vector<double> offset(limbs.size());
   double lo = 1e18, hi = -1e18;
@@ -147,7 +149,8 @@ std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs,
 std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
                                             const std::vector<cv::Point>& boundary, double depth,
                                             const DepthSearch& search, const LocateOptions& options,
-                                            const Gradients* gradients) {
+                                            const Gradients* gradients,
+                                            std::vector<Eigen::VectorXd>* upper_limb_starts) {
   const geometry::ProjectiveCamera& left_camera = *pair.left_camera;
   std::vector<Eigen::VectorXd> starts;
   auto from_points = [&](const std::vector<cv::Point>& pixels, bool tilted_too) {
@@ -194,7 +197,8 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
     // blocks under it hide or the background swallows: its copy a fraction of the way down to
     // the boundary's lowest pixel stands for the lower limb. Only for a line at least that
     // long (a pipe's side, not an upright's end).
-    const std::vector<cv::Point> top = TopLimbLine(limbs, *gradients);
+    const std::vector<cv::Point> top =
+        upper_limb_starts ? TopLimbLine(limbs, *gradients) : std::vector<cv::Point>{};
     if (!top.empty()) {
       double lowest = -1e18, mean_v = 0;
       for (const auto& q : boundary) lowest = std::max(lowest, double(q.y));
@@ -207,6 +211,8 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
           for (const auto& q : top)
             pixels.emplace_back(q.x, q.y + static_cast<int>(std::lround(f * below)));
           from_points(pixels, false);
+          upper_limb_starts->push_back(starts.back());
+          starts.pop_back();
         }
     }
   }

@@ -189,15 +189,15 @@ std::array<std::vector<Eigen::Vector2d>, 2> OutlineRegions(const MarkedRegion& m
 // into the right image on its own (within the marks' depth range, widened by the pipe's
 // length across the view) and, when the two ends' depths differ by more than the radius, that
 // tilted cylinder is a second start.
-// With the left image's gradients, more starts from the boundary's limb pixels alone (those
-// whose gradient follows its dominant orientation): a pipe raised on blocks without the
-// blocks' edges, and its upper limb (the limb line nearest the image's top) with a lower limb
-// at three guessed depths below it, for a pipe whose lower limb the blocks or the background
-// hide from the boundary.
-std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
-                                            const std::vector<cv::Point>& boundary, double depth,
-                                            const DepthSearch& search, const LocateOptions& options,
-                                            const Gradients* gradients = nullptr);
+// With the left image's gradients, one more start from the boundary's limb pixels alone
+// (those whose gradient follows its dominant orientation): a pipe raised on blocks without the
+// blocks' edges. With upper_limb_starts too, into it, starts from the upper limb alone (the
+// limb line nearest the image's top) with a lower limb at three guessed depths below it, for
+// a raised pipe whose lower limb the blocks or the background hide from the boundary.
+std::vector<Eigen::VectorXd> CylinderStarts(
+    const StereoPair& pair, const std::vector<cv::Point>& boundary, double depth,
+    const DepthSearch& search, const LocateOptions& options, const Gradients* gradients = nullptr,
+    std::vector<Eigen::VectorXd>* upper_limb_starts = nullptr);
 // The cylinder start stretched along its image axis to fill the marked rectangle (shrunk by
 // `margin`, world units, and the radius): the part of a pipe against a dark background has
 // the strongest edges, and the boundary can stop where its background changes. nullopt when
@@ -245,6 +245,8 @@ double ScoreResidualScale(const LocateOptions& options, int image_width);
 // (a pipe's half against a dark background explains its edges better than the whole pipe,
 // but leaves the marks' lower half empty).
 using PlausibleFn = std::function<bool(const FitOutcome&)>;
+// Whether fit a goes before fit b: a plausible one first, then the lower FitScore.
+bool BetterFit(const FitOutcome& a, const FitOutcome& b, const PlausibleFn& plausible);
 FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
                          const std::vector<Eigen::VectorXd>& starts,
                          const std::array<FitView, 2>& views, const FitOptions& fit,

@@ -68,6 +68,9 @@ struct FitOptions {
   double edge_blur_px = 0.0;
   int outer_iterations = 5;
   int first_outer = 0;  // continuing an earlier fit: its passes already made
+  // FitFromStarts: the runner-up of the short fits also runs to the end when the best ends
+  // scoring (FitScore) above this.
+  double runner_up_above = 0.0;
   int inner_iterations = 6;
   // An edge whose gradient turns from the outline's normal by more than this (degrees) is
   // not measured; 90: any.

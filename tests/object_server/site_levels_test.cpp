@@ -99,17 +99,16 @@ TEST(SiteLevels, APipeBuiltFirstLetsTheBlockItRestsOnBeFound) {
 
 // A pipe raised on two blocks (78 in away, 1920x1080) whose lower limb, shaded, shows no strong
 // edge: the boundary holds its upper limb and the blocks' sides down to the table, and the
-// rectangle around it all starts a fat upright cylinder. The start from its upper limb alone
-// (the limb line nearest the top) finds the pipe, and with the pipe built, both blocks under
-// it; before it, all three were refused.
+// rectangle around it all starts a fat upright cylinder, which fits poorly. The starts from its
+// upper limb alone (the limb line nearest the top), tried then, find the pipe, and with the
+// pipe built, both blocks under it; before them, all three were refused.
 TEST(SiteLevels, APipeOnBlocksIsFoundFromItsUpperLimb) {
   cv::setNumThreads(1);
   const auto scene = site::SiteScene(10, site::SiteLevel::kPipes, true);
   const auto evals = EvaluateScene(scene, "pipes_hd_10", 10);
   int checked = 0;
   for (const auto& e : evals) {
-    if (e.object_name != "lying_0" && e.object_name != "support_1" &&
-        e.object_name != "support_2")
+    if (e.object_name != "lying_0" && e.object_name != "support_1" && e.object_name != "support_2")
       continue;
     ++checked;
     ASSERT_GE(e.visible, kFullView) << e.object_name;
