@@ -86,13 +86,21 @@ void AddStretched(const MarkedRegion& marks, const geometry::ProjectiveCamera& l
 }
 
 // A raised pipe's upper-limb starts (CylinderStarts), fitted only when the other starts' fit
-// is poor (poor_fit_score) or leaves the marks, and kept when they fit better.
+// is poor (poor_fit_score), leaves the marks or collapsed to a single edge, and kept when they
+// fit better or hold a width where it collapsed.
 void TryUpperLimb(const std::vector<Eigen::VectorXd>& upper_limb,
                   const std::array<FitView, 2>& views, const FitOptions& fit,
                   const LocateOptions& opt, const PlausibleFn& plausible, FitOutcome* f) {
-  if (upper_limb.empty() || (f->ok && plausible(*f) && FitScore(*f) <= opt.poor_fit_score)) return;
+  const auto collapsed = [&](const FitOutcome& o) {
+    return o.ok &&
+           CheckCylinderWidth(CylinderFromFit(o.params, o.covariance), *views[0].camera, opt);
+  };
+  if (upper_limb.empty() ||
+      (f->ok && plausible(*f) && FitScore(*f) <= opt.poor_fit_score && !collapsed(*f)))
+    return;
   FitOutcome g = FitCylinder(upper_limb, views, fit, opt, plausible);
-  if (g.ok && (!f->ok || BetterFit(g, *f, plausible))) *f = std::move(g);
+  if (g.ok && (!f->ok || (collapsed(*f) && !collapsed(g)) || BetterFit(g, *f, plausible)))
+    *f = std::move(g);
 }
 
 void HideBehindKnown(const std::vector<KnownInFront>& in_front, std::array<FitView, 2>* views) {
