@@ -7,6 +7,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "common/sim/site_scenes.h"
 #include "object_server/locate_steps.h"
 #include "object_server/solid_models.h"
 #include "tests/object_server/locate_steps_fixture.h"
@@ -49,6 +50,56 @@ TEST_F(LocateSteps, AnUprightCylinderStartsNearItsTruthAndFitsOntoIt) {
   EXPECT_NEAR(c.height, cylinder_->height, 0.2);
   EXPECT_LT((c.center - cylinder_->center).norm(), 0.5);
   EXPECT_GT(c.axis.dot(cylinder_->axis), 0.999);
+}
+
+// A pipe raised on two blocks (site level "pipes", seed 10, 1920x1080) whose shaded lower limb
+// shows no strong edge: the boundary's rectangle takes in the blocks, and only the starts from
+// its upper limb lie near the pipe. An upright cylinder's limbs are vertical: no such starts.
+TEST_F(LocateSteps, ARaisedPipeStartsFromItsUpperLimbAndAnUprightDoesNot) {
+  const site::Scene scene = site::SiteScene(10, site::SiteLevel::kPipes, true);
+  const site::StereoImages images = site::RenderStereo(scene);
+  size_t index = 0;
+  while (index < scene.objects.size() && scene.objects[index].name != "lying_0") ++index;
+  ASSERT_LT(index, scene.objects.size());
+  const auto& pipe = std::get<site::Cylinder>(scene.objects[index].shape);
+  LocateInput in;
+  in.type = SolidType::kCylinder;
+  in.marks = *site::GenerateMarks(pipe, scene.cameras.left, 10 * 1000 + index);
+  in.left = images.left;
+  in.right = images.right;
+  in.left_camera = scene.cameras.left;
+  in.right_camera = scene.cameras.right;
+  const Gradients* gradients = nullptr;
+  const Through3 t = RunThroughStep3(in, &gradients);
+  std::vector<Eigen::VectorXd> upper;
+  const auto starts =
+      CylinderStarts(t.pair, t.boundary.pixels, t.depth, t.search, options_, gradients, &upper);
+  ASSERT_FALSE(starts.empty());
+  ASSERT_EQ(upper.size(), 3u);
+  // How far a start is from the pipe as the left image shows it: its axis's direction there
+  // (the depth along it is the fit's to find) in units of 10 degrees, its radius in units of
+  // 40%.
+  const auto image_direction = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return Eigen::Vector2d(*in.left_camera.Project(b) - *in.left_camera.Project(a)).normalized();
+  };
+  const Eigen::Vector2d truth = image_direction(pipe.Base(), pipe.Top());
+  const auto off = [&](const Eigen::VectorXd& x) {
+    const Eigen::Vector2d d = image_direction(x.segment<3>(0), x.segment<3>(3));
+    const double angle_deg = std::acos(std::min(1.0, std::abs(d.dot(truth)))) * 180 / M_PI;
+    return std::max(angle_deg / 10, std::abs(x[6] - pipe.radius) / (0.4 * pipe.radius));
+  };
+  double best_upper = 1e9, best_other = 1e9;
+  for (const auto& x : upper) best_upper = std::min(best_upper, off(x));
+  for (const auto& x : starts) best_other = std::min(best_other, off(x));
+  // One within 10 degrees and 40% of the radius; none of the other starts.
+  EXPECT_LT(best_upper, 1.0);
+  EXPECT_GT(best_other, 1.0);
+
+  const LocateInput upright = Input(true);
+  const Through3 u = RunThroughStep3(upright, &gradients);
+  std::vector<Eigen::VectorXd> upright_upper;
+  CylinderStarts(u.pair, u.boundary.pixels, u.depth, u.search, options_, gradients, &upright_upper);
+  EXPECT_TRUE(upright_upper.empty());
 }
 
 TEST_F(LocateSteps, ABoxStartsWorldAlignedAtThreeDepthsAndFitsOntoIt) {
