@@ -64,7 +64,8 @@ TEST_F(LocateSteps, ARaisedPipeStartsFromItsUpperLimbAndAnUprightDoesNot) {
   const auto& pipe = std::get<site::Cylinder>(scene.objects[index].shape);
   LocateInput in;
   in.type = SolidType::kCylinder;
-  in.marks = *site::GenerateMarks(pipe, scene.cameras.left, 10 * 1000 + index);
+  in.marks =
+      *site::GenerateMarks(pipe, scene.cameras.left, 10000 + index);  // as EvaluateScene marks it
   in.left = images.left;
   in.right = images.right;
   in.left_camera = scene.cameras.left;
