@@ -81,9 +81,6 @@ FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
                          const std::vector<Eigen::VectorXd>& starts,
                          const std::array<FitView, 2>& views, const FitOptions& fit,
                          const PlausibleFn& plausible) {
-  const auto better = [&](const FitOutcome& a, const FitOutcome& b) {
-    return BetterFit(a, b, plausible);
-  };
   FitOptions first = fit;
   first.step = Eigen::VectorXd::Constant(starts[0].size(), 1e-4);
   first.outer_iterations =
@@ -95,10 +92,10 @@ FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
     FitOutcome g = FitSilhouette(outline, starts[i], views, first, inner);
     spdlog::debug("locate: another start: score {:.3f} against {:.3f}", FitScore(g),
                   FitScore(best));
-    if (better(g, best)) {
+    if (BetterFit(g, best, plausible)) {
       second = std::move(best);
       best = std::move(g);
-    } else if (!second.ok || better(g, second)) {
+    } else if (!second.ok || BetterFit(g, second, plausible)) {
       second = std::move(g);
     }
   }
@@ -111,7 +108,7 @@ FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
       FitOutcome g = FitSilhouette(outline, second.params, views, rest, inner);
       spdlog::debug("locate: the runner-up ends at {:.3f} against {:.3f}", FitScore(g),
                     FitScore(best));
-      if (better(g, best)) best = std::move(g);
+      if (BetterFit(g, best, plausible)) best = std::move(g);
     }
   }
   return best;

@@ -153,7 +153,9 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
                                             std::vector<Eigen::VectorXd>* upper_limb_starts) {
   const geometry::ProjectiveCamera& left_camera = *pair.left_camera;
   std::vector<Eigen::VectorXd> starts;
-  auto from_points = [&](const std::vector<cv::Point>& pixels, bool tilted_too) {
+  // A start from the pixels' smallest rotated rectangle, into `out`.
+  auto from_points = [&](const std::vector<cv::Point>& pixels, bool tilted_too,
+                         std::vector<Eigen::VectorXd>* out) {
     const std::vector<cv::Point2f> points(pixels.begin(), pixels.end());
     const cv::RotatedRect rr = cv::minAreaRect(points);
     cv::Point2f c[4];
@@ -174,15 +176,15 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
     x0.segment<3>(3) =
         PointOnPixelRay(left_camera, mid + (half_len - 0.5 * half_width) * along, axis_depth);
     x0[6] = radius;
-    starts.push_back(x0);
+    out->push_back(x0);
     if (!tilted_too) return;
     const auto tilted = TiltedCylinderStart(pair, search, x0, mid, along, half_len, half_width,
                                             depth, radius, options);
     if (tilted && std::abs(left_camera.Depth(tilted->segment<3>(0)) -
                            left_camera.Depth(tilted->segment<3>(3))) > radius)
-      starts.push_back(*tilted);
+      out->push_back(*tilted);
   };
-  from_points(boundary, true);
+  from_points(boundary, true, &starts);
   // A pipe on supports: its limbs alone, when the blocks' edges widen the boundary.
   if (gradients) {
     const std::vector<cv::Point> limbs = LimbPixels(boundary, *gradients);
@@ -192,7 +194,8 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
       return std::min(r.size.width, r.size.height);
     };
     // Only when the blocks' edges made the boundary clearly wider than the limbs.
-    if (limbs.size() >= 8 && width(limbs) < 0.8 * width(boundary) - 1) from_points(limbs, false);
+    if (limbs.size() >= 8 && width(limbs) < 0.8 * width(boundary) - 1)
+      from_points(limbs, false, &starts);
     // Or the limb line nearest the top alone, as a pipe's upper limb whose lower one the
     // blocks under it hide or the background swallows: its copy a fraction of the way down to
     // the boundary's lowest pixel stands for the lower limb. Only for a line at least that
@@ -210,9 +213,7 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
           std::vector<cv::Point> pixels = top;
           for (const auto& q : top)
             pixels.emplace_back(q.x, q.y + static_cast<int>(std::lround(f * below)));
-          from_points(pixels, false);
-          upper_limb_starts->push_back(starts.back());
-          starts.pop_back();
+          from_points(pixels, false, upper_limb_starts);
         }
     }
   }
