@@ -305,6 +305,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   FitOutcome f = cylinder ? FitCylinder(starts, views, fit, opt, plausible)
                           : FitBox(starts, views, fit, opt, plausible);
   TryUpperLimb(upper_limb, views, fit, opt, plausible, &f);
+  if (cylinder) EndsFromLimbs(views, fit, opt, &f);
   spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}, inner {} {}",
                 f.ok ? "ok" : f.error, f.used[0], f.sampled[0], f.rms_px[0], f.used[1],
                 f.sampled[1], f.rms_px[1], f.inner_used[0], f.inner_used[1]);

@@ -92,6 +92,13 @@ struct LocateOptions {
   // shrunk by this (world units): the boundary of a pipe whose background changes along it
   // (black above the table's horizon, grey below) can stop at the change.
   double stretch_margin = 0.3;
+  // A fitted pipe's end whose sigma along the axis is at least unheld_end_sigma (world
+  // units: no edge holds it) is moved to where its limbs end in both images, when the views
+  // agree on that to limb_end_agree_px, and given a sigma of limb_end_sigma_px along the axis
+  // (EndsFromLimbs).
+  double unheld_end_sigma = 5.0;
+  double limb_end_agree_px = 3.0;
+  double limb_end_sigma_px = 2.5;
   // A fitted cylinder thinner than this (radius, pixels in the left image) is refused.
   double min_radius_px = 1.0;
   // ... and only edges that run along its outline, within this (degrees).

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "object_server/locate_steps.h"
@@ -35,6 +36,68 @@ bool IsSolid(const FitOutcome& o) {
   if (!o.ok || o.params.size() < 6) return false;
   const Eigen::Vector3d size = o.params.segment<3>(3).cwiseAbs();
   return size.minCoeff() > 0.1 * size.maxCoeff();
+}
+
+// The parameter t of the point p0 + t (p1 - p0) whose projection lies `s` px from p0's along
+// the image axis (secant steps from the ends: the projection is not quite linear along it);
+// nullopt when a point does not project.
+std::optional<double> AxisParameterAt(const geometry::ProjectiveCamera& camera,
+                                      const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                      double s) {
+  const auto q0 = camera.Project(p0), q1 = camera.Project(p1);
+  if (!q0 || !q1 || (*q1 - *q0).norm() < 1e-9) return std::nullopt;
+  const Eigen::Vector2d dir = (*q1 - *q0).normalized();
+  double ta = 0, tb = 1, sa = 0, sb = (*q1 - *q0).norm();
+  for (int it = 0; it < 3 && std::abs(sb - sa) > 1e-9; ++it) {
+    const double t = ta + (s - sa) * (tb - ta) / (sb - sa);
+    const auto q = camera.Project(p0 + t * (p1 - p0));
+    if (!q) return std::nullopt;
+    ta = tb;
+    sa = sb;
+    tb = t;
+    sb = dir.dot(*q - *q0);
+  }
+  return tb;
+}
+
+// How far the pipe's limbs reach along its image axis (pixels from q0 along the unit `dir`;
+// the far end's projection lies `length` px along): each limb, a line `radius_px` to either
+// side of the axis, walked through the image from the middle outward while an edge across it
+// (a gradient of at least min_gradient across the line, within kLimbBandPx of it) recurs
+// within kLimbGapPx, and not out of `region` (when given). The farther-reaching limb sets each
+// end. nullopt when a limb has no edge at the middle.
+std::optional<std::pair<double, double>> LimbExtent(const Gradients& gradients,
+                                                    const std::vector<Eigen::Vector2d>& region,
+                                                    const Eigen::Vector2d& q0,
+                                                    const Eigen::Vector2d& dir, double length,
+                                                    double radius_px, double min_gradient) {
+  constexpr double kLimbGapPx = 4.0, kLimbBandPx = 2.0;
+  const Eigen::Vector2d n(-dir.y(), dir.x());
+  const auto edge_at = [&](double s, double side) {
+    const Eigen::Vector2d on = q0 + s * dir + side * radius_px * n;
+    if (region.size() >= 3 && SignedDistance(region, on) > 0) return false;
+    for (double o = -kLimbBandPx; o <= kLimbBandPx; o += 0.5)
+      if (std::abs(gradients.At(on + o * n).dot(n)) >= min_gradient) return true;
+    return false;
+  };
+  double lo = 1e18, hi = -1e18;
+  for (const double side : {-1.0, 1.0}) {
+    const double mid = 0.5 * length;
+    if (!edge_at(mid, side) && !edge_at(mid - 1, side) && !edge_at(mid + 1, side))
+      return std::nullopt;
+    for (const double step : {-1.0, 1.0}) {
+      double last = mid;
+      for (double s = mid + step; std::abs(s - last) <= kLimbGapPx; s += step) {
+        if (s < -length || s > 2 * length) break;
+        if (edge_at(s, side)) last = s;
+      }
+      if (step < 0)
+        lo = std::min(lo, last);
+      else
+        hi = std::max(hi, last);
+    }
+  }
+  return std::make_pair(lo, hi);
 }
 
 }  // namespace
@@ -530,6 +593,86 @@ void CheckRange(const LocateInput& in, const LocateOptions& options, const Eigen
                     FormatFixed(check->measured - beam->on_axis) +
                     " beyond where the beam meets the located object (" +
                     FormatFixed(beam->on_axis) + "): the model is nearer than the ranger says";
+  }
+}
+
+}  // namespace igms::object
+
+namespace igms::object {
+
+void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
+                   const LocateOptions& opt, FitOutcome* f) {
+  if (!f->ok || f->params.size() != 7 || f->covariance.rows() != 7 || !f->params.allFinite())
+    return;
+  const Eigen::Vector3d p0 = f->params.segment<3>(0), p1 = f->params.segment<3>(3);
+  const double len = (p1 - p0).norm(), radius = std::abs(f->params[6]);
+  if (len < 1e-9 || radius < 1e-9) return;
+  const Eigen::Vector3d a = (p1 - p0) / len;
+  // Per end, the axis parameter (0 at p0, 1 at p1) each view's limbs reach (kKeep: the view
+  // says nothing of it), and a pixel's length along the axis in each view.
+  std::array<std::vector<double>, 2> reach;
+  constexpr double kKeep = std::numeric_limits<double>::quiet_NaN();
+  std::array<double, 2> unit{0, 0};
+  for (int v = 0; v < 2; ++v) {
+    const geometry::ProjectiveCamera& cam = *views[v].camera;
+    const auto q0 = cam.Project(p0), q1 = cam.Project(p1);
+    if (!q0 || !q1 || (*q1 - *q0).norm() < 8) return;
+    const double length = (*q1 - *q0).norm();
+    const Eigen::Vector2d dir = (*q1 - *q0) / length, n(-dir.y(), dir.x());
+    double radius_px = 0;
+    for (const auto& h : f->outline[v]) radius_px = std::max(radius_px, std::abs(n.dot(h - *q0)));
+    const auto extent = LimbExtent(*views[v].gradients, views[v].region, *q0, dir, length,
+                                   radius_px, fit.min_gradient);
+    if (!extent) return;
+    const auto t_lo = AxisParameterAt(cam, p0, p1, extent->first),
+               t_hi = AxisParameterAt(cam, p0, p1, extent->second);
+    if (!t_lo || !t_hi) return;
+    // Where the background changes across the axis beside a limb's end (the table's far edge
+    // behind an upright pipe), the limbs may stop because the pipe turns to the background's
+    // shade there, not because it ends: that end stays as it was.
+    const auto background_changes = [&](double s_end) {
+      for (const double side : {-1.0, 1.0})
+        for (int k = -2; k <= 2; ++k) {
+          const Eigen::Vector2d q = *q0 + (s_end + k) * dir + side * (radius_px + 3) * n;
+          if (std::abs(views[v].gradients->At(q).dot(dir)) > fit.min_gradient) return true;
+        }
+      return false;
+    };
+    reach[0].push_back(background_changes(extent->first) ? kKeep : *t_lo);
+    reach[1].push_back(background_changes(extent->second) ? kKeep : *t_hi);
+    unit[v] = len / length;
+  }
+  const double px = std::max(unit[0], unit[1]);  // world length of a pixel along the axis
+  Eigen::VectorXd x = f->params;
+  Eigen::MatrixXd cov = f->covariance;
+  bool moved = false;
+  for (int end = 0; end < 2; ++end) {
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(7);
+    g.segment<3>(3 * end) = a;
+    const double end_sigma = std::sqrt(std::max(0.0, g.dot(cov * g)));
+    if (end_sigma < opt.unheld_end_sigma) continue;
+    // Both views must agree on where the limbs end.
+    if (std::isnan(reach[end][0]) || std::isnan(reach[end][1]) ||
+        std::abs(reach[end][0] - reach[end][1]) * len > opt.limb_end_agree_px * px)
+      continue;
+    const double t = 0.5 * (reach[end][0] + reach[end][1]);
+    const Eigen::Vector3d end_point = p0 + t * (p1 - p0);
+    x.segment<3>(3 * end) = end_point;
+    // The end measured along the axis to limb_end_sigma_px: a Kalman update of the covariance.
+    const double var = std::pow(opt.limb_end_sigma_px * px, 2);
+    const Eigen::VectorXd cg = cov * g;
+    cov -= cg * cg.transpose() / (g.dot(cg) + var);
+    moved = true;
+  }
+  if (!moved) return;
+  f->params = x;
+  f->covariance = cov;
+  const std::vector<Eigen::Vector3d> points = CylinderOutline(x);
+  for (int v = 0; v < 2; ++v) {
+    std::vector<Eigen::Vector2d> px_points;
+    for (const auto& X : points)
+      if (const auto q = views[v].camera->Project(X)) px_points.push_back(*q);
+    f->outline[v] = ConvexHull(px_points);
   }
 }
 

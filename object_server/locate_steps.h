@@ -262,6 +262,17 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
                   const FitOptions& fit, const LocateOptions& options,
                   const PlausibleFn& plausible = {});
 
+// A fitted pipe's end that no edge holds (its sigma along the axis at least
+// LocateOptions::unheld_end_sigma: a foot of the table's shade, a cap against the dark) moved
+// to where its limbs end in both images (the limb edges the fit kept, walked out from their
+// middle; the views must agree to limb_end_agree_px), and its sigma along the axis set from
+// limb_end_sigma_px: the silhouette's ends (Cooke, 3.8.1). Not where the background beside
+// the limbs' end changes along the axis by more than fit.min_gradient: the limbs may stop
+// there because the pipe turns to the background's shade. The outline is drawn again; the
+// fit's edge counts are left as they were.
+void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
+                   const LocateOptions& opt, FitOutcome* f);
+
 // 5. Which parts of the fitted outline should show an edge, per view: sampled every pixel
 // along it (away from its corners), a sample counts when it lies inside the image and the
 // grey levels either side of it differ enough for the fit's edge detector to see a step

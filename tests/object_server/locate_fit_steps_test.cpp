@@ -103,6 +103,40 @@ TEST_F(LocateSteps, ARaisedPipeStartsFromItsUpperLimbAndAnUprightDoesNot) {
   EXPECT_TRUE(upright_upper.empty());
 }
 
+// A fitted pipe whose top no edge held (its sigma along the axis 100 in) 1 in above the
+// truth: the top moves to where both images' limbs end, with a sigma along the axis of a few
+// pixels; the bottom, held, stays. With both ends held, nothing moves.
+TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
+  const LocateInput in = Input(true);
+  const Through3 t = RunThroughStep3(in);
+  const std::array<FitView, 2> views = FitViews(in, t);
+  const FitOptions fit = FitSettings(options_, t.boundary.strongest);
+  const Eigen::Vector3d base = cylinder_->Base(), top = cylinder_->Top();
+  FitOutcome f;
+  f.ok = true;
+  f.params.resize(7);
+  f.params << base, top + 1.0 * cylinder_->axis, cylinder_->radius;
+  f.covariance = Eigen::MatrixXd::Identity(7, 7) * 1e-4;
+  for (int v = 0; v < 2; ++v) {
+    std::vector<Eigen::Vector2d> px;
+    for (const auto& X : CylinderOutline(f.params)) px.push_back(*views[v].camera->Project(X));
+    f.outline[v] = ConvexHull(px);
+  }
+  FitOutcome held = f;
+  EndsFromLimbs(views, fit, options_, &held);
+  EXPECT_EQ(held.params, f.params);
+
+  f.covariance(5, 5) = 100.0 * 100.0;  // the top's height: the axis is vertical
+  EndsFromLimbs(views, fit, options_, &f);
+  EXPECT_LT((f.params.segment<3>(3) - top).norm(), 0.1);
+  EXPECT_LT((f.params.segment<3>(0) - base).norm(), 1e-9);
+  EXPECT_GT(std::sqrt(f.covariance(5, 5)), 0.005);
+  EXPECT_LT(std::sqrt(f.covariance(5, 5)), 0.3);
+  const CylinderResult c = CylinderFromFit(f.params, f.covariance);
+  EXPECT_NEAR(c.height, cylinder_->height, 0.1);
+  EXPECT_LT(c.height_sigma, 0.3);
+}
+
 TEST_F(LocateSteps, ABoxStartsWorldAlignedAtThreeDepthsAndFitsOntoIt) {
   const LocateInput in = Input(false);
   const Through3 t = RunThroughStep3(in);
