@@ -638,8 +638,21 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
         }
       return false;
     };
-    reach[0].push_back(background_changes(extent->first) ? kKeep : *t_lo);
-    reach[1].push_back(background_changes(extent->second) ? kKeep : *t_hi);
+    // Limbs that run on to the marks' border say nothing of where the pipe ends (a
+    // neighbour's edge in line with one can carry it there).
+    const auto at_border = [&](double s_end, double out) {
+      if (views[v].region.size() < 3) return false;
+      for (const double side : {-1.0, 1.0})
+        if (SignedDistance(views[v].region, *q0 + (s_end + 2 * out) * dir + side * radius_px * n) >
+            0)
+          return true;
+      return false;
+    };
+    const auto seen = [&](double s_end, double out, double t) {
+      return background_changes(s_end) || at_border(s_end, out) ? kKeep : t;
+    };
+    reach[0].push_back(seen(extent->first, -1, *t_lo));
+    reach[1].push_back(seen(extent->second, 1, *t_hi));
     unit[v] = len / length;
   }
   const double px = std::max(unit[0], unit[1]);  // world length of a pixel along the axis

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -105,7 +106,8 @@ TEST_F(LocateSteps, ARaisedPipeStartsFromItsUpperLimbAndAnUprightDoesNot) {
 
 // A fitted pipe whose top no edge held (its sigma along the axis 100 in) 1 in above the
 // truth: the top moves to where both images' limbs end, with a sigma along the axis of a few
-// pixels; the bottom, held, stays. With both ends held, nothing moves.
+// pixels; the bottom, held, stays. With both ends held, or marks that end across the pipe,
+// nothing moves.
 TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
   const LocateInput in = Input(true);
   const Through3 t = RunThroughStep3(in);
@@ -127,6 +129,24 @@ TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
   EXPECT_EQ(held.params, f.params);
 
   f.covariance(5, 5) = 100.0 * 100.0;  // the top's height: the axis is vertical
+  // Marks whose top cuts the pipe three quarters up: the limbs run on to their border, which
+  // says nothing of where the pipe ends.
+  std::array<FitView, 2> cut = views;
+  for (int v = 0; v < 2; ++v) {
+    const Eigen::Vector2d low = *views[v].camera->Project(base),
+                          high = *views[v].camera->Project(base + 0.75 * (top - base));
+    const double half_width = 40;
+    cut[v].region = {{low.x() - half_width, low.y() + 20},
+                     {low.x() + half_width, low.y() + 20},
+                     {high.x() + half_width, high.y()},
+                     {high.x() - half_width, high.y()}};
+    if (SignedDistance(cut[v].region, low + Eigen::Vector2d(0, -10)) > 0)  // clockwise in u-v
+      std::reverse(cut[v].region.begin(), cut[v].region.end());
+  }
+  FitOutcome at_border = f;
+  EndsFromLimbs(cut, fit, options_, &at_border);
+  EXPECT_EQ(at_border.params, f.params);
+
   EndsFromLimbs(views, fit, options_, &f);
   EXPECT_LT((f.params.segment<3>(3) - top).norm(), 0.1);
   EXPECT_LT((f.params.segment<3>(0) - base).norm(), 1e-9);
