@@ -99,6 +99,9 @@ struct LocateOptions {
   double unheld_end_sigma = 5.0;
   double limb_end_agree_px = 3.0;
   double limb_end_sigma_px = 2.5;
+  // An upright pipe (its axis within acos of this of the vertical) whose limbs run past a
+  // held end in both images, by 3 px and 3 of its sigmas, is moved there too.
+  double upright_axis_cos = 0.87;
   // A fitted cylinder thinner than this (radius, pixels in the left image) is refused.
   double min_radius_px = 1.0;
   // ... and only edges that run along its outline, within this (degrees).

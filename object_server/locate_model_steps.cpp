@@ -663,12 +663,20 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
     Eigen::VectorXd g = Eigen::VectorXd::Zero(7);
     g.segment<3>(3 * end) = a;
     const double end_sigma = std::sqrt(std::max(0.0, g.dot(cov * g)));
-    if (end_sigma < opt.unheld_end_sigma) continue;
     // Both views must agree on where the limbs end.
     if (std::isnan(reach[end][0]) || std::isnan(reach[end][1]) ||
         std::abs(reach[end][0] - reach[end][1]) * len > opt.limb_end_agree_px * px)
       continue;
     const double t = 0.5 * (reach[end][0] + reach[end][1]);
+    if (end_sigma < opt.unheld_end_sigma) {
+      // A held end of an upright pipe the limbs run clearly past in both views held on an
+      // edge inside the silhouette (a band of another shade across the pipe): what held it
+      // is forgotten. (A lying pipe's limbs run on along the table's and its supports' edges.)
+      if (std::abs(a.z()) < opt.upright_axis_cos) continue;
+      const double beyond_px = (end == 0 ? -t : t - 1) * len / px;
+      if (beyond_px < 3 || (end == 0 ? -t : t - 1) * len < 3 * end_sigma) continue;
+      cov += g * g.transpose() * (100.0 * 100.0);
+    }
     const Eigen::Vector3d end_point = p0 + t * (p1 - p0);
     x.segment<3>(3 * end) = end_point;
     // The end measured along the axis to limb_end_sigma_px: a Kalman update of the covariance.

@@ -107,7 +107,7 @@ TEST_F(LocateSteps, ARaisedPipeStartsFromItsUpperLimbAndAnUprightDoesNot) {
 // A fitted pipe whose top no edge held (its sigma along the axis 100 in) 1 in above the
 // truth: the top moves to where both images' limbs end, with a sigma along the axis of a few
 // pixels; the bottom, held, stays. With both ends held, or marks that end across the pipe,
-// nothing moves.
+// nothing moves; a held top short of the truth moves up to where the limbs end.
 TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
   const LocateInput in = Input(true);
   const Through3 t = RunThroughStep3(in);
@@ -127,6 +127,18 @@ TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
   FitOutcome held = f;
   EndsFromLimbs(views, fit, options_, &held);
   EXPECT_EQ(held.params, f.params);
+  // A held top 1 in short of the truth, as on a band of another shade across the pipe: the
+  // limbs run past it in both images, and it moves up to where they end.
+  FitOutcome short_top = f;
+  short_top.params.segment<3>(3) = top - 1.0 * cylinder_->axis;
+  for (int v = 0; v < 2; ++v) {
+    std::vector<Eigen::Vector2d> px;
+    for (const auto& X : CylinderOutline(short_top.params))
+      px.push_back(*views[v].camera->Project(X));
+    short_top.outline[v] = ConvexHull(px);
+  }
+  EndsFromLimbs(views, fit, options_, &short_top);
+  EXPECT_LT((short_top.params.segment<3>(3) - top).norm(), 0.1);
 
   f.covariance(5, 5) = 100.0 * 100.0;  // the top's height: the axis is vertical
   // Marks whose top cuts the pipe three quarters up: the limbs run on to their border, which
