@@ -642,10 +642,10 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
     // neighbour's edge in line with one can carry it there).
     const auto at_border = [&](double s_end, double out) {
       if (views[v].region.size() < 3) return false;
-      for (const double side : {-1.0, 1.0})
-        if (SignedDistance(views[v].region, *q0 + (s_end + 2 * out) * dir + side * radius_px * n) >
-            0)
-          return true;
+      for (const double side : {-1.0, 1.0}) {
+        const Eigen::Vector2d past = *q0 + (s_end + 2 * out) * dir + side * radius_px * n;
+        if (SignedDistance(views[v].region, past) > 0) return true;
+      }
       return false;
     };
     const auto seen = [&](double s_end, double out, double t) {
@@ -672,10 +672,11 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
       // A held end of an upright pipe the limbs run clearly past in both views held on an
       // edge inside the silhouette (a band of another shade across the pipe): what held it
       // is forgotten. (A lying pipe's limbs run on along the table's and its supports' edges.)
-      if (std::abs(a.z()) < opt.upright_axis_cos) continue;
-      const double beyond_px = (end == 0 ? -t : t - 1) * len / px;
-      if (beyond_px < 3 || (end == 0 ? -t : t - 1) * len < 3 * end_sigma) continue;
-      cov += g * g.transpose() * (100.0 * 100.0);
+      constexpr double kForgottenSigma = 100.0;  // world units, as an unheld end's
+      const double beyond = (end == 0 ? -t : t - 1) * len;
+      if (std::abs(a.z()) < opt.upright_axis_cos || beyond < 3 * px || beyond < 3 * end_sigma)
+        continue;
+      cov += g * g.transpose() * (kForgottenSigma * kForgottenSigma);
     }
     const Eigen::Vector3d end_point = p0 + t * (p1 - p0);
     x.segment<3>(3 * end) = end_point;
