@@ -661,7 +661,7 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
   bool moved = false;
   for (int end = 0; end < 2; ++end) {
     Eigen::VectorXd g = Eigen::VectorXd::Zero(7);
-    g.segment<3>(3 * end) = a;
+    g.segment<3>(Eigen::Index{3} * end) = a;
     const double end_sigma = std::sqrt(std::max(0.0, g.dot(cov * g)));
     // Both views must agree on where the limbs end.
     if (std::isnan(reach[end][0]) || std::isnan(reach[end][1]) ||
@@ -679,7 +679,7 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
       cov += g * g.transpose() * (kForgottenSigma * kForgottenSigma);
     }
     const Eigen::Vector3d end_point = p0 + t * (p1 - p0);
-    x.segment<3>(3 * end) = end_point;
+    x.segment<3>(Eigen::Index{3} * end) = end_point;
     // The end measured along the axis to limb_end_sigma_px: a Kalman update of the covariance.
     const double var = std::pow(opt.limb_end_sigma_px * px, 2);
     const Eigen::VectorXd cg = cov * g;
