@@ -612,6 +612,7 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
   // says nothing of it), and a pixel's length along the axis in each view.
   std::array<std::vector<double>, 2> reach;
   constexpr double kKeep = std::numeric_limits<double>::quiet_NaN();
+  constexpr int kBackgroundReachPx = 5;
   std::array<double, 2> unit{0, 0};
   for (int v = 0; v < 2; ++v) {
     const geometry::ProjectiveCamera& cam = *views[v].camera;
@@ -629,10 +630,11 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
     if (!t_lo || !t_hi) return;
     // Where the background changes across the axis beside a limb's end (the table's far edge
     // behind an upright pipe), the limbs may stop because the pipe turns to the background's
-    // shade there, not because it ends: that end stays as it was.
+    // shade there, not because it ends: that end stays as it was. The blur carries a limb's
+    // edge a few pixels either side of the change.
     const auto background_changes = [&](double s_end) {
       for (const double side : {-1.0, 1.0})
-        for (int k = -2; k <= 2; ++k) {
+        for (int k = -kBackgroundReachPx; k <= kBackgroundReachPx; ++k) {
           const Eigen::Vector2d q = *q0 + (s_end + k) * dir + side * (radius_px + 3) * n;
           if (std::abs(views[v].gradients->At(q).dot(dir)) > fit.min_gradient) return true;
         }

@@ -169,6 +169,46 @@ TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
   EXPECT_LT(c.height_sigma, 0.3);
 }
 
+// An upright pipe standing in front of the table's far edge (site level "clutter", seed 4,
+// the thesis's cameras): below that edge it has the table's shade, and its limbs fade there. Its foot,
+// unheld, stays where the fit left it rather than move up to the edge; its top, unheld too,
+// against the black above, moves to where the limbs end.
+TEST_F(LocateSteps, AnUnheldEndStaysWhereTheBackgroundChangesBesideTheLimbsEnd) {
+  const site::Scene scene = site::SiteScene(4, site::SiteLevel::kClutter, false);
+  const site::StereoImages images = site::RenderStereo(scene);
+  size_t index = 0;
+  while (index < scene.objects.size() && scene.objects[index].name != "upright_8") ++index;
+  ASSERT_LT(index, scene.objects.size());
+  const auto& pipe = std::get<site::Cylinder>(scene.objects[index].shape);
+  LocateInput in;
+  in.type = SolidType::kCylinder;
+  in.marks = *site::GenerateMarks(pipe, scene.cameras.left, 4000 + index);
+  in.left = images.left;
+  in.right = images.right;
+  in.left_camera = scene.cameras.left;
+  in.right_camera = scene.cameras.right;
+  const Through3 t = RunThroughStep3(in);
+  const std::array<FitView, 2> views = FitViews(in, t);
+  const Eigen::Vector3d base = pipe.Base(), top = pipe.Top();
+  FitOutcome f;
+  f.ok = true;
+  f.params.resize(7);
+  f.params << base - 0.3 * pipe.axis, top + 0.3 * pipe.axis, pipe.radius;
+  f.covariance = Eigen::MatrixXd::Identity(7, 7) * 1e-4;
+  f.covariance(2, 2) = f.covariance(5, 5) = 100.0 * 100.0;
+  for (int v = 0; v < 2; ++v) {
+    std::vector<Eigen::Vector2d> px;
+    for (const auto& X : CylinderOutline(f.params)) px.push_back(*views[v].camera->Project(X));
+    f.outline[v] = ConvexHull(px);
+  }
+  const Eigen::Vector3d foot = f.params.segment<3>(0);
+  EndsFromLimbs(views, FitSettings(options_, t.boundary.strongest), options_, &f);
+  EXPECT_LT((f.params.segment<3>(0) - foot).norm(), 1e-9);
+  EXPECT_GT(std::sqrt(f.covariance(2, 2)), 50.0);
+  EXPECT_LT((f.params.segment<3>(3) - top).norm(), 0.1);
+  EXPECT_LT(std::sqrt(f.covariance(5, 5)), 0.3);
+}
+
 TEST_F(LocateSteps, ABoxStartsWorldAlignedAtThreeDepthsAndFitsOntoIt) {
   const LocateInput in = Input(false);
   const Through3 t = RunThroughStep3(in);
