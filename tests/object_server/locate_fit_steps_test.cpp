@@ -170,9 +170,9 @@ TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
 }
 
 // An upright pipe standing in front of the table's far edge (site level "clutter", seed 4,
-// the thesis's cameras): below that edge it has the table's shade, and its limbs fade there. Its foot,
-// unheld, stays where the fit left it rather than move up to the edge; its top, unheld too,
-// against the black above, moves to where the limbs end.
+// the thesis's cameras): below that edge it has the table's shade, and its limbs fade there.
+// Its foot, unheld, stays where the fit left it rather than move up short of the truth; its
+// top, unheld too, against the black above, moves to where the limbs end.
 TEST_F(LocateSteps, AnUnheldEndStaysWhereTheBackgroundChangesBesideTheLimbsEnd) {
   const site::Scene scene = site::SiteScene(4, site::SiteLevel::kClutter, false);
   const site::StereoImages images = site::RenderStereo(scene);
