@@ -17,7 +17,10 @@ namespace igms::object {
 namespace {
 
 using testing::Contains;
+using testing::CylinderOutlines;
 using testing::LocateSteps;
+using testing::MarkedSiteCylinder;
+using testing::SiteCylinder;
 
 // --- 4. Starting models and the fit ---
 
@@ -57,20 +60,9 @@ TEST_F(LocateSteps, AnUprightCylinderStartsNearItsTruthAndFitsOntoIt) {
 // shows no strong edge: the boundary's rectangle takes in the blocks, and only the starts from
 // its upper limb lie near the pipe. An upright cylinder's limbs are vertical: no such starts.
 TEST_F(LocateSteps, ARaisedPipeStartsFromItsUpperLimbAndAnUprightDoesNot) {
-  const site::Scene scene = site::SiteScene(10, site::SiteLevel::kPipes, true);
-  const site::StereoImages images = site::RenderStereo(scene);
-  size_t index = 0;
-  while (index < scene.objects.size() && scene.objects[index].name != "lying_0") ++index;
-  ASSERT_LT(index, scene.objects.size());
-  const auto& pipe = std::get<site::Cylinder>(scene.objects[index].shape);
-  LocateInput in;
-  in.type = SolidType::kCylinder;
-  in.marks =
-      *site::GenerateMarks(pipe, scene.cameras.left, 10000 + index);  // as EvaluateScene marks it
-  in.left = images.left;
-  in.right = images.right;
-  in.left_camera = scene.cameras.left;
-  in.right_camera = scene.cameras.right;
+  const SiteCylinder marked = MarkedSiteCylinder(10, site::SiteLevel::kPipes, true, "lying_0", 10);
+  const site::Cylinder& pipe = marked.pipe;
+  const LocateInput& in = marked.input;
   const Gradients* gradients = nullptr;
   const Through3 t = RunThroughStep3(in, &gradients);
   std::vector<Eigen::VectorXd> upper;
@@ -119,11 +111,7 @@ TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
   f.params.resize(7);
   f.params << base, top + 1.0 * cylinder_->axis, cylinder_->radius;
   f.covariance = Eigen::MatrixXd::Identity(7, 7) * 1e-4;
-  for (int v = 0; v < 2; ++v) {
-    std::vector<Eigen::Vector2d> px;
-    for (const auto& X : CylinderOutline(f.params)) px.push_back(*views[v].camera->Project(X));
-    f.outline[v] = ConvexHull(px);
-  }
+  f.outline = CylinderOutlines(f.params, views);
   FitOutcome held = f;
   EndsFromLimbs(views, fit, options_, &held);
   EXPECT_EQ(held.params, f.params);
@@ -131,12 +119,7 @@ TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
   // limbs run past it in both images, and it moves up to where they end.
   FitOutcome short_top = f;
   short_top.params.segment<3>(3) = top - 1.0 * cylinder_->axis;
-  for (int v = 0; v < 2; ++v) {
-    std::vector<Eigen::Vector2d> px;
-    for (const auto& X : CylinderOutline(short_top.params))
-      px.push_back(*views[v].camera->Project(X));
-    short_top.outline[v] = ConvexHull(px);
-  }
+  short_top.outline = CylinderOutlines(short_top.params, views);
   EndsFromLimbs(views, fit, options_, &short_top);
   EXPECT_LT((short_top.params.segment<3>(3) - top).norm(), 0.1);
 
@@ -174,19 +157,10 @@ TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
 // Its foot, unheld, stays where the fit left it rather than move up short of the truth; its
 // top, unheld too, against the black above, moves to where the limbs end.
 TEST_F(LocateSteps, AnUnheldEndStaysWhereTheBackgroundChangesBesideTheLimbsEnd) {
-  const site::Scene scene = site::SiteScene(4, site::SiteLevel::kClutter, false);
-  const site::StereoImages images = site::RenderStereo(scene);
-  size_t index = 0;
-  while (index < scene.objects.size() && scene.objects[index].name != "upright_8") ++index;
-  ASSERT_LT(index, scene.objects.size());
-  const auto& pipe = std::get<site::Cylinder>(scene.objects[index].shape);
-  LocateInput in;
-  in.type = SolidType::kCylinder;
-  in.marks = *site::GenerateMarks(pipe, scene.cameras.left, 4000 + index);
-  in.left = images.left;
-  in.right = images.right;
-  in.left_camera = scene.cameras.left;
-  in.right_camera = scene.cameras.right;
+  const SiteCylinder marked =
+      MarkedSiteCylinder(4, site::SiteLevel::kClutter, false, "upright_8", 4);
+  const site::Cylinder& pipe = marked.pipe;
+  const LocateInput& in = marked.input;
   const Through3 t = RunThroughStep3(in);
   const std::array<FitView, 2> views = FitViews(in, t);
   const Eigen::Vector3d base = pipe.Base(), top = pipe.Top();
@@ -196,11 +170,7 @@ TEST_F(LocateSteps, AnUnheldEndStaysWhereTheBackgroundChangesBesideTheLimbsEnd) 
   f.params << base - 0.3 * pipe.axis, top + 0.3 * pipe.axis, pipe.radius;
   f.covariance = Eigen::MatrixXd::Identity(7, 7) * 1e-4;
   f.covariance(2, 2) = f.covariance(5, 5) = 100.0 * 100.0;
-  for (int v = 0; v < 2; ++v) {
-    std::vector<Eigen::Vector2d> px;
-    for (const auto& X : CylinderOutline(f.params)) px.push_back(*views[v].camera->Project(X));
-    f.outline[v] = ConvexHull(px);
-  }
+  f.outline = CylinderOutlines(f.params, views);
   const Eigen::Vector3d foot = f.params.segment<3>(0);
   EndsFromLimbs(views, FitSettings(options_, t.boundary.strongest), options_, &f);
   EXPECT_LT((f.params.segment<3>(0) - foot).norm(), 1e-9);

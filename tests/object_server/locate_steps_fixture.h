@@ -6,17 +6,60 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdint>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include "common/sim/marks.h"
 #include "common/sim/renderer.h"
+#include "common/sim/site_scenes.h"
 #include "common/sim/testbed.h"
 #include "object_server/locate_steps.h"
+#include "object_server/solid_models.h"
 
 namespace igms::object::testing {
 
 inline bool Contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
+}
+
+// A cylinder of a site scene (common/sim/site_scenes.h) asked for as EvaluateScene asks: the
+// scene rendered, and the operator's marks from mark_seed * 1000 + the cylinder's index.
+struct SiteCylinder {
+  site::Scene scene;
+  site::Cylinder pipe;
+  LocateInput input;
+};
+inline SiteCylinder MarkedSiteCylinder(uint64_t seed, site::SiteLevel level, bool hd,
+                                       const std::string& name, uint64_t mark_seed) {
+  SiteCylinder c;
+  c.scene = site::SiteScene(seed, level, hd);
+  const site::StereoImages images = site::RenderStereo(c.scene);
+  size_t index = 0;
+  while (index < c.scene.objects.size() && c.scene.objects[index].name != name) ++index;
+  EXPECT_LT(index, c.scene.objects.size()) << name;
+  if (index == c.scene.objects.size()) return c;
+  c.pipe = std::get<site::Cylinder>(c.scene.objects[index].shape);
+  c.input.type = SolidType::kCylinder;
+  c.input.marks = *site::GenerateMarks(c.pipe, c.scene.cameras.left, mark_seed * 1000 + index);
+  c.input.left = images.left;
+  c.input.right = images.right;
+  c.input.left_camera = c.scene.cameras.left;
+  c.input.right_camera = c.scene.cameras.right;
+  return c;
+}
+
+// The convex outline of a cylinder's parameters in each view.
+inline std::array<std::vector<Eigen::Vector2d>, 2> CylinderOutlines(
+    const Eigen::VectorXd& params, const std::array<FitView, 2>& views) {
+  std::array<std::vector<Eigen::Vector2d>, 2> out;
+  for (int v = 0; v < 2; ++v) {
+    std::vector<Eigen::Vector2d> px;
+    for (const auto& X : CylinderOutline(params)) px.push_back(*views[v].camera->Project(X));
+    out[v] = ConvexHull(px);
+  }
+  return out;
 }
 
 // A rendered scene with its first upright cylinder and its first box marked.
