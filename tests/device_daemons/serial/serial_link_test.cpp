@@ -78,6 +78,10 @@ TEST(SerialLink, EchoIsPacedLikeA9600BaudLine) {
   const int64_t written_ns = MonotonicNs();
   link.Write(message);
   ASSERT_TRUE(WaitFor("the whole message echoed", [&] { return rx.size() >= message.size(); }));
+  // The reader can see the last byte before the host has stamped it: the host stamps a chunk
+  // under the lock stats() takes, so once stats() counts every byte out, the stamp is there.
+  ASSERT_TRUE(WaitFor("the line's stamp of the echo's last byte",
+                      [&] { return host.stats().bytes_out >= message.size(); }));
   // 96 bytes at 960 bytes/s take 0.1 s; a pseudo-terminal alone would take microseconds.
   // Timed by the simulated line's stamp of the echo's last byte.
   EXPECT_GE(echoed_ns - written_ns, 95'000'000);
