@@ -614,6 +614,7 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
   constexpr double kKeep = std::numeric_limits<double>::quiet_NaN();
   constexpr int kBackgroundReachPx = 5;
   std::array<double, 2> unit{0, 0};
+  std::array<std::optional<std::pair<double, double>>, 2> between;  // limbs' end, marks' exit
   for (int v = 0; v < 2; ++v) {
     const geometry::ProjectiveCamera& cam = *views[v].camera;
     const auto q0 = cam.Project(p0), q1 = cam.Project(p1);
@@ -645,7 +646,7 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
     const auto at_border = [&](double s_end, double out) {
       if (views[v].region.size() < 3) return false;
       for (const double side : {-1.0, 1.0}) {
-        const Eigen::Vector2d past = *q0 + (s_end + 2 * out) * dir + side * radius_px * n;
+        const Eigen::Vector2d past = *q0 + (s_end + 5 * out) * dir + side * radius_px * n;
         if (SignedDistance(views[v].region, past) > 0) return true;
       }
       return false;
@@ -656,6 +657,20 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
     reach[0].push_back(seen(extent->first, -1, *t_lo));
     reach[1].push_back(seen(extent->second, 1, *t_hi));
     unit[v] = len / length;
+    // In the left image, where the limbs stop at a change of the background, the pipe ends
+    // between there and where its axis leaves the marks.
+    if (v == 0 && views[v].region.size() >= 3)
+      for (int end = 0; end < 2; ++end) {
+        const double out = end == 0 ? -1.0 : 1.0;
+        const double s_end = end == 0 ? extent->first : extent->second;
+        if (!background_changes(s_end) || at_border(s_end, out)) continue;
+        double s = s_end;
+        while (std::abs(s - s_end) < 4 * length &&
+               SignedDistance(views[v].region, *q0 + (s + out) * dir) <= 0)
+          s += out;
+        const auto t_exit = AxisParameterAt(cam, p0, p1, s);
+        if (t_exit) between[end] = {end == 0 ? *t_lo : *t_hi, *t_exit};
+      }
   }
   const double px = std::max(unit[0], unit[1]);  // world length of a pixel along the axis
   Eigen::VectorXd x = f->params;
@@ -665,6 +680,16 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
     Eigen::VectorXd g = Eigen::VectorXd::Zero(7);
     g.segment<3>(Eigen::Index{3} * end) = a;
     const double end_sigma = std::sqrt(std::max(0.0, g.dot(cov * g)));
+    if (end_sigma >= opt.unheld_end_sigma && between[end]) {
+      // An unheld end between the limbs' end and the marks' border stays where the fit left
+      // it, with the sigma of its distance to an even spread over the farther of the two.
+      const auto [limbs, exit] = *between[end];
+      const double spread = std::max(std::abs(exit - limbs), std::abs(end - limbs)) * len;
+      const Eigen::VectorXd cg = cov * g;
+      cov -= cg * cg.transpose() / (g.dot(cg) + spread * spread / 3);
+      moved = true;
+      continue;
+    }
     // Both views must agree on where the limbs end.
     if (std::isnan(reach[end][0]) || std::isnan(reach[end][1]) ||
         std::abs(reach[end][0] - reach[end][1]) * len > opt.limb_end_agree_px * px)

@@ -155,7 +155,8 @@ TEST_F(LocateSteps, AnUnheldEndMovesToWhereTheLimbsEnd) {
 // An upright pipe standing in front of the table's far edge (site level "clutter", seed 4,
 // the thesis's cameras): below that edge it has the table's shade, and its limbs fade there.
 // Its foot, unheld, stays where the fit left it rather than move up short of the truth; its
-// top, unheld too, against the black above, moves to where the limbs end.
+// top, unheld too, against the black above, moves to where the limbs end. Within the marks,
+// the foot's sigma comes from how far apart the limbs' end and the marks' border lie.
 TEST_F(LocateSteps, AnUnheldEndStaysWhereTheBackgroundChangesBesideTheLimbsEnd) {
   const SiteCylinder marked =
       MarkedSiteCylinder(4, site::SiteLevel::kClutter, false, "upright_8", 4);
@@ -172,11 +173,22 @@ TEST_F(LocateSteps, AnUnheldEndStaysWhereTheBackgroundChangesBesideTheLimbsEnd) 
   f.covariance(2, 2) = f.covariance(5, 5) = 100.0 * 100.0;
   f.outline = CylinderOutlines(f.params, views);
   const Eigen::Vector3d foot = f.params.segment<3>(0);
-  EndsFromLimbs(views, FitSettings(options_, t.boundary.strongest), options_, &f);
+  const FitOptions fit = FitSettings(options_, t.boundary.strongest);
+  FitOutcome unbounded = f;
+  EndsFromLimbs(views, fit, options_, &unbounded);
+  EXPECT_LT((unbounded.params.segment<3>(0) - foot).norm(), 1e-9);
+  EXPECT_GT(std::sqrt(unbounded.covariance(2, 2)), 50.0);
+  EXPECT_LT((unbounded.params.segment<3>(3) - top).norm(), 0.1);
+  EXPECT_LT(std::sqrt(unbounded.covariance(5, 5)), 0.3);
+  // With the marks bounding the outline, as Locate bounds it: the foot lies between the
+  // limbs' end and the marks' border, and its sigma says so (it is 0.3 in off).
+  std::array<FitView, 2> bounded = views;
+  const auto regions = OutlineRegions(t.marks, t.pair, t.depth - 1.5, t.depth + 4.5, options_);
+  for (int v = 0; v < 2; ++v) bounded[v].region = regions[v];
+  EndsFromLimbs(bounded, fit, options_, &f);
   EXPECT_LT((f.params.segment<3>(0) - foot).norm(), 1e-9);
-  EXPECT_GT(std::sqrt(f.covariance(2, 2)), 50.0);
-  EXPECT_LT((f.params.segment<3>(3) - top).norm(), 0.1);
-  EXPECT_LT(std::sqrt(f.covariance(5, 5)), 0.3);
+  EXPECT_GT(std::sqrt(f.covariance(2, 2)), 0.15);
+  EXPECT_LT(std::sqrt(f.covariance(2, 2)), 3.0);
 }
 
 TEST_F(LocateSteps, ABoxStartsWorldAlignedAtThreeDepthsAndFitsOntoIt) {
