@@ -1,12 +1,12 @@
 // Steps 4-5 of the locator (locate_steps.h): the fit, the check of both views, and the result
-// from the fit. The starting models are in locate_start_steps.cpp.
+// from the fit. The starting models are in locate_start_steps.cpp, the pipe's ends from its
+// limbs (EndsFromLimbs) in locate_end_steps.cpp.
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "object_server/locate_steps.h"
@@ -36,68 +36,6 @@ bool IsSolid(const FitOutcome& o) {
   if (!o.ok || o.params.size() < 6) return false;
   const Eigen::Vector3d size = o.params.segment<3>(3).cwiseAbs();
   return size.minCoeff() > 0.1 * size.maxCoeff();
-}
-
-// The parameter t of the point p0 + t (p1 - p0) whose projection lies `s` px from p0's along
-// the image axis (secant steps from the ends: the projection is not quite linear along it);
-// nullopt when a point does not project.
-std::optional<double> AxisParameterAt(const geometry::ProjectiveCamera& camera,
-                                      const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                                      double s) {
-  const auto q0 = camera.Project(p0), q1 = camera.Project(p1);
-  if (!q0 || !q1 || (*q1 - *q0).norm() < 1e-9) return std::nullopt;
-  const Eigen::Vector2d dir = (*q1 - *q0).normalized();
-  double ta = 0, tb = 1, sa = 0, sb = (*q1 - *q0).norm();
-  for (int it = 0; it < 3 && std::abs(sb - sa) > 1e-9; ++it) {
-    const double t = ta + (s - sa) * (tb - ta) / (sb - sa);
-    const auto q = camera.Project(p0 + t * (p1 - p0));
-    if (!q) return std::nullopt;
-    ta = tb;
-    sa = sb;
-    tb = t;
-    sb = dir.dot(*q - *q0);
-  }
-  return tb;
-}
-
-// How far the pipe's limbs reach along its image axis (pixels from q0 along the unit `dir`;
-// the far end's projection lies `length` px along): each limb, a line `radius_px` to either
-// side of the axis, walked through the image from the middle outward while an edge across it
-// (a gradient of at least min_gradient across the line, within kLimbBandPx of it) recurs
-// within kLimbGapPx, and not out of `region` (when given). The farther-reaching limb sets each
-// end. nullopt when a limb has no edge at the middle.
-std::optional<std::pair<double, double>> LimbExtent(const Gradients& gradients,
-                                                    const std::vector<Eigen::Vector2d>& region,
-                                                    const Eigen::Vector2d& q0,
-                                                    const Eigen::Vector2d& dir, double length,
-                                                    double radius_px, double min_gradient) {
-  constexpr double kLimbGapPx = 4.0, kLimbBandPx = 2.0;
-  const Eigen::Vector2d n(-dir.y(), dir.x());
-  const auto edge_at = [&](double s, double side) {
-    const Eigen::Vector2d on = q0 + s * dir + side * radius_px * n;
-    if (region.size() >= 3 && SignedDistance(region, on) > 0) return false;
-    for (double o = -kLimbBandPx; o <= kLimbBandPx; o += 0.5)
-      if (std::abs(gradients.At(on + o * n).dot(n)) >= min_gradient) return true;
-    return false;
-  };
-  double lo = 1e18, hi = -1e18;
-  for (const double side : {-1.0, 1.0}) {
-    const double mid = 0.5 * length;
-    if (!edge_at(mid, side) && !edge_at(mid - 1, side) && !edge_at(mid + 1, side))
-      return std::nullopt;
-    for (const double step : {-1.0, 1.0}) {
-      double last = mid;
-      for (double s = mid + step; std::abs(s - last) <= kLimbGapPx; s += step) {
-        if (s < -length || s > 2 * length) break;
-        if (edge_at(s, side)) last = s;
-      }
-      if (step < 0)
-        lo = std::min(lo, last);
-      else
-        hi = std::max(hi, last);
-    }
-  }
-  return std::make_pair(lo, hi);
 }
 
 }  // namespace
@@ -593,135 +531,6 @@ void CheckRange(const LocateInput& in, const LocateOptions& options, const Eigen
                     FormatFixed(check->measured - beam->on_axis) +
                     " beyond where the beam meets the located object (" +
                     FormatFixed(beam->on_axis) + "): the model is nearer than the ranger says";
-  }
-}
-
-}  // namespace igms::object
-
-namespace igms::object {
-
-void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
-                   const LocateOptions& opt, FitOutcome* f) {
-  if (!f->ok || f->params.size() != 7 || f->covariance.rows() != 7 || !f->params.allFinite())
-    return;
-  const Eigen::Vector3d p0 = f->params.segment<3>(0), p1 = f->params.segment<3>(3);
-  const double len = (p1 - p0).norm(), radius = std::abs(f->params[6]);
-  if (len < 1e-9 || radius < 1e-9) return;
-  const Eigen::Vector3d a = (p1 - p0) / len;
-  // Per end, the axis parameter (0 at p0, 1 at p1) each view's limbs reach (kKeep: the view
-  // says nothing of it), and a pixel's length along the axis in each view.
-  std::array<std::vector<double>, 2> reach;
-  constexpr double kKeep = std::numeric_limits<double>::quiet_NaN();
-  constexpr int kBackgroundReachPx = 5;
-  std::array<double, 2> unit{0, 0};
-  std::array<std::optional<std::pair<double, double>>, 2> between;  // limbs' end, marks' exit
-  for (int v = 0; v < 2; ++v) {
-    const geometry::ProjectiveCamera& cam = *views[v].camera;
-    const auto q0 = cam.Project(p0), q1 = cam.Project(p1);
-    if (!q0 || !q1 || (*q1 - *q0).norm() < 8) return;
-    const double length = (*q1 - *q0).norm();
-    const Eigen::Vector2d dir = (*q1 - *q0) / length, n(-dir.y(), dir.x());
-    double radius_px = 0;
-    for (const auto& h : f->outline[v]) radius_px = std::max(radius_px, std::abs(n.dot(h - *q0)));
-    const auto extent = LimbExtent(*views[v].gradients, views[v].region, *q0, dir, length,
-                                   radius_px, fit.min_gradient);
-    if (!extent) return;
-    const auto t_lo = AxisParameterAt(cam, p0, p1, extent->first),
-               t_hi = AxisParameterAt(cam, p0, p1, extent->second);
-    if (!t_lo || !t_hi) return;
-    // Where the background changes across the axis beside a limb's end (the table's far edge
-    // behind an upright pipe), the limbs may stop because the pipe turns to the background's
-    // shade there, not because it ends: that end stays as it was. The blur carries a limb's
-    // edge a few pixels either side of the change.
-    const auto background_changes = [&](double s_end) {
-      for (const double side : {-1.0, 1.0})
-        for (int k = -kBackgroundReachPx; k <= kBackgroundReachPx; ++k) {
-          const Eigen::Vector2d q = *q0 + (s_end + k) * dir + side * (radius_px + 3) * n;
-          if (std::abs(views[v].gradients->At(q).dot(dir)) > fit.min_gradient) return true;
-        }
-      return false;
-    };
-    // Limbs that run on to the marks' border say nothing of where the pipe ends (a
-    // neighbour's edge in line with one can carry it there).
-    const auto at_border = [&](double s_end, double out) {
-      if (views[v].region.size() < 3) return false;
-      for (const double side : {-1.0, 1.0}) {
-        const Eigen::Vector2d past = *q0 + (s_end + 5 * out) * dir + side * radius_px * n;
-        if (SignedDistance(views[v].region, past) > 0) return true;
-      }
-      return false;
-    };
-    const auto seen = [&](double s_end, double out, double t) {
-      return background_changes(s_end) || at_border(s_end, out) ? kKeep : t;
-    };
-    reach[0].push_back(seen(extent->first, -1, *t_lo));
-    reach[1].push_back(seen(extent->second, 1, *t_hi));
-    unit[v] = len / length;
-    // In the left image, where the limbs stop at a change of the background, the pipe ends
-    // between there and where its axis leaves the marks.
-    if (v == 0 && views[v].region.size() >= 3)
-      for (int end = 0; end < 2; ++end) {
-        const double out = end == 0 ? -1.0 : 1.0;
-        const double s_end = end == 0 ? extent->first : extent->second;
-        if (!background_changes(s_end) || at_border(s_end, out)) continue;
-        double s = s_end;
-        while (std::abs(s - s_end) < 4 * length &&
-               SignedDistance(views[v].region, *q0 + (s + out) * dir) <= 0)
-          s += out;
-        const auto t_exit = AxisParameterAt(cam, p0, p1, s);
-        if (t_exit) between[end] = {end == 0 ? *t_lo : *t_hi, *t_exit};
-      }
-  }
-  const double px = std::max(unit[0], unit[1]);  // world length of a pixel along the axis
-  Eigen::VectorXd x = f->params;
-  Eigen::MatrixXd cov = f->covariance;
-  bool moved = false;
-  for (int end = 0; end < 2; ++end) {
-    Eigen::VectorXd g = Eigen::VectorXd::Zero(7);
-    g.segment<3>(Eigen::Index{3} * end) = a;
-    const double end_sigma = std::sqrt(std::max(0.0, g.dot(cov * g)));
-    if (end_sigma >= opt.unheld_end_sigma && between[end]) {
-      // An unheld end between the limbs' end and the marks' border stays where the fit left
-      // it, with the sigma of its distance to an even spread over the farther of the two.
-      const auto [limbs, exit] = *between[end];
-      const double spread = std::max(std::abs(exit - limbs), std::abs(end - limbs)) * len;
-      const Eigen::VectorXd cg = cov * g;
-      cov -= cg * cg.transpose() / (g.dot(cg) + spread * spread / 3);
-      moved = true;
-      continue;
-    }
-    // Both views must agree on where the limbs end.
-    if (std::isnan(reach[end][0]) || std::isnan(reach[end][1]) ||
-        std::abs(reach[end][0] - reach[end][1]) * len > opt.limb_end_agree_px * px)
-      continue;
-    const double t = 0.5 * (reach[end][0] + reach[end][1]);
-    if (end_sigma < opt.unheld_end_sigma) {
-      // A held end of an upright pipe the limbs run clearly past in both views held on an
-      // edge inside the silhouette (a band of another shade across the pipe): what held it
-      // is forgotten. (A lying pipe's limbs run on along the table's and its supports' edges.)
-      constexpr double kForgottenSigma = 100.0;  // world units, as an unheld end's
-      const double beyond = (end == 0 ? -t : t - 1) * len;
-      if (std::abs(a.z()) < opt.upright_axis_cos || beyond < 3 * px || beyond < 3 * end_sigma)
-        continue;
-      cov += g * g.transpose() * (kForgottenSigma * kForgottenSigma);
-    }
-    const Eigen::Vector3d end_point = p0 + t * (p1 - p0);
-    x.segment<3>(Eigen::Index{3} * end) = end_point;
-    // The end measured along the axis to limb_end_sigma_px: a Kalman update of the covariance.
-    const double var = std::pow(opt.limb_end_sigma_px * px, 2);
-    const Eigen::VectorXd cg = cov * g;
-    cov -= cg * cg.transpose() / (g.dot(cg) + var);
-    moved = true;
-  }
-  if (!moved) return;
-  f->params = x;
-  f->covariance = cov;
-  const std::vector<Eigen::Vector3d> points = CylinderOutline(x);
-  for (int v = 0; v < 2; ++v) {
-    std::vector<Eigen::Vector2d> px_points;
-    for (const auto& X : points)
-      if (const auto q = views[v].camera->Project(X)) px_points.push_back(*q);
-    f->outline[v] = ConvexHull(px_points);
   }
 }
 
