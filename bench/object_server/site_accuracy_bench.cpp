@@ -174,12 +174,14 @@ int RunBenchmark(int argc, char** argv) {
           }
           all.push_back(e);
         }
-        for (const auto& n : igms::object::EvaluateNothingThere(scene, name, first + s, 2)) {
+        for (const auto& n :
+             igms::object::EvaluateNothingThere(scene, name, first + s, 2, {}, debug_dir)) {
           if (verbose && (n.result.found || n.what == "wrong_type"))
             std::printf(
-                "%-18s nothing there (%s) %s as %s, score %.3f, other type's %.3f, supported "
+                "%-18s nothing there (%s %s) %s as %s, score %.3f, other type's %.3f, supported "
                 "%.3f/%.3f, rms %.3f/%.3f %s\n",
-                name.c_str(), n.what.c_str(), n.result.found ? "reported found" : "refused",
+                name.c_str(), n.what.c_str(), n.object_name.c_str(),
+                n.result.found ? "reported found" : "refused",
                 n.result.type == igms::object::SolidType::kBox ? "box" : "cylinder",
                 n.result.fit_score, n.result.other_type_fit_score, n.result.supported_fit_score,
                 n.result.other_type_supported_fit_score, n.result.rms_left_px,

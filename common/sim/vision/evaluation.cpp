@@ -103,12 +103,13 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
 std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scene,
                                                          const std::string& scene_name,
                                                          uint64_t seed, int count,
-                                                         const LocateOptions& options) {
+                                                         const LocateOptions& options,
+                                                         const std::string& debug_dir) {
   const site::StereoImages images = site::RenderStereo(scene);
   const std::vector<double> seen_left = site::VisibleFractions(scene, scene.cameras.left);
   const std::vector<double> seen_right = site::VisibleFractions(scene, scene.cameras.right);
   std::vector<NothingThereEvaluation> out;
-  auto locate = [&](SolidType type, const site::Marks& marks) {
+  auto input = [&](SolidType type, const site::Marks& marks) {
     LocateInput in;
     in.type = type;
     in.marks = marks;
@@ -116,7 +117,10 @@ std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scen
     in.right = images.right;
     in.left_camera = scene.cameras.left;
     in.right_camera = scene.cameras.right;
-    return Locate(in, options);
+    return in;
+  };
+  auto locate = [&](SolidType type, const site::Marks& marks) {
+    return Locate(input(type, marks), options);
   };
   struct Rect {
     double u0, v0, u1, v1;
@@ -150,7 +154,7 @@ std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scen
     if (!marks) continue;
     ++made;
     const SolidType type = made % 2 ? SolidType::kCylinder : SolidType::kBox;
-    out.push_back({scene_name, nearest < 30 ? "gap" : "bare", locate(type, *marks)});
+    out.push_back({scene_name, nearest < 30 ? "gap" : "bare", "", locate(type, *marks)});
   }
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const auto& object = scene.objects[i];
@@ -159,8 +163,15 @@ std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scen
     if (std::min(seen_left[i], seen_right[i]) < kFullView) continue;
     const auto marks = site::GenerateMarks(object.shape, scene.cameras.left, seed * 1000 + i);
     if (!marks) continue;
-    out.push_back({scene_name, "wrong_type",
-                   locate(cylinder ? SolidType::kBox : SolidType::kCylinder, *marks)});
+    LocateInput in = input(cylinder ? SolidType::kBox : SolidType::kCylinder, *marks);
+    in.want_trace = !debug_dir.empty();
+    out.push_back({scene_name, "wrong_type", object.name, Locate(in, options)});
+    if (!debug_dir.empty()) {
+      std::string file = debug_dir;
+      file.append("/").append(scene_name).append("_").append(object.name);
+      file.append(cylinder ? "_as_box.png" : "_as_cylinder.png");
+      cv::imwrite(file, DebugImage(in, out.back().result));
+    }
   }
   return out;
 }

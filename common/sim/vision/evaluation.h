@@ -65,16 +65,19 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
 // cylinder called a box, a box called a cylinder). Every one should be refused.
 struct NothingThereEvaluation {
   std::string scene_name;
-  std::string what;  // "bare", "gap" or "wrong_type"
+  std::string what;         // "bare", "gap" or "wrong_type"
+  std::string object_name;  // the object asked for as the other type (wrong_type)
   LocateResult result;
 };
 // `count` bare-or-gap requests (marks around a phantom block 1-4 in wide whose silhouette
 // clears every object's by 16 px or more, "gap" when an object lies within 30 px), and the
-// wrong-type requests.
+// wrong-type requests. With a debug_dir, writes each wrong-type request's debug image there as
+// SCENE_OBJECT_as_TYPE.png.
 std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scene,
                                                          const std::string& scene_name,
                                                          uint64_t seed, int count,
-                                                         const LocateOptions& options = {});
+                                                         const LocateOptions& options = {},
+                                                         const std::string& debug_dir = "");
 
 struct Summary {
   int count = 0, found = 0;
