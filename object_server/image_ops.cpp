@@ -175,6 +175,16 @@ bool EdgePeak(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vect
 
 }  // namespace
 
+double GreyAt(const cv::Mat& image, const Eigen::Vector2d& p) {
+  const double x = std::clamp(p.x(), 0.0, image.cols - 1.001);
+  const double y = std::clamp(p.y(), 0.0, image.rows - 1.001);
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const double fx = x - x0, fy = y - y0;
+  const auto at = [&](int yy, int xx) { return static_cast<double>(image.at<uint8_t>(yy, xx)); };
+  return (1 - fy) * ((1 - fx) * at(y0, x0) + fx * at(y0, x0 + 1)) +
+         fy * ((1 - fx) * at(y0 + 1, x0) + fx * at(y0 + 1, x0 + 1));
+}
+
 bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
                      double range, double min_gradient, double* s) {
   return EdgePeak(grad, p, n, range, min_gradient, Peak::kOutermost, s);

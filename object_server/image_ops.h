@@ -30,6 +30,10 @@ class Gradients {
   cv::Mat g_;        // CV_32FC2: the x and y gradients side by side, read together
 };
 
+// An 8-bit grey image's value at sub-pixel p by bilinear interpolation; p is clamped to the
+// image.
+double GreyAt(const cv::Mat& image, const Eigen::Vector2d& p);
+
 // Pixels inside `polygon` (image coordinates) whose gradient magnitude is above
 // max(min_gradient, fraction * strongest in the polygon) and, when `edges` is not empty,
 // set in the edge map. Returns them with the strongest magnitude seen.

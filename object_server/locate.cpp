@@ -320,6 +320,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   res.rms_left_px = f.rms_px[0];
   res.rms_right_px = f.rms_px[1];
   if (!f.ok) return fail({Failure::kFitFailed, "model fit: " + f.error});
+  const SideShape side =
+      cylinder ? ClassifySide(*pair, f.params, views, opt) : SideShape::kUnmeasured;
   // 5. Consistency between the views, on the parts of the outline that should show an edge.
   const auto measure_support = [&](const FitOutcome& o) -> std::array<OutlineSupport, 2> {
     return {MeasureOutlineSupport(o.outline[0], pair->left, grad_left, fit, views[0].hidden),
@@ -340,10 +342,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                      FormatFixed(res.fit_score) + ", limit " + FormatFixed(opt.max_fit_score) +
                      "): another object's edges, or the other type?"});
 
-  // The other type: for a cylinder when it explains the images only fairly; for a box always,
-  // since a box fits an upright cylinder's outline (its end ellipses seen thin) about as well as
-  // the cylinder does, while a real box's corners leave a cylinder well behind.
-  if (!cylinder || FitScore(f) > opt.other_type_score) {
+  // The other type.
+  if (WantOtherType(cylinder, f, side, opt)) {
     const std::vector<Eigen::VectorXd> other_starts =
         cylinder ? BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left)
                  : CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left);
@@ -355,7 +355,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     res.other_type_supported_fit_score =
         other.ok ? SupportedFitScore(other, measure_support(other), score_scale)
                  : res.other_type_fit_score;
-    if (const auto failure = CheckOtherType(cylinder, f, other, other.ok && plausible(other), opt))
+    if (const auto failure =
+            CheckOtherType(cylinder, f, other, other.ok && plausible(other), side, opt))
       return fail(*failure);
   }
 

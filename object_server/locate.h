@@ -130,6 +130,14 @@ struct LocateOptions {
   // fit is rarely beaten, and either costs more fits.
   double poor_fit_score = 0.25;
   double other_type_ratio = 1.5;
+  // A pipe's side shades round (a Lambertian surface under distant lights: brightest where
+  // it faces a light) where a block's faces shade flat, with a crease where two meet
+  // (ClassifySide). A "pipe" whose side shades flat in both images is refused when a box fits
+  // the outline too (under max_fit_score, in the marks, both views explained); one creased in
+  // both is refused outright. On the site scenes' tuning seeds no pipe found shaded flatter
+  // than a gain of 16 or creased more than 15; blocks asked for as pipes, from 1 up.
+  double flat_side_gain = 12.0;
+  double crease_gain = 50.0;
   // A box is reported only when it explains the outline clearly better than a cylinder: its
   // score at most this share of the cylinder's (a box fits an upright cylinder about as well).
   double box_over_cylinder = 0.7;

@@ -215,15 +215,7 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
                      diffs.end());
     out.noise_sigma = 1.4826 * diffs[diffs.size() / 2] / std::sqrt(2.0);
   }
-  auto grey = [&](const Eigen::Vector2d& p) {
-    const double x = std::clamp(p.x(), 0.0, image.cols - 1.001);
-    const double y = std::clamp(p.y(), 0.0, image.rows - 1.001);
-    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    const double fx = x - x0, fy = y - y0;
-    const auto at = [&](int yy, int xx) { return static_cast<double>(image.at<uint8_t>(yy, xx)); };
-    return (1 - fy) * ((1 - fx) * at(y0, x0) + fx * at(y0, x0 + 1)) +
-           fy * ((1 - fx) * at(y0 + 1, x0) + fx * at(y0 + 1, x0 + 1));
-  };
+  auto grey = [&](const Eigen::Vector2d& p) { return GreyAt(image, p); };
   // A step of c grey levels blurred by edge_blur_px peaks at c / (sqrt(2 pi) blur) per pixel:
   // the detector (min_gradient) sees steps of at least this. The means either side are of 6
   // samples each, so their difference has noise sigma * sqrt(2 / 6).
@@ -364,10 +356,28 @@ std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOpt
   return std::nullopt;
 }
 
+bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const LocateOptions& opt) {
+  return !cylinder || side == SideShape::kFlat || side == SideShape::kCreased ||
+         FitScore(f) > opt.other_type_score;
+}
+
 std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                                           const FitOutcome& other, bool other_within_marks,
-                                          const LocateOptions& opt) {
+                                          SideShape side, const LocateOptions& opt) {
+  if (cylinder && side == SideShape::kCreased)
+    return StepFailure{Failure::kFitFailed,
+                       "a crease runs along the side in both images, where two flat faces meet: "
+                       "is the object a box?"};
   if (!other.ok) return std::nullopt;
+  // A side that shades flat is a block's face (a pipe's shades round under any light but a
+  // shadow's): a box that fits at all is the better answer.
+  if (cylinder && side == SideShape::kFlat && other_within_marks && !CheckBothViews(other, opt) &&
+      FitScore(other) <= opt.max_fit_score)
+    return StepFailure{Failure::kFitFailed,
+                       "the side shades flat, as a block's faces do, not round as a pipe's, and a "
+                       "box fits the outline too (score " +
+                           FormatFixed(FitScore(other)) + " against " + FormatFixed(FitScore(f)) +
+                           "): is the object a box?"};
   if (cylinder && other_within_marks && !CheckBothViews(other, opt) &&
       opt.other_type_ratio * FitScore(other) < FitScore(f))
     return StepFailure{Failure::kFitFailed, "a box explains the outline much better (score " +

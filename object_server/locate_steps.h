@@ -262,6 +262,29 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
                   const FitOptions& fit, const LocateOptions& options,
                   const PlausibleFn& plausible = {});
 
+// A fitted pipe's side as one image shades it: the mean grey level across the side (bins
+// evenly spread in the sine of the angle round the axis, clear of the limbs by 2 px; the
+// middle 60% of the length; not where a known solid hides it), fitted three ways, residuals
+// weighted by each bin's sample count: flat (its mean); round, as a Lambertian side under
+// distant lights shades (a constant and the first two harmonics of the angle); and creased, as
+// two flat faces of a block meeting. Not measured when the side is under 8 px across or 6 px
+// long.
+struct SideShading {
+  bool measured = false;
+  int bins = 0;
+  double flat_rss = 0, smooth_rss = 0, step_rss = 0;
+};
+SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
+                               const Eigen::VectorXd& params,
+                               const std::vector<std::vector<Eigen::Vector2d>>& hidden);
+// How a fitted pipe's side shades in both images: creased when in both a crease between two
+// flat faces explains it `crease_gain` times better than the smooth fit; flat when in both it
+// is creased or the smooth fit explains it less than `flat_side_gain` times better than its
+// mean does; round otherwise; unmeasured when an image cannot tell (MeasureSideShading).
+enum class SideShape { kUnmeasured, kRound, kFlat, kCreased };
+SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
+                       const std::array<FitView, 2>& views, const LocateOptions& options);
+
 // A fitted pipe's end that no edge holds (its sigma along the axis at least
 // LocateOptions::unheld_end_sigma: a foot of the table's shade, a cap against the dark) moved
 // to where its limbs end in both images (the limb edges the fit kept, walked out from their
@@ -315,15 +338,23 @@ std::optional<StepFailure> CheckWithinMarks(const std::vector<Eigen::Vector2d>& 
 // outline's support, the share is of the samples that should show an edge.
 std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options,
                                           const std::array<OutlineSupport, 2>* support = nullptr);
+// Whether to fit the other type too: for a box always, since a box fits an upright cylinder's
+// outline (its end ellipses seen thin) about as well as the cylinder does, while a real box's
+// corners leave a cylinder well behind; for a cylinder when it explains the images only fairly
+// (other_type_score) or its side does not shade round (ClassifySide).
+bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const LocateOptions& opt);
+
 // The other type's fit against this one's: a cylinder is refused when a box explains the
 // outline much better (`other_type_ratio`), a box unless it clearly beats a cylinder
 // (`box_over_cylinder`). A box the marks do not bound (`other_within_marks` false: it leaves
 // part of them empty or runs beyond them, as it does on the top half of a cylinder whose
 // bottom stands against the table) explains part of the object, and is not held against a
 // cylinder; a cylinder is held against a box wherever it lies, so a box must beat them all.
+// A cylinder whose side is creased (ClassifySide) is refused whatever the box; one whose side
+// is flat when a box the marks bound fits at all (both views explained, under max_fit_score).
 std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                                           const FitOutcome& other, bool other_within_marks,
-                                          const LocateOptions& opt);
+                                          SideShape side, const LocateOptions& opt);
 
 // The result from the fit's parameters, with one standard deviation from its covariance. A
 // cylinder's axis points up (along +x when level); it is left as the default when the

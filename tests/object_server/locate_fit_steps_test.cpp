@@ -324,18 +324,37 @@ TEST(LocateStepsFit, APartialBoxIsNotHeldAgainstACylinderButEveryCylinderAgainst
   ASSERT_NEAR(FitScore(tight), 0.3, 1e-12);
   // A cylinder against a box that explains the outline much better: refused, unless that box
   // leaves part of the marks empty (the top half of a pipe standing against the table).
-  const auto refused = CheckOtherType(true, loose, tight, true, options);
+  const auto refused = CheckOtherType(true, loose, tight, true, SideShape::kRound, options);
   ASSERT_TRUE(refused.has_value());
   EXPECT_EQ(refused->reason, Failure::kFitFailed);
   EXPECT_NE(refused->detail.find("is the object a box?"), std::string::npos) << refused->detail;
-  EXPECT_FALSE(CheckOtherType(true, loose, tight, false, options).has_value());
+  EXPECT_FALSE(CheckOtherType(true, loose, tight, false, SideShape::kRound, options).has_value());
   // A box must beat the cylinder, wherever the cylinder lies.
-  EXPECT_TRUE(CheckOtherType(false, loose, tight, true, options).has_value());
-  EXPECT_TRUE(CheckOtherType(false, loose, tight, false, options).has_value());
-  EXPECT_FALSE(CheckOtherType(false, tight, loose, false, options).has_value());
+  EXPECT_TRUE(
+      CheckOtherType(false, loose, tight, true, SideShape::kUnmeasured, options).has_value());
+  EXPECT_TRUE(
+      CheckOtherType(false, loose, tight, false, SideShape::kUnmeasured, options).has_value());
+  EXPECT_FALSE(
+      CheckOtherType(false, tight, loose, false, SideShape::kUnmeasured, options).has_value());
   // A failed other fit says nothing.
   FitOutcome failed;
-  EXPECT_FALSE(CheckOtherType(true, loose, failed, true, options).has_value());
+  EXPECT_FALSE(CheckOtherType(true, loose, failed, true, SideShape::kRound, options).has_value());
+  // A cylinder whose side shades flat: refused when a box fits at all, however much worse.
+  FitOutcome middling = tight;  // score 0.5
+  middling.rms_px = {0.15, 0.15};
+  middling.used = {90, 90};
+  ASSERT_NEAR(FitScore(middling), 0.5, 1e-12);
+  EXPECT_FALSE(CheckOtherType(true, tight, middling, true, SideShape::kRound, options));
+  const auto flat = CheckOtherType(true, tight, middling, true, SideShape::kFlat, options);
+  ASSERT_TRUE(flat.has_value());
+  EXPECT_NE(flat->detail.find("shades flat"), std::string::npos) << flat->detail;
+  EXPECT_FALSE(CheckOtherType(true, tight, middling, false, SideShape::kFlat, options));
+  EXPECT_FALSE(CheckOtherType(true, tight, loose, true, SideShape::kFlat, options));  // over 0.9
+  EXPECT_FALSE(CheckOtherType(true, tight, failed, true, SideShape::kFlat, options));
+  // One creased: refused whatever the box.
+  const auto creased = CheckOtherType(true, tight, failed, true, SideShape::kCreased, options);
+  ASSERT_TRUE(creased.has_value());
+  EXPECT_NE(creased->detail.find("crease"), std::string::npos) << creased->detail;
 }
 
 TEST(LocateStepsFit, TheSupportedScoreCountsOnlyTheOutlineThatShouldShowAnEdge) {
