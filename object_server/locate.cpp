@@ -108,6 +108,58 @@ void HideBehindKnown(const std::vector<KnownInFront>& in_front, std::array<FitVi
     for (int v = 0; v < 2; ++v) (*views)[v].hidden.push_back(k.outline[v]);
 }
 
+// What a type's fit starts from (Locate's steps 1-3).
+struct FitContext {
+  const LocateInput& in;
+  const StereoPair& pair;
+  const MarkedRegion& marks;
+  const Boundary& boundary;
+  const DepthSearch& search;
+  double depth0;
+  const Gradients& grad_left;
+  const Gradients& grad_right;
+  const std::vector<KnownInFront>& in_front;
+  const LocateOptions& opt;
+  const PlausibleFn& plausible;
+};
+
+// One type's fit, the same whether that type was asked for or is the other one tried against
+// it: its own edge angles and outline regions, its starts (a pipe's also stretched to fill
+// the marks, and from a raised pipe's upper limb when the others fit poorly), and a pipe's
+// ends from its limbs.
+struct SolidFit {
+  FitOutcome fit;
+  FitOptions options;
+  std::array<FitView, 2> views;
+};
+SolidFit FitSolid(bool cylinder, const FitContext& c) {
+  SolidFit s;
+  s.options = FitSettings(c.opt, c.boundary.strongest);
+  if (!cylinder) s.options.max_edge_angle_deg = c.opt.box_edge_angle_deg;
+  s.options.region_weight = c.opt.region_weight;
+  s.views = {FitView{&c.in.left_camera, &c.grad_left}, FitView{&c.in.right_camera, &c.grad_right}};
+  if (c.opt.keep_to_marks) BoundByMarks(c.marks, c.pair, c.depth0, cylinder, c.opt, &s.views);
+  HideBehindKnown(c.in_front, &s.views);
+  std::vector<Eigen::VectorXd> upper_limb;  // a raised pipe's, tried when the others fit poorly
+  std::vector<Eigen::VectorXd> starts =
+      cylinder ? CylinderStarts(c.pair, c.boundary.pixels, c.depth0, c.search, c.opt, &c.grad_left,
+                                &upper_limb)
+               : BoxStarts(c.in.left_camera, c.boundary.pixels, c.depth0, &c.grad_left);
+  if (cylinder)  // each start also stretched to fill the marks along its axis
+    for (auto* list : {&starts, &upper_limb}) AddStretched(c.marks, c.in.left_camera, c.opt, list);
+  const Eigen::VectorXd& x0 = starts[0];
+  spdlog::debug("locate: {} from {} starts, the first [{}]", cylinder ? "cylinder" : "box",
+                starts.size(),
+                FormatFixed(x0[0]) + " " + FormatFixed(x0[1]) + " " + FormatFixed(x0[2]) + " / " +
+                    FormatFixed(x0[3]) + " " + FormatFixed(x0[4]) + " " + FormatFixed(x0[5]) +
+                    " / " + FormatFixed(x0[6]));
+  s.fit = cylinder ? FitCylinder(starts, s.views, s.options, c.opt, c.plausible)
+                   : FitBox(starts, s.views, s.options, c.opt, c.plausible);
+  TryUpperLimb(upper_limb, s.views, s.options, c.opt, c.plausible, &s.fit);
+  if (cylinder) EndsFromLimbs(s.views, s.options, c.opt, &s.fit);
+  return s;
+}
+
 // The names of the known solids in front of part of the marked region.
 std::string NamesInFront(const std::vector<KnownInFront>& in_front,
                          const std::vector<cv::Point2f>& hull) {
@@ -220,17 +272,6 @@ static void DebugOutlineSupport(const std::array<OutlineSupport, 2>& support) {
                 support[1].outside, support[1].contrasted, support[1].edged);
 }
 
-// The depths, the match and the first start, for a person following a locate.
-static void DebugStart(double mark_depth, double depth0, double ssd_rms, size_t boundary_px,
-                       const Eigen::VectorXd& x0) {
-  spdlog::debug(
-      "locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px, init [{}]",
-      mark_depth, depth0, ssd_rms, boundary_px,
-      FormatFixed(x0[0]) + " " + FormatFixed(x0[1]) + " " + FormatFixed(x0[2]) + " / " +
-          FormatFixed(x0[3]) + " " + FormatFixed(x0[4]) + " " + FormatFixed(x0[5]) + " / " +
-          FormatFixed(x0[6]));
-}
-
 LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const auto start = Clock::now();
   LocateResult res;
@@ -279,33 +320,20 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                              opt.edge_sigma);
 
   // 4. Starting models from the left boundary at the matched depth (3.8.1, 3.8.2), then the
-  // joint fit to both images.
-  FitOptions fit = FitSettings(opt, boundary.strongest);
-  if (in.type == SolidType::kBox) fit.max_edge_angle_deg = opt.box_edge_angle_deg;
-  std::array<FitView, 2> views = {FitView{&in.left_camera, &grad_left},
-                                  FitView{&in.right_camera, &grad_right}};
+  // joint fit to both images. Of the starts' fits, one the marks bound snugly goes before any
+  // that leaves part of them empty or runs beyond them, whatever its score.
+  spdlog::debug("locate: marks depth {:.2f}, matched depth {:.2f}, ssd rms {:.1f}, {} boundary px",
+                marks->depth, depth0, match.rms, boundary.pixels.size());
   const bool cylinder = in.type == SolidType::kCylinder;
-  fit.region_weight = opt.region_weight;
-  if (opt.keep_to_marks) BoundByMarks(*marks, *pair, depth0, cylinder, opt, &views);
-  HideBehindKnown(in_front, &views);
-  std::vector<Eigen::VectorXd> upper_limb;  // a raised pipe's, tried when the others fit poorly
-  std::vector<Eigen::VectorXd> starts =
-      cylinder
-          ? CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left, &upper_limb)
-          : BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left);
-  if (cylinder)  // each start also stretched to fill the marks along its axis
-    for (auto* list : {&starts, &upper_limb}) AddStretched(*marks, in.left_camera, opt, list);
-  const Eigen::VectorXd& x0 = starts[0];
-  DebugStart(marks->depth, depth0, match.rms, boundary.pixels.size(), x0);
-  // Of the starts' fits, one the marks bound snugly goes before any that leaves part of them
-  // empty or runs beyond them, whatever its score.
   const PlausibleFn plausible = [&](const FitOutcome& o) {
     return !CheckWithinMarks(o.outline[0], *marks, in.left_camera, opt);
   };
-  FitOutcome f = cylinder ? FitCylinder(starts, views, fit, opt, plausible)
-                          : FitBox(starts, views, fit, opt, plausible);
-  TryUpperLimb(upper_limb, views, fit, opt, plausible, &f);
-  if (cylinder) EndsFromLimbs(views, fit, opt, &f);
+  const FitContext context{in,        *pair,      *marks,   boundary, search,   depth0,
+                           grad_left, grad_right, in_front, opt,      plausible};
+  SolidFit solid = FitSolid(cylinder, context);
+  const FitOutcome& f = solid.fit;
+  const FitOptions& fit = solid.options;
+  const std::array<FitView, 2>& views = solid.views;
   spdlog::debug("locate: fit {} left {}/{} rms {:.3f}, right {}/{} rms {:.3f}, inner {} {}",
                 f.ok ? "ok" : f.error, f.used[0], f.sampled[0], f.rms_px[0], f.used[1],
                 f.sampled[1], f.rms_px[1], f.inner_used[0], f.inner_used[1]);
@@ -344,11 +372,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
 
   // The other type.
   if (WantOtherType(cylinder, f, side, opt)) {
-    const std::vector<Eigen::VectorXd> other_starts =
-        cylinder ? BoxStarts(in.left_camera, boundary.pixels, depth0, &grad_left)
-                 : CylinderStarts(*pair, boundary.pixels, depth0, search, opt, &grad_left);
-    const FitOutcome other = cylinder ? FitBox(other_starts, views, fit, opt, plausible)
-                                      : FitCylinder(other_starts, views, fit, opt, plausible);
+    const FitOutcome other = FitSolid(!cylinder, context).fit;
     spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
                   FitScore(f));
     res.other_type_fit_score = FitScore(other, score_scale);

@@ -297,6 +297,26 @@ TEST(LocateStepsFit, FitSettingsFollowTheLocatorsOptions) {
   EXPECT_EQ(FitSettings(options, 10).min_gradient, 6);
 }
 
+TEST_F(LocateSteps, TheOtherTypeIsFittedAsItWouldBeWereItAskedFor) {
+  // Each object asked for as either type: the score of the type tried as the other one is
+  // the score that type's own request reaches, so neither is held against a lesser fit.
+  for (const bool on_cylinder : {true, false}) {
+    LocateInput in = Input(on_cylinder);
+    in.type = SolidType::kCylinder;
+    const LocateResult as_cylinder = Locate(in);
+    in.type = SolidType::kBox;
+    const LocateResult as_box = Locate(in);
+    ASSERT_GE(as_box.other_type_fit_score, 0) << on_cylinder;  // a box always tries a cylinder
+    EXPECT_NEAR(as_box.other_type_fit_score, as_cylinder.fit_score, 1e-9) << on_cylinder;
+    if (as_cylinder.other_type_fit_score >= 0) {
+      EXPECT_NEAR(as_cylinder.other_type_fit_score, as_box.fit_score, 1e-9) << on_cylinder;
+    }
+    // Each is found as what it is, and refused as the other.
+    EXPECT_EQ(as_cylinder.found, on_cylinder) << as_cylinder.detail;
+    EXPECT_EQ(as_box.found, !on_cylinder) << as_box.detail;
+  }
+}
+
 TEST(LocateStepsFit, FitScoreAddsBothViewsResidualsAndTwiceTheMissedShare) {
   FitOutcome f;
   EXPECT_EQ(FitScore(f), 1e18);  // failed

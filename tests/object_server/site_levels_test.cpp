@@ -82,7 +82,9 @@ TEST(SiteLevels, ABoxOnAPipesUpperHalfDoesNotRefuseThePipe) {
 }
 
 // A block under a pipe (86 in away, 1920x1080): with the pipe built first, its edges are not
-// taken for the block's, and the block is found right; without it, the block is refused.
+// taken for the block's, and the block is found right. Without it the block was refused while
+// the cylinder tried against it was fitted less fully than a cylinder asked for; now it is
+// found right too. Never a wrong model.
 TEST(SiteLevels, APipeBuiltFirstLetsTheBlockItRestsOnBeFound) {
   cv::setNumThreads(1);
   const auto scene = site::SiteScene(5000, site::SiteLevel::kFar, true);
@@ -93,7 +95,10 @@ TEST(SiteLevels, APipeBuiltFirstLetsTheBlockItRestsOnBeFound) {
       if (e.object_name == "support_5") block = &e;
     ASSERT_NE(block, nullptr);
     ASSERT_GE(block->visible, kFullView);
-    EXPECT_EQ(block->result.found && !block->wrong, database) << block->result.detail;
+    EXPECT_FALSE(block->wrong);
+    if (database) {
+      EXPECT_TRUE(block->result.found) << block->result.detail;
+    }
   }
 }
 
