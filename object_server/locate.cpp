@@ -348,8 +348,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   res.rms_left_px = f.rms_px[0];
   res.rms_right_px = f.rms_px[1];
   if (!f.ok) return fail({Failure::kFitFailed, "model fit: " + f.error});
-  const SideShape side =
-      cylinder ? ClassifySide(*pair, f.params, views, opt) : SideShape::kUnmeasured;
+  // How a pipe's side shades: the fitted one's; for a box, its rival's (below).
+  SideShape side = cylinder ? ClassifySide(*pair, f.params, views, opt) : SideShape::kUnmeasured;
   // 5. Consistency between the views, on the parts of the outline that should show an edge.
   const auto measure_support = [&](const FitOutcome& o) -> std::array<OutlineSupport, 2> {
     return {MeasureOutlineSupport(o.outline[0], pair->left, grad_left, fit, views[0].hidden),
@@ -373,6 +373,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   // The other type.
   if (WantOtherType(cylinder, f, side, opt)) {
     const FitOutcome other = FitSolid(!cylinder, context).fit;
+    if (!cylinder && other.ok) side = ClassifySide(*pair, other.params, views, opt);
     spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
                   FitScore(f));
     res.other_type_fit_score = FitScore(other, score_scale);
@@ -380,7 +381,10 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
         other.ok ? SupportedFitScore(other, measure_support(other), score_scale)
                  : res.other_type_fit_score;
     if (const auto failure =
-            CheckOtherType(cylinder, f, other, other.ok && plausible(other), side, opt))
+            CheckOtherType(cylinder, f, other, other.ok && plausible(other), side,
+                           {res.fit_score, res.other_type_fit_score, res.supported_fit_score,
+                            res.other_type_supported_fit_score},
+                           opt))
       return fail(*failure);
   }
 

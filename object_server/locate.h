@@ -145,6 +145,11 @@ struct LocateOptions {
   // pipe's upper limb); on the tuning seeds 0.7 then lost 6 right finds for 3 fewer wrong
   // types, 0.8 one for 2 fewer wrong models, 0.9 gained a wrong type.
   double box_over_cylinder = 0.8;
+  // ... and its supported score (SupportedFitScore: only the outline that should show an
+  // edge) under this share of the cylinder's. A box fitted on an upright pipe at 1920x1080 can
+  // skip the pipe's foot and cap arcs where its edges turn (box_edge_angle_deg) and score
+  // better; on the outline that should show an edge it does not beat the pipe.
+  double box_over_cylinder_supported = 1.0;
   // A fit scoring worse than this explains too little of the outline to be the object: on
   // the site scenes it was a wrong model (another object's edges, the other type) far more
   // often than a right one.

@@ -363,7 +363,8 @@ bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const Loc
 
 std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                                           const FitOutcome& other, bool other_within_marks,
-                                          SideShape side, const LocateOptions& opt) {
+                                          SideShape side, const TypeScores& scores,
+                                          const LocateOptions& opt) {
   if (cylinder && side == SideShape::kCreased)
     return StepFailure{Failure::kFitFailed,
                        "a crease runs along the side in both images, where two flat faces meet: "
@@ -372,7 +373,7 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
   // A side that shades flat is a block's face (a pipe's shades round under any light but a
   // shadow's): a box that fits at all is the better answer.
   if (cylinder && side == SideShape::kFlat && other_within_marks && !CheckBothViews(other, opt) &&
-      FitScore(other) <= opt.max_fit_score)
+      scores.other_fit <= opt.max_fit_score)
     return StepFailure{Failure::kFitFailed,
                        "the side shades flat, as a block's faces do, not round as a pipe's, and a "
                        "box fits the outline too (score " +
@@ -384,11 +385,17 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                                                 FormatFixed(FitScore(other)) + " against " +
                                                 FormatFixed(FitScore(f)) +
                                                 "): is the object a box?"};
-  if (!cylinder && FitScore(f) > opt.box_over_cylinder * FitScore(other))
+  // A box is held against a pipe whose side is no pipe's: creased where two faces meet.
+  if (!cylinder && side != SideShape::kCreased &&
+      (FitScore(f) > opt.box_over_cylinder * FitScore(other) ||
+       (scores.other_fit <= opt.max_fit_score &&
+        scores.supported > opt.box_over_cylinder_supported * scores.other_supported)))
     return StepFailure{Failure::kFitFailed,
                        "a cylinder explains the outline about as well as a box (score " +
                            FormatFixed(FitScore(other)) + " against " + FormatFixed(FitScore(f)) +
-                           "): is the object a cylinder?"};
+                           ", on the outline that should show an edge " +
+                           FormatFixed(scores.other_supported) + " against " +
+                           FormatFixed(scores.supported) + "): is the object a cylinder?"};
   return std::nullopt;
 }
 

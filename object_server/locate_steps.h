@@ -350,11 +350,21 @@ bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const Loc
 // part of them empty or runs beyond them, as it does on the top half of a cylinder whose
 // bottom stands against the table) explains part of the object, and is not held against a
 // cylinder; a cylinder is held against a box wherever it lies, so a box must beat them all.
-// A cylinder whose side is creased (ClassifySide) is refused whatever the box; one whose side
-// is flat when a box the marks bound fits at all (both views explained, under max_fit_score).
+// Both fits' scores in the reference camera's pixels (ScoreResidualScale): FitScore and
+// SupportedFitScore, this fit's and the other's.
+struct TypeScores {
+  double fit = 0, other_fit = 0, supported = 0, other_supported = 0;
+};
+// A box must also beat a cylinder that explains the images (under max_fit_score) on the
+// outline that should show an edge (box_over_cylinder_supported).
+// `side` is how the cylinder's side shades (ClassifySide): this fit's, or for a box the other
+// one's. A cylinder whose side is creased is refused whatever the box; one whose side is flat
+// when a box the marks bound fits at all (both views explained, under max_fit_score). A box
+// is not held against a cylinder whose side is creased.
 std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                                           const FitOutcome& other, bool other_within_marks,
-                                          SideShape side, const LocateOptions& opt);
+                                          SideShape side, const TypeScores& scores,
+                                          const LocateOptions& opt);
 
 // The result from the fit's parameters, with one standard deviation from its covariance. A
 // cylinder's axis points up (along +x when level); it is left as the default when the

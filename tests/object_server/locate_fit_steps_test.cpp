@@ -342,39 +342,58 @@ TEST(LocateStepsFit, APartialBoxIsNotHeldAgainstACylinderButEveryCylinderAgainst
   tight.used = {95, 95};
   ASSERT_NEAR(FitScore(loose), 1.0, 1e-12);
   ASSERT_NEAR(FitScore(tight), 0.3, 1e-12);
+  // The supported scores taken equal to the scores, but where said.
+  const auto check = [&](bool cylinder, const FitOutcome& f, const FitOutcome& other,
+                         bool other_within_marks, SideShape side) {
+    return CheckOtherType(cylinder, f, other, other_within_marks, side,
+                          {FitScore(f), FitScore(other), FitScore(f), FitScore(other)}, options);
+  };
   // A cylinder against a box that explains the outline much better: refused, unless that box
   // leaves part of the marks empty (the top half of a pipe standing against the table).
-  const auto refused = CheckOtherType(true, loose, tight, true, SideShape::kRound, options);
+  const auto refused = check(true, loose, tight, true, SideShape::kRound);
   ASSERT_TRUE(refused.has_value());
   EXPECT_EQ(refused->reason, Failure::kFitFailed);
   EXPECT_NE(refused->detail.find("is the object a box?"), std::string::npos) << refused->detail;
-  EXPECT_FALSE(CheckOtherType(true, loose, tight, false, SideShape::kRound, options).has_value());
+  EXPECT_FALSE(check(true, loose, tight, false, SideShape::kRound).has_value());
   // A box must beat the cylinder, wherever the cylinder lies.
-  EXPECT_TRUE(
-      CheckOtherType(false, loose, tight, true, SideShape::kUnmeasured, options).has_value());
-  EXPECT_TRUE(
-      CheckOtherType(false, loose, tight, false, SideShape::kUnmeasured, options).has_value());
-  EXPECT_FALSE(
-      CheckOtherType(false, tight, loose, false, SideShape::kUnmeasured, options).has_value());
+  EXPECT_TRUE(check(false, loose, tight, true, SideShape::kUnmeasured).has_value());
+  EXPECT_TRUE(check(false, loose, tight, false, SideShape::kUnmeasured).has_value());
+  EXPECT_FALSE(check(false, tight, loose, false, SideShape::kUnmeasured).has_value());
   // A failed other fit says nothing.
   FitOutcome failed;
-  EXPECT_FALSE(CheckOtherType(true, loose, failed, true, SideShape::kRound, options).has_value());
+  EXPECT_FALSE(check(true, loose, failed, true, SideShape::kRound).has_value());
   // A cylinder whose side shades flat: refused when a box fits at all, however much worse.
   FitOutcome middling = tight;  // score 0.5
   middling.rms_px = {0.15, 0.15};
   middling.used = {90, 90};
   ASSERT_NEAR(FitScore(middling), 0.5, 1e-12);
-  EXPECT_FALSE(CheckOtherType(true, tight, middling, true, SideShape::kRound, options));
-  const auto flat = CheckOtherType(true, tight, middling, true, SideShape::kFlat, options);
+  EXPECT_FALSE(check(true, tight, middling, true, SideShape::kRound));
+  const auto flat = check(true, tight, middling, true, SideShape::kFlat);
   ASSERT_TRUE(flat.has_value());
   EXPECT_NE(flat->detail.find("shades flat"), std::string::npos) << flat->detail;
-  EXPECT_FALSE(CheckOtherType(true, tight, middling, false, SideShape::kFlat, options));
-  EXPECT_FALSE(CheckOtherType(true, tight, loose, true, SideShape::kFlat, options));  // over 0.9
-  EXPECT_FALSE(CheckOtherType(true, tight, failed, true, SideShape::kFlat, options));
+  EXPECT_FALSE(check(true, tight, middling, false, SideShape::kFlat));
+  EXPECT_FALSE(check(true, tight, loose, true, SideShape::kFlat));  // over 0.9
+  EXPECT_FALSE(check(true, tight, failed, true, SideShape::kFlat));
   // One creased: refused whatever the box.
-  const auto creased = CheckOtherType(true, tight, failed, true, SideShape::kCreased, options);
+  const auto creased = check(true, tight, failed, true, SideShape::kCreased);
   ASSERT_TRUE(creased.has_value());
   EXPECT_NE(creased->detail.find("crease"), std::string::npos) << creased->detail;
+  // A box beating the cylinder's score but not on the outline that should show an edge:
+  // refused; not against a "cylinder" whose side is creased, nor one that explains the images
+  // too poorly to be reported itself (over max_fit_score).
+  const TypeScores worse_supported{0.3, 0.5, 0.3, 0.25};
+  const auto tie =
+      CheckOtherType(false, tight, middling, true, SideShape::kRound, worse_supported, options);
+  ASSERT_TRUE(tie.has_value());
+  EXPECT_NE(tie->detail.find("is the object a cylinder?"), std::string::npos) << tie->detail;
+  EXPECT_FALSE(CheckOtherType(false, tight, middling, true, SideShape::kRound,
+                              {0.3, 0.5, 0.2, 0.25}, options));
+  EXPECT_FALSE(
+      CheckOtherType(false, tight, middling, true, SideShape::kCreased, worse_supported, options));
+  EXPECT_FALSE(
+      CheckOtherType(false, tight, loose, true, SideShape::kRound, {0.3, 1.0, 0.3, 0.25}, options));
+  EXPECT_FALSE(CheckOtherType(false, loose, tight, true, SideShape::kCreased, {1.0, 0.3, 1.0, 0.3},
+                              options));
 }
 
 TEST(LocateStepsFit, TheSupportedScoreCountsOnlyTheOutlineThatShouldShowAnEdge) {
