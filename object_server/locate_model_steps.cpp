@@ -370,32 +370,34 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                        "a crease runs along the side in both images, where two flat faces meet: "
                        "is the object a box?"};
   if (!other.ok) return std::nullopt;
+  const std::string against =
+      " (score " + FormatFixed(scores.other_fit) + " against " + FormatFixed(scores.fit) +
+      ", on the outline that should show an "
+      "edge " +
+      FormatFixed(scores.other_supported) + " against " + FormatFixed(scores.supported) + ")";
+  // The other type fits at all: the marks bound it, it explains both views.
+  const bool other_fits =
+      other_within_marks && !CheckBothViews(other, opt) && scores.other_fit <= opt.max_fit_score;
   // A side that shades flat is a block's face (a pipe's shades round under any light but a
   // shadow's): a box that fits at all is the better answer.
-  if (cylinder && side == SideShape::kFlat && other_within_marks && !CheckBothViews(other, opt) &&
-      scores.other_fit <= opt.max_fit_score)
+  if (cylinder && side == SideShape::kFlat && other_fits)
     return StepFailure{Failure::kFitFailed,
                        "the side shades flat, as a block's faces do, not round as a pipe's, and a "
-                       "box fits the outline too (score " +
-                           FormatFixed(FitScore(other)) + " against " + FormatFixed(FitScore(f)) +
-                           "): is the object a box?"};
+                       "box fits the outline too" +
+                           against + ": is the object a box?"};
   if (cylinder && other_within_marks && !CheckBothViews(other, opt) &&
-      opt.other_type_ratio * FitScore(other) < FitScore(f))
-    return StepFailure{Failure::kFitFailed, "a box explains the outline much better (score " +
-                                                FormatFixed(FitScore(other)) + " against " +
-                                                FormatFixed(FitScore(f)) +
-                                                "): is the object a box?"};
+      (opt.other_type_ratio * FitScore(other) < FitScore(f) ||
+       (other_fits && opt.other_type_ratio * scores.other_supported < scores.supported)))
+    return StepFailure{Failure::kFitFailed, "a box explains the outline much better" + against +
+                                                ": is the object a box?"};
   // A box is held against a pipe whose side is no pipe's: creased where two faces meet.
   if (!cylinder && side != SideShape::kCreased &&
       (FitScore(f) > opt.box_over_cylinder * FitScore(other) ||
        (scores.other_fit <= opt.max_fit_score &&
         scores.supported > opt.box_over_cylinder_supported * scores.other_supported)))
     return StepFailure{Failure::kFitFailed,
-                       "a cylinder explains the outline about as well as a box (score " +
-                           FormatFixed(FitScore(other)) + " against " + FormatFixed(FitScore(f)) +
-                           ", on the outline that should show an edge " +
-                           FormatFixed(scores.other_supported) + " against " +
-                           FormatFixed(scores.supported) + "): is the object a cylinder?"};
+                       "a cylinder explains the outline about as well as a box" + against +
+                           ": is the object a cylinder?"};
   return std::nullopt;
 }
 

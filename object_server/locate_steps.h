@@ -355,8 +355,10 @@ bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const Loc
 struct TypeScores {
   double fit = 0, other_fit = 0, supported = 0, other_supported = 0;
 };
-// A box must also beat a cylinder that explains the images (under max_fit_score) on the
-// outline that should show an edge (box_over_cylinder_supported).
+// Either is judged on the outline that should show an edge too (SupportedFitScore), against
+// an other type that explains the images (under max_fit_score): a cylinder is refused when a
+// box does `other_type_ratio` times better there, a box unless it does at least as well
+// (box_over_cylinder_supported).
 // `side` is how the cylinder's side shades (ClassifySide): this fit's, or for a box the other
 // one's. A cylinder whose side is creased is refused whatever the box; one whose side is flat
 // when a box the marks bound fits at all (both views explained, under max_fit_score). A box

@@ -378,6 +378,16 @@ TEST(LocateStepsFit, APartialBoxIsNotHeldAgainstACylinderButEveryCylinderAgainst
   const auto creased = check(true, tight, failed, true, SideShape::kCreased);
   ASSERT_TRUE(creased.has_value());
   EXPECT_NE(creased->detail.find("crease"), std::string::npos) << creased->detail;
+  // A cylinder a box beats much on the outline that should show an edge only: refused, unless
+  // the box explains the images too poorly to be reported itself.
+  const auto on_supported =
+      CheckOtherType(true, tight, middling, true, SideShape::kRound, {0.3, 0.5, 0.4, 0.2}, options);
+  ASSERT_TRUE(on_supported.has_value());
+  EXPECT_NE(on_supported->detail.find("is the object a box?"), std::string::npos);
+  EXPECT_FALSE(CheckOtherType(true, tight, middling, true, SideShape::kRound, {0.3, 1.0, 0.4, 0.2},
+                              options));
+  EXPECT_FALSE(CheckOtherType(true, tight, middling, true, SideShape::kRound, {0.3, 0.5, 0.4, 0.3},
+                              options));
   // A box beating the cylinder's score but not on the outline that should show an edge:
   // refused; not against a "cylinder" whose side is creased, nor one that explains the images
   // too poorly to be reported itself (over max_fit_score).
