@@ -61,7 +61,9 @@ TEST(SiteLevels, SeededScenesOfEachLevel) {
   EXPECT_LE(s.full_wrong + s.hidden_wrong, 3);
   ASSERT_GE(requests, 5);
   EXPECT_EQ(false_finds, 0);
-  EXPECT_LE(wrong_types, 7);
+  // 2 of about 30 since a pipe's side is judged by its shading and the other type is fitted
+  // as if asked for (6 before).
+  EXPECT_LE(wrong_types, 3);
 }
 
 // A thin upright pipe (radius 0.25 in, 5.5 in tall, 46 in away, 1920x1080) whose lower half
