@@ -215,7 +215,6 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
                      diffs.end());
     out.noise_sigma = 1.4826 * diffs[diffs.size() / 2] / std::sqrt(2.0);
   }
-  auto grey = [&](const Eigen::Vector2d& p) { return GreyAt(image, p); };
   // A step of c grey levels blurred by edge_blur_px peaks at c / (sqrt(2 pi) blur) per pixel:
   // the detector (min_gradient) sees steps of at least this. The means either side are of 6
   // samples each, so their difference has noise sigma * sqrt(2 / 6).
@@ -258,8 +257,8 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
       double in_sum = 0, out_sum = 0;
       for (const double d : {2.5, 3.5})
         for (const double w : {-1.0, 0.0, 1.0}) {
-          in_sum += grey(p - d * normal + w * dir);
-          out_sum += grey(p + d * normal + w * dir);
+          in_sum += GreyAt(image, p - d * normal + w * dir);
+          out_sum += GreyAt(image, p + d * normal + w * dir);
         }
       if (std::abs(in_sum - out_sum) / 6 < min_step) continue;
       ++out.contrasted;
@@ -372,12 +371,12 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
   if (!other.ok) return std::nullopt;
   const std::string against =
       " (score " + FormatFixed(scores.other_fit) + " against " + FormatFixed(scores.fit) +
-      ", on the outline that should show an "
-      "edge " +
-      FormatFixed(scores.other_supported) + " against " + FormatFixed(scores.supported) + ")";
-  // The other type fits at all: the marks bound it, it explains both views.
-  const bool other_fits =
-      other_within_marks && !CheckBothViews(other, opt) && scores.other_fit <= opt.max_fit_score;
+      "; on the outline that should show an edge, " + FormatFixed(scores.other_supported) +
+      " against " + FormatFixed(scores.supported) + ")";
+  // The other type explains the images: the marks bound it, both views are explained; and it
+  // fits at all (under max_fit_score).
+  const bool other_explains = other_within_marks && !CheckBothViews(other, opt);
+  const bool other_fits = other_explains && scores.other_fit <= opt.max_fit_score;
   // A side that shades flat is a block's face (a pipe's shades round under any light but a
   // shadow's): a box that fits at all is the better answer.
   if (cylinder && side == SideShape::kFlat && other_fits)
@@ -385,7 +384,7 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                        "the side shades flat, as a block's faces do, not round as a pipe's, and a "
                        "box fits the outline too" +
                            against + ": is the object a box?"};
-  if (cylinder && other_within_marks && !CheckBothViews(other, opt) &&
+  if (cylinder && other_explains &&
       (opt.other_type_ratio * FitScore(other) < FitScore(f) ||
        (other_fits && opt.other_type_ratio * scores.other_supported < scores.supported)))
     return StepFailure{Failure::kFitFailed, "a box explains the outline much better" + against +

@@ -14,6 +14,15 @@
 #include "object_server/solid_models.h"
 
 namespace igms::object {
+namespace {
+
+// DIR/SCENE_OBJECT followed by `ending`: where a request's debug image is written.
+std::string DebugPath(const std::string& dir, const std::string& scene, const std::string& object,
+                      const char* ending) {
+  return dir + "/" + scene + "_" + object + ending;
+}
+
+}  // namespace
 
 std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
                                             uint64_t mark_seed, const LocateOptions& options,
@@ -45,11 +54,8 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
     if (database) in.known = known;
     e.result = Locate(in, options);
     if (e.result.found) known.push_back(KnownFromResult(e.result, object.name));
-    if (!debug_dir.empty()) {
-      std::string file = debug_dir;
-      file.append("/").append(scene_name).append("_").append(object.name).append(".png");
-      cv::imwrite(file, DebugImage(in, e.result));
-    }
+    if (!debug_dir.empty())
+      cv::imwrite(DebugPath(debug_dir, scene_name, object.name, ".png"), DebugImage(in, e.result));
     const Eigen::Vector3d eye = scene.cameras.left.Center();
     if (cyl) {
       e.lying = std::abs(cyl->axis.z()) < 0.7;
@@ -166,12 +172,10 @@ std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scen
     LocateInput in = input(cylinder ? SolidType::kBox : SolidType::kCylinder, *marks);
     in.want_trace = !debug_dir.empty();
     out.push_back({scene_name, "wrong_type", object.name, Locate(in, options)});
-    if (!debug_dir.empty()) {
-      std::string file = debug_dir;
-      file.append("/").append(scene_name).append("_").append(object.name);
-      file.append(cylinder ? "_as_box.png" : "_as_cylinder.png");
-      cv::imwrite(file, DebugImage(in, out.back().result));
-    }
+    if (!debug_dir.empty())
+      cv::imwrite(DebugPath(debug_dir, scene_name, object.name,
+                            cylinder ? "_as_box.png" : "_as_cylinder.png"),
+                  DebugImage(in, out.back().result));
   }
   return out;
 }
