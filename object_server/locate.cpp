@@ -134,7 +134,7 @@ struct SolidFit {
 };
 SolidFit FitSolid(bool cylinder, const FitContext& c) {
   SolidFit s;
-  s.options = FitSettings(c.opt, c.boundary.strongest);
+  s.options = FitSettings(c.opt, c.boundary.strongest, c.pair.left.cols);
   if (!cylinder) s.options.max_edge_angle_deg = c.opt.box_edge_angle_deg;
   s.options.region_weight = c.opt.region_weight;
   s.views = {FitView{&c.in.left_camera, &c.grad_left}, FitView{&c.in.right_camera, &c.grad_right}};
@@ -258,7 +258,8 @@ bool LocateOptions::Check(std::string* error) const {
     return false;
   }
   if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(score_reference_width_px > 0) ||
-      !(score_width_power >= 0) || !(min_match_zncc > -1 && min_match_zncc < 1)) {
+      !(score_width_power >= 0) || !(sigma_width_power >= 0) ||
+      !(min_match_zncc > -1 && min_match_zncc < 1)) {
     *error = "thresholds must be positive";
     return false;
   }

@@ -160,6 +160,12 @@ struct LocateOptions {
   // fit's residuals in pixels hardly grow with the resolution (blur and noise are per pixel).
   double score_reference_width_px = 512;
   double score_width_power = 0.4;
+  // An image w pixels wide, wider than the reference, has w / reference outline samples for
+  // each of the reference camera's, and they share their errors (the blur, a face's shading
+  // against its neighbour, the texture) over a length fixed in the scene, not in pixels: the
+  // fit's correlated_samples grow by (w / reference)^sigma_width_power, so the sigmas do not
+  // shrink with the resolution faster than the errors do.
+  double sigma_width_power = 1.0;
   double ranger_half_angle_deg = 6;  // half the ultrasonic beam width (12 degrees, table 2.3)
   double ranger_accuracy = 0.5;      // world units: the range's own error
   // False, with what is wrong in *error, when invalid.

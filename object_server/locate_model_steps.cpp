@@ -40,8 +40,11 @@ bool IsSolid(const FitOutcome& o) {
 
 }  // namespace
 
-FitOptions FitSettings(const LocateOptions& options, double strongest) {
+FitOptions FitSettings(const LocateOptions& options, double strongest, int image_width) {
   FitOptions fit;
+  if (image_width > options.score_reference_width_px)
+    fit.correlated_samples *=
+        std::pow(image_width / options.score_reference_width_px, options.sigma_width_power);
   fit.search_px = options.search_px;
   fit.min_gradient = std::max(options.min_edge_gradient, 0.25 * strongest);
   fit.edge_blur_px = std::hypot(options.edge_sigma, options.camera_blur_px);

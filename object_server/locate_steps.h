@@ -231,8 +231,9 @@ std::vector<double> HorizontalEdgeYaws(const geometry::ProjectiveCamera& left_ca
 // The three starts from the given boundary pixels alone.
 std::vector<Eigen::VectorXd> BoxStartsFrom(const geometry::ProjectiveCamera& left_camera,
                                            const std::vector<cv::Point>& boundary, double depth);
-// The fit's settings from the locator's, given the boundary's strongest gradient.
-FitOptions FitSettings(const LocateOptions& options, double strongest);
+// The fit's settings from the locator's, given the boundary's strongest gradient and the
+// images' width (0: the reference camera's; see LocateOptions::sigma_width_power).
+FitOptions FitSettings(const LocateOptions& options, double strongest, int image_width = 0);
 // How well a fit explains both images: the views' RMS residuals (times residual_scale) plus
 // twice the share of outline samples without an edge; lower is better, 1e18 for a failed fit.
 double FitScore(const FitOutcome& fit, double residual_scale = 1.0);

@@ -297,6 +297,22 @@ TEST(LocateStepsFit, FitSettingsFollowTheLocatorsOptions) {
   EXPECT_EQ(FitSettings(options, 10).min_gradient, 6);
 }
 
+// Wider images have more outline samples per length of edge, sharing their errors: the fit
+// counts them as correlated in proportion, and never fewer than at the reference width.
+TEST(LocateStepsFit, WiderImagesCountTheirSamplesAsMoreCorrelated) {
+  LocateOptions options;
+  const double base = FitOptions{}.correlated_samples;
+  EXPECT_EQ(FitSettings(options, 100).correlated_samples, base);
+  EXPECT_EQ(FitSettings(options, 100, 512).correlated_samples, base);
+  EXPECT_EQ(FitSettings(options, 100, 320).correlated_samples, base);
+  EXPECT_NEAR(FitSettings(options, 100, 1920).correlated_samples, base * 1920 / 512, 1e-9);
+  options.sigma_width_power = 0.5;
+  EXPECT_NEAR(FitSettings(options, 100, 2048).correlated_samples, base * 2, 1e-9);
+  options.sigma_width_power = -1;
+  std::string error;
+  EXPECT_FALSE(options.Check(&error));
+}
+
 TEST_F(LocateSteps, TheOtherTypeIsFittedAsItWouldBeWereItAskedFor) {
   // Each object asked for as either type: the score of the type tried as the other one is
   // the score that type's own request reaches, so neither is held against a lesser fit.
