@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -123,6 +124,51 @@ struct FitContext {
   const PlausibleFn& plausible;
 };
 
+// A block fitted up to a pipe resting on it (TopFromSides) fitted again below the top its
+// sides show: from there, and from the starts of the boundary below that top. Kept if it fits
+// better and its sizes are known to max_lowered_size_sigma: with a pipe lying over its top,
+// what holds its depth is scarce, and a pipe running back along it is easily taken for the
+// top's far edge.
+void LowerToSides(const FitContext& c, const std::array<FitView, 2>& views, const FitOptions& fit,
+                  FitOutcome* f) {
+  const auto lowered = TopFromSides(views, fit, c.opt, *f);
+  if (!lowered) return;
+  // The boundary no higher than the lowered block's top face.
+  const geometry::ProjectiveCamera& cam = c.in.left_camera;
+  const Eigen::Vector3d centre = lowered->head<3>();
+  const auto c0 = cam.Project(centre), c1 = cam.Project(centre + Eigen::Vector3d::UnitZ());
+  if (!c0 || !c1 || (*c1 - *c0).norm() < 1e-9) return;
+  const Eigen::Vector2d up = (*c1 - *c0).normalized();
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd((*lowered)[6], Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  double top = -1e18;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d corner(k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, 0.5);
+    const auto q = cam.Project(centre + turn * corner.cwiseProduct(lowered->segment<3>(3)));
+    if (!q) return;
+    top = std::max(top, up.dot(*q));
+  }
+  std::vector<cv::Point> below;
+  for (const auto& p : c.boundary.pixels)
+    if (up.dot(Eigen::Vector2d(p.x, p.y)) <= top + 1.5) below.push_back(p);
+  std::vector<Eigen::VectorXd> starts;
+  if (below.size() >= 8) starts = BoxStarts(cam, below, c.depth0, &c.grad_left);
+  if (starts.empty()) {  // FitBox starts from a world-aligned block
+    Eigen::VectorXd aligned = *lowered;
+    aligned[6] = 0;
+    starts.push_back(aligned);
+  }
+  starts.push_back(*lowered);
+  FitOutcome g = FitBox(starts, views, fit, c.opt, c.plausible);
+  const double worst_sigma = g.ok ? BoxFromFit(g.params, g.covariance).size_sigma.maxCoeff() : 0;
+  spdlog::debug(
+      "locate: fitted below the sides' top, it scores {:.3f} against {:.3f}, its sizes known to "
+      "{:.2f}",
+      FitScore(g), FitScore(*f), worst_sigma);
+  if (g.ok && worst_sigma <= c.opt.max_lowered_size_sigma && BetterFit(g, *f, c.plausible))
+    *f = std::move(g);
+}
+
 // One type's fit, the same whether that type was asked for or is the other one tried against
 // it: its own edge angles and outline regions, its starts (a pipe's also stretched to fill
 // the marks, and from a raised pipe's upper limb when the others fit poorly), and a pipe's
@@ -156,6 +202,7 @@ SolidFit FitSolid(bool cylinder, const FitContext& c) {
   s.fit = cylinder ? FitCylinder(starts, s.views, s.options, c.opt, c.plausible)
                    : FitBox(starts, s.views, s.options, c.opt, c.plausible);
   TryUpperLimb(upper_limb, s.views, s.options, c.opt, c.plausible, &s.fit);
+  if (!cylinder) LowerToSides(c, s.views, s.options, &s.fit);
   if (cylinder) EndsFromLimbs(s.views, s.options, c.opt, &s.fit);
   return s;
 }
@@ -236,6 +283,10 @@ bool LocateOptions::Check(std::string* error) const {
   }
   if (!(camera_blur_px >= 0 && camera_blur_px <= 10)) {
     *error = "camera_blur_px must be in 0..10";
+    return false;
+  }
+  if (!(box_side_reach > 0 && box_side_reach <= 1) || !(max_lowered_size_sigma > 0)) {
+    *error = "box_side_reach must be in (0, 1], max_lowered_size_sigma positive";
     return false;
   }
   if (!(edge_fraction > 0 && edge_fraction < 1)) {

@@ -110,6 +110,11 @@ struct LocateOptions {
   // (3.0 in, found within 0.3 in); the held-out blocks refused this way were wrong by 1.5 in and
   // more.
   double max_box_size_sigma = 3.5;
+  // A block's sides' edges that end below this share of its height put its top there
+  // (TopFromSides), and the block so lowered is kept only with every size's sigma within
+  // max_lowered_size_sigma.
+  double box_side_reach = 0.9;
+  double max_lowered_size_sigma = 1.0;
   bool box_inner_edges = true;       // fit a box's edges between seen faces too, not only
                                      // its silhouette
   bool cylinder_inner_edges = true;  // fit the rim of a seen end cap against the side too

@@ -1,5 +1,8 @@
 // A fitted pipe's ends from where its limbs end in both images (locate_steps.h:
-// EndsFromLimbs): the silhouette's ends, for an end no edge of the fit holds.
+// EndsFromLimbs): the silhouette's ends, for an end no edge of the fit holds. A fitted block's
+// top from where its sides' edges end (TopFromSides): below a pipe resting on it.
+#include <spdlog/spdlog.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
@@ -76,6 +79,31 @@ std::optional<std::pair<double, double>> LimbExtent(const Gradients& gradients,
     }
   }
   return std::make_pair(lo, hi);
+}
+
+// How far up a block's side (pixels from its bottom corner q0 along the unit `dir`, the side
+// `length` px long) its edge runs: walked up from the middle while an edge along the side (a
+// gradient of at least min_gradient within 20 degrees of the side's normal, within 2 px of
+// it) recurs within 4 px. nullopt when there is no edge at the middle.
+std::optional<double> SideEdgeEnd(const Gradients& gradients, const Eigen::Vector2d& q0,
+                                  const Eigen::Vector2d& dir, double length, double min_gradient) {
+  constexpr double kGapPx = 4.0, kBandPx = 2.0;
+  const Eigen::Vector2d n(-dir.y(), dir.x());
+  const double cos_max = std::cos(20 * M_PI / 180);
+  const auto edge_at = [&](double s) {
+    for (double o = -kBandPx; o <= kBandPx; o += 0.5) {
+      const Eigen::Vector2d g = gradients.At(q0 + s * dir + o * n);
+      const double across = std::abs(g.dot(n));
+      if (across >= min_gradient && across >= cos_max * g.norm()) return true;
+    }
+    return false;
+  };
+  const double mid = 0.5 * length;
+  if (!edge_at(mid) && !edge_at(mid - 1) && !edge_at(mid + 1)) return std::nullopt;
+  double last = mid;
+  for (double s = mid + 1; s - last <= kGapPx && s <= 2 * length; s += 1)
+    if (edge_at(s)) last = s;
+  return last;
 }
 
 }  // namespace
@@ -193,6 +221,68 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
     if (ProjectOutline(CylinderOutline(x), *views[v].camera, o))
       for (const int i : o.hull) f->outline[v].push_back(o.px[i]);
   }
+}
+
+std::optional<Eigen::VectorXd> TopFromSides(const std::array<FitView, 2>& views,
+                                            const FitOptions& fit, const LocateOptions& opt,
+                                            const FitOutcome& f) {
+  if (!f.ok || f.params.size() != 7 || !f.params.allFinite()) return std::nullopt;
+  const Eigen::VectorXd& x = f.params;
+  const Eigen::Vector3d centre = x.head<3>(), size = x.segment<3>(3).cwiseAbs();
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(x[6], Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  constexpr double kMinSidePx = 8, kMinShortfallPx = 3;
+  // Per silhouette side in either view: the share of the height its edge reaches (0 at the
+  // bottom, 1 at the top) and the pixels it stops short of the top.
+  std::vector<std::pair<double, double>> ends;
+  for (int v = 0; v < 2; ++v) {
+    const geometry::ProjectiveCamera& cam = *views[v].camera;
+    // The vertical edges' bottoms and tops; the two outermost across the image are the sides.
+    std::array<Eigen::Vector3d, 4> bottom, top;
+    std::array<double, 4> across{};
+    const auto c0 = cam.Project(centre), c1 = cam.Project(centre + Eigen::Vector3d::UnitZ());
+    if (!c0 || !c1 || (*c1 - *c0).norm() < 1e-9) return std::nullopt;
+    const Eigen::Vector2d up = (*c1 - *c0).normalized(), normal(-up.y(), up.x());
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector3d corner(k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, -0.5);
+      bottom[k] = centre + turn * corner.cwiseProduct(size);
+      top[k] = bottom[k] + size.z() * Eigen::Vector3d::UnitZ();
+      const auto q = cam.Project(0.5 * (bottom[k] + top[k]));
+      if (!q) return std::nullopt;
+      across[k] = normal.dot(*q);
+    }
+    const auto [lo, hi] = std::minmax_element(across.begin(), across.end());
+    for (const auto side : {lo, hi}) {
+      const auto k = static_cast<size_t>(side - across.begin());
+      const auto q0 = cam.Project(bottom[k]), q1 = cam.Project(top[k]);
+      if (!q0 || !q1) return std::nullopt;
+      const double length = (*q1 - *q0).norm();
+      if (length < kMinSidePx) return std::nullopt;
+      // A side a known solid in front hides in part says nothing of where it ends.
+      bool hidden = false;
+      for (const auto& h : views[v].hidden)
+        for (const double t : {0.25, 0.5, 0.75, 1.0})
+          if (SignedDistance(h, *q0 + t * (*q1 - *q0)) < 2) hidden = true;
+      if (hidden) continue;
+      const Eigen::Vector2d dir = (*q1 - *q0) / length;
+      const auto end = SideEdgeEnd(*views[v].gradients, *q0, dir, length, fit.min_gradient);
+      if (!end) return std::nullopt;  // no edge half way up: nothing to say
+      const auto t = AxisParameterAt(cam, bottom[k], top[k], *end);
+      if (!t) return std::nullopt;
+      ends.emplace_back(*t, length - *end);
+    }
+  }
+  if (ends.size() < 2) return std::nullopt;
+  // The top is where the second-highest side ends: a neighbour's edge in line with one side
+  // carries it on up.
+  std::sort(ends.rbegin(), ends.rend());
+  const auto [reach, shortfall_px] = ends[1];
+  if (reach <= 0 || reach >= opt.box_side_reach || shortfall_px < kMinShortfallPx)
+    return std::nullopt;
+  Eigen::VectorXd lowered = x;
+  lowered[2] = centre.z() - 0.5 * size.z() * (1 - reach);
+  lowered[5] = reach * size.z();
+  spdlog::debug("locate: the sides' edges reach {:.2f} of the block's height", reach);
+  return lowered;
 }
 
 }  // namespace igms::object

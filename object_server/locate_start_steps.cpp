@@ -284,39 +284,49 @@ std::optional<UprightFrame> BoundaryUpright(const geometry::ProjectiveCamera& le
 
 // The boundary pixels between a block's outermost vertical edges (those whose gradient runs
 // across the world's vertical as the left camera sees it, gathered by their position across
-// it; an edge is a run at least half the longest): without a pipe resting on the block and
-// reaching past its sides. Empty when no two such edges stand apart or they span the
-// boundary anyway.
+// it; an edge is a run at least a third as long as the longest): without a pipe resting on
+// the block and reaching past its sides. An edge's length is the rows along the vertical its
+// pixels cover, however wide the blur spreads it, so a block's side against the table counts
+// as much as one where a pipe's limb runs on up from it. Empty when no two such edges stand
+// apart or they span the boundary anyway.
 std::vector<cv::Point> BetweenVerticalEdges(const geometry::ProjectiveCamera& left_camera,
                                             const std::vector<cv::Point>& boundary, double depth,
                                             const Gradients& gradients) {
   const auto frame = BoundaryUpright(left_camera, boundary, depth);
   if (!frame) return {};
-  const Eigen::Vector2d& across = frame->across;
-  double lo = 1e18, hi = -1e18;
+  const Eigen::Vector2d &across = frame->across, &up = frame->up;
+  double lo = 1e18, hi = -1e18, up_lo = 1e18, up_hi = -1e18;
   for (const auto& p : boundary) {
-    const double c = across.dot(Eigen::Vector2d(p.x, p.y));
-    lo = std::min(lo, c);
-    hi = std::max(hi, c);
+    const Eigen::Vector2d q(p.x, p.y);
+    lo = std::min(lo, across.dot(q));
+    hi = std::max(hi, across.dot(q));
+    up_lo = std::min(up_lo, up.dot(q));
+    up_hi = std::max(up_hi, up.dot(q));
   }
-  const int bins = static_cast<int>(hi - lo) + 1;
+  const int bins = static_cast<int>(hi - lo) + 1, rows = static_cast<int>(up_hi - up_lo) + 1;
   if (bins < 6) return {};
-  std::vector<int> count(bins, 0);
+  // The rows each column's vertical-edge pixels cover.
+  std::vector<std::vector<char>> covers(bins, std::vector<char>(rows, 0));
   for (const auto& p : boundary) {
     const Eigen::Vector2d q(p.x, p.y);
     const Eigen::Vector2d g = gradients.At(q);
     if (std::abs(g.dot(across)) < std::cos(20 * M_PI / 180) * g.norm()) continue;
-    ++count[static_cast<int>(across.dot(q) - lo)];
+    covers[static_cast<int>(across.dot(q) - lo)][static_cast<int>(up.dot(q) - up_lo)] = 1;
   }
-  // Runs over 3 bins: an edge blurred over neighbouring columns.
+  // Runs over 3 columns: an edge blurred over neighbouring columns.
   std::vector<int> run(bins, 0);
   for (int i = 0; i < bins; ++i)
-    for (int j = std::max(0, i - 1); j <= std::min(bins - 1, i + 1); ++j) run[i] += count[j];
+    for (int r = 0; r < rows; ++r)
+      for (int j = std::max(0, i - 1); j <= std::min(bins - 1, i + 1); ++j)
+        if (covers[j][r]) {
+          ++run[i];
+          break;
+        }
   const int longest = *std::max_element(run.begin(), run.end());
   if (longest < 6) return {};
   int first = -1, last = -1;
   for (int i = 0; i < bins; ++i)
-    if (run[i] >= longest / 2) {
+    if (run[i] >= longest / 3) {
       if (first < 0) first = i;
       last = i;
     }

@@ -297,6 +297,17 @@ SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
 void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
                    const LocateOptions& opt, FitOutcome* f);
 
+// A fitted block whose silhouette sides' edges, walked up from their middle in both images,
+// stop short of its top (the second-highest of the four under LocateOptions::box_side_reach
+// of its height, and 3 px or more below it): the same block with its top there. A pipe
+// resting on the block, its end rising above it, carries the fit's top up to its own, along
+// no edge of the block's sides; a neighbour's edge in line with one side can carry that side
+// on up. Sides a known solid in front hides in part are not counted. nullopt when the sides
+// run to the top or say nothing (no edge half way up one of them).
+std::optional<Eigen::VectorXd> TopFromSides(const std::array<FitView, 2>& views,
+                                            const FitOptions& fit, const LocateOptions& opt,
+                                            const FitOutcome& f);
+
 // 5. Which parts of the fitted outline should show an edge, per view: sampled every pixel
 // along it (away from its corners), a sample counts when it lies inside the image and the
 // grey levels either side of it differ enough for the fit's edge detector to see a step

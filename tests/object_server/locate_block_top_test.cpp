@@ -1,0 +1,103 @@
+// A block's top from where its sides' edges end (object_server/locate_steps.h: TopFromSides),
+// and the locator lowering a block whose fit the pipe resting on it carried up: on rendered
+// site scenes, with two lights and shadows.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <variant>
+
+#include "common/sim/marks.h"
+#include "common/sim/renderer.h"
+#include "common/sim/site_scenes.h"
+#include "object_server/locate_steps.h"
+
+namespace igms::object {
+namespace {
+
+// A site scene's block, rendered, asked for as a box with the benchmark's marks
+// (common/sim/vision/evaluation.h).
+struct AskedBlock {
+  site::Scene scene;
+  LocateInput input;
+  site::Box truth;
+  bool present = false;
+};
+AskedBlock AskForBlock(uint64_t seed, site::SiteLevel level, const std::string& name) {
+  AskedBlock a;
+  a.scene = site::SiteScene(seed, level, false);
+  const site::StereoImages images = site::RenderStereo(a.scene);
+  for (size_t i = 0; i < a.scene.objects.size(); ++i) {
+    const auto* box = std::get_if<site::Box>(&a.scene.objects[i].shape);
+    if (a.scene.objects[i].name != name || !box) continue;
+    a.truth = *box;
+    a.present = true;
+    a.input.marks = *site::GenerateMarks(*box, a.scene.cameras.left, seed * 1000 + i);
+  }
+  a.input.type = SolidType::kBox;
+  a.input.left = images.left;
+  a.input.right = images.right;
+  a.input.left_camera = a.scene.cameras.left;
+  a.input.right_camera = a.scene.cameras.right;
+  return a;
+}
+
+// The box's fit parameters (centre, sizes along its own axes, yaw) with its top raised by
+// `raise` world units.
+Eigen::VectorXd Params(const site::Box& b, double raise) {
+  Eigen::VectorXd x(7);
+  x << b.center + Eigen::Vector3d(0, 0, 0.5 * raise), b.size + Eigen::Vector3d(0, 0, raise),
+      std::atan2(b.rotation(1, 0), b.rotation(0, 0));
+  return x;
+}
+
+// TopFromSides on the block's true footprint raised by `raise`, measuring the edges over
+// the whole of both images.
+std::optional<Eigen::VectorXd> Lowered(const AskedBlock& a, double raise) {
+  const LocateOptions options;
+  const auto pair = PrepareImages(a.input);
+  EXPECT_TRUE(pair.ok());
+  const Gradients left(pair->left, cv::Rect(0, 0, pair->left.cols, pair->left.rows),
+                       options.edge_sigma);
+  const Gradients right(pair->right, cv::Rect(0, 0, pair->right.cols, pair->right.rows),
+                        options.edge_sigma);
+  const std::array<FitView, 2> views = {FitView(&a.input.left_camera, &left),
+                                        FitView(&a.input.right_camera, &right)};
+  FitOutcome f;
+  f.ok = true;
+  f.params = Params(a.truth, raise);
+  return TopFromSides(views, FitSettings(options, 0), options, f);
+}
+
+TEST(BlockTop, ABlocksSidesRunToItsTop) {
+  // Level far, seed 5: box_6, a block in the open, face on.
+  const AskedBlock a = AskForBlock(5, site::SiteLevel::kFar, "box_6");
+  ASSERT_TRUE(a.present);
+  EXPECT_FALSE(Lowered(a, 0.0).has_value());
+  // Fitted 40% too tall, its sides stop where the block does.
+  const auto lowered = Lowered(a, 0.4 * a.truth.size.z());
+  ASSERT_TRUE(lowered.has_value());
+  EXPECT_NEAR((*lowered)[5], a.truth.size.z(), 0.1 * a.truth.size.z());
+  EXPECT_NEAR((*lowered)[2] - 0.5 * (*lowered)[5], a.truth.center.z() - 0.5 * a.truth.size.z(),
+              1e-9);  // the bottom stays
+}
+
+TEST(BlockTop, ABlockUnderAPipeWhoseEndRisesAboveItIsFoundToItsTop) {
+  // Level pipes, seed 10: support_3 carries a pipe that rises behind it to above its top. Its
+  // fit takes the top up to the pipe's (0.54 in too tall, or refused); the sides' edges stop
+  // at the block's.
+  const AskedBlock a = AskForBlock(10, site::SiteLevel::kPipes, "support_3");
+  ASSERT_TRUE(a.present);
+  const LocateResult found = Locate(a.input);
+  ASSERT_TRUE(found.found) << found.detail;
+  EXPECT_NEAR(found.box.size.z(), a.truth.size.z(), 0.1);
+  EXPECT_LT((found.box.center - a.truth.center).norm(), 0.2);
+  LocateOptions off;
+  off.box_side_reach = 1e-9;
+  const LocateResult up_to_the_pipe = Locate(a.input, off);
+  EXPECT_FALSE(up_to_the_pipe.found &&
+               std::abs(up_to_the_pipe.box.size.z() - a.truth.size.z()) < 0.1);
+}
+
+}  // namespace
+}  // namespace igms::object
