@@ -40,6 +40,16 @@ std::optional<StepFailure> CheckBoxSizesDetermined(const BoxResult& box, const L
   return std::nullopt;
 }
 
+// A pipe's length the images leave open (an end no edge and no limb holds, in clutter) is a
+// guess as much as a block's: it comes out inches off.
+std::optional<StepFailure> CheckCylinderLengthDetermined(const CylinderResult& c,
+                                                         const LocateOptions& opt) {
+  if (!(c.height_sigma > opt.max_box_size_sigma)) return std::nullopt;
+  return StepFailure{Failure::kFitFailed, "the images do not determine the cylinder's length (" +
+                                              FormatFixed(c.height) + " +/- " +
+                                              FormatFixed(c.height_sigma) + ")"};
+}
+
 // A cylinder thinner than min_radius_px is one edge taken for a pipe (a block's side).
 std::optional<StepFailure> CheckCylinderWidth(const CylinderResult& c,
                                               const geometry::ProjectiveCamera& left_camera,
@@ -446,6 +456,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     if (res.cylinder.height < 1e-6 || res.cylinder.radius < 1e-6)
       return fail({Failure::kFitFailed, "the fitted cylinder has no size"});
     if (const auto failure = CheckCylinderWidth(res.cylinder, in.left_camera, opt))
+      return fail(*failure);
+    if (const auto failure = CheckCylinderLengthDetermined(res.cylinder, opt))
       return fail(*failure);
   } else {
     res.box = BoxFromFit(f.params, f.covariance);
