@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,6 +10,7 @@
 #include "object_server/image_ops.h"
 #include "object_server/locate_steps.h"
 #include "object_server/silhouette_fit.h"
+#include "object_server/solid_models.h"
 
 namespace igms::object {
 namespace {
@@ -149,12 +149,10 @@ void LowerToSides(const FitContext& c, const std::array<FitView, 2>& views, cons
   const auto c0 = cam.Project(centre), c1 = cam.Project(centre + Eigen::Vector3d::UnitZ());
   if (!c0 || !c1 || (*c1 - *c0).norm() < 1e-9) return;
   const Eigen::Vector2d up = (*c1 - *c0).normalized();
-  const Eigen::Matrix3d turn =
-      Eigen::AngleAxisd((*lowered)[6], Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const std::vector<Eigen::Vector3d> corners = BoxOutline(*lowered);
   double top = -1e18;
-  for (int k = 0; k < 4; ++k) {
-    const Eigen::Vector3d corner(k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, 0.5);
-    const auto q = cam.Project(centre + turn * corner.cwiseProduct(lowered->segment<3>(3)));
+  for (int k = 4; k < 8; ++k) {  // bit 2 set: the top face (its height is positive)
+    const auto q = cam.Project(corners[k]);
     if (!q) return;
     top = std::max(top, up.dot(*q));
   }

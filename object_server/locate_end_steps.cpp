@@ -229,7 +229,9 @@ std::optional<Eigen::VectorXd> TopFromSides(const std::array<FitView, 2>& views,
   if (!f.ok || f.params.size() != 7 || !f.params.allFinite()) return std::nullopt;
   const Eigen::VectorXd& x = f.params;
   const Eigen::Vector3d centre = x.head<3>(), size = x.segment<3>(3).cwiseAbs();
-  const Eigen::Matrix3d turn = Eigen::AngleAxisd(x[6], Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Eigen::VectorXd upright = x;  // its corners with bit 2 clear at the bottom
+  upright.segment<3>(3) = size;
+  const std::vector<Eigen::Vector3d> corners = BoxOutline(upright);
   constexpr double kMinSidePx = 8, kMinShortfallPx = 3;
   // Per silhouette side in either view: the share of the height its edge reaches (0 at the
   // bottom, 1 at the top) and the pixels it stops short of the top.
@@ -243,9 +245,8 @@ std::optional<Eigen::VectorXd> TopFromSides(const std::array<FitView, 2>& views,
     if (!c0 || !c1 || (*c1 - *c0).norm() < 1e-9) return std::nullopt;
     const Eigen::Vector2d up = (*c1 - *c0).normalized(), normal(-up.y(), up.x());
     for (int k = 0; k < 4; ++k) {
-      const Eigen::Vector3d corner(k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, -0.5);
-      bottom[k] = centre + turn * corner.cwiseProduct(size);
-      top[k] = bottom[k] + size.z() * Eigen::Vector3d::UnitZ();
+      bottom[k] = corners[k];
+      top[k] = corners[k + 4];
       const auto q = cam.Project(0.5 * (bottom[k] + top[k]));
       if (!q) return std::nullopt;
       across[k] = normal.dot(*q);
