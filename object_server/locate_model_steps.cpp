@@ -127,8 +127,8 @@ FitOutcome FitCylinder(const std::vector<Eigen::VectorXd>& starts,
 }
 
 FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<FitView, 2>& views,
-                  const FitOptions& fit, const LocateOptions& options,
-                  const PlausibleFn& plausible) {
+                  const FitOptions& fit, const LocateOptions& options, const PlausibleFn& plausible,
+                  const std::vector<Eigen::VectorXd>& if_poor) {
   const OutlineFn outline = BoxOutline;
   InnerEdgesFn inner;
   if (options.box_inner_edges) inner = BoxInnerEdges;
@@ -170,9 +170,10 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
     st[6] = yaw;
     turned.push_back(st);
   };
-  if (poor)
+  if (poor) {
     for (const double yaw_deg : {-36.0, -18.0, 0.0, 18.0, 36.0}) turn_to(yaw_deg * M_PI / 180);
-  else
+    turned.insert(turned.end(), if_poor.begin(), if_poor.end());
+  } else
     for (const auto& st : yawed)
       if (std::none_of(turned.begin() + static_cast<long>(yawed.size()), turned.end(),
                        [&](const Eigen::VectorXd& t) { return t[6] == st[6]; }))

@@ -12,6 +12,13 @@
 namespace igms::object {
 namespace {
 
+// The shares of the boundary's rows, from its top, that a raised pipe's upper-part starts
+// take: a pipe lying on a block fills the upper half to two thirds of the marked outline.
+constexpr double kRaisedPipeShares[] = {0.5, 0.65};
+// The yaws, degrees, a block's region between its vertical edges is also started at when the
+// world-aligned fit is poor (BoxStarts, FitBox).
+constexpr double kInnerTurnsDeg[] = {-36, -18, 18, 36};
+
 // The tilted start of a pipe lying towards the cameras (CylinderStarts): each end's patch
 // matched into the right image on its own; nullopt when an end has no match.
 std::optional<Eigen::VectorXd> TiltedCylinderStart(
@@ -149,8 +156,7 @@ std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs,
 std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
                                             const std::vector<cv::Point>& boundary, double depth,
                                             const DepthSearch& search, const LocateOptions& options,
-                                            const Gradients* gradients,
-                                            std::vector<Eigen::VectorXd>* upper_limb_starts) {
+                                            const Gradients* gradients, RaisedPipeStarts* raised) {
   const geometry::ProjectiveCamera& left_camera = *pair.left_camera;
   std::vector<Eigen::VectorXd> starts;
   // A start from the pixels' smallest rotated rectangle, into `out`.
@@ -201,7 +207,7 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
     // the boundary's lowest pixel stands for the lower limb. Only for a line at least that
     // long (a pipe's side, not an upright's end).
     const std::vector<cv::Point> top =
-        upper_limb_starts ? TopLimbLine(limbs, *gradients) : std::vector<cv::Point>{};
+        raised ? TopLimbLine(limbs, *gradients) : std::vector<cv::Point>{};
     if (!top.empty()) {
       double lowest = -1e18, mean_v = 0;
       for (const auto& q : boundary) lowest = std::max(lowest, double(q.y));
@@ -213,8 +219,21 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
           std::vector<cv::Point> pixels = top;
           for (const auto& q : top)
             pixels.emplace_back(q.x, q.y + static_cast<int>(std::lround(f * below)));
-          from_points(pixels, false, upper_limb_starts);
+          from_points(pixels, false, &raised->upper_limb);
         }
+    }
+  }
+  if (raised) {
+    double top = 1e18, bottom = -1e18;
+    for (const auto& q : boundary) {
+      top = std::min(top, double(q.y));
+      bottom = std::max(bottom, double(q.y));
+    }
+    for (const double share : kRaisedPipeShares) {
+      std::vector<cv::Point> upper;
+      for (const auto& q : boundary)
+        if (q.y <= top + share * (bottom - top)) upper.push_back(q);
+      if (upper.size() >= 8) from_points(upper, true, &raised->upper_part);
     }
   }
   return starts;
@@ -445,7 +464,8 @@ std::vector<double> HorizontalEdgeYaws(const geometry::ProjectiveCamera& left_ca
 
 std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_camera,
                                        const std::vector<cv::Point>& boundary, double depth,
-                                       const Gradients* gradients) {
+                                       const Gradients* gradients,
+                                       std::vector<Eigen::VectorXd>* if_poor) {
   std::vector<Eigen::VectorXd> starts = BoxStartsFrom(left_camera, boundary, depth);
   if (gradients) {
     const std::vector<cv::Point> inner =
@@ -463,6 +483,10 @@ std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_ca
       if (inner.size() >= 8)
         if (auto st = TurnedBoxStart(left_camera, inner, depth, yaw)) starts.push_back(*st);
     }
+    if (if_poor && inner.size() >= 8)
+      for (const double turn_deg : kInnerTurnsDeg)
+        if (auto st = TurnedBoxStart(left_camera, inner, depth, turn_deg * M_PI / 180))
+          if_poor->push_back(*st);
   }
   return starts;
 }

@@ -191,13 +191,21 @@ std::array<std::vector<Eigen::Vector2d>, 2> OutlineRegions(const MarkedRegion& m
 // tilted cylinder is a second start.
 // With the left image's gradients, one more start from the boundary's limb pixels alone
 // (those whose gradient follows its dominant orientation): a pipe raised on blocks without the
-// blocks' edges. With upper_limb_starts too, into it, starts from the upper limb alone (the
-// limb line nearest the image's top) with a lower limb at three guessed depths below it, for
-// a raised pipe whose lower limb the blocks or the background hide from the boundary.
-std::vector<Eigen::VectorXd> CylinderStarts(
-    const StereoPair& pair, const std::vector<cv::Point>& boundary, double depth,
-    const DepthSearch& search, const LocateOptions& options, const Gradients* gradients = nullptr,
-    std::vector<Eigen::VectorXd>* upper_limb_starts = nullptr);
+// blocks' edges. With `raised` too, into it, starts for a pipe raised on something: from the
+// upper limb alone (the limb line nearest the image's top) with a lower limb at three guessed
+// depths below it, for a raised pipe whose lower limb the blocks or the background hide from
+// the boundary; and from the boundary's upper half and upper two thirds alone
+// (kRaisedPipeShares), for a pipe lying on a block whose outline merges with the block's (a
+// pipe pointing at the cameras shows no limb line).
+struct RaisedPipeStarts {
+  std::vector<Eigen::VectorXd> upper_limb;
+  std::vector<Eigen::VectorXd> upper_part;
+};
+std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
+                                            const std::vector<cv::Point>& boundary, double depth,
+                                            const DepthSearch& search, const LocateOptions& options,
+                                            const Gradients* gradients = nullptr,
+                                            RaisedPipeStarts* raised = nullptr);
 // The cylinder start stretched along its image axis to fill the marked rectangle (shrunk by
 // `margin`, world units, and the radius): the part of a pipe against a dark background has
 // the strongest edges, and the boundary can stop where its background changes. nullopt when
@@ -216,9 +224,14 @@ std::optional<Eigen::VectorXd> CylinderStretchedToMarks(const Eigen::VectorXd& s
 // (HorizontalEdgeYaws, at most two), a turned start from each of those boundaries: its near
 // bottom corner at the boundary's lowest pixel, its bottom edges receding along the yaw to the
 // boundary's sides and its far top corner at the boundary's top. FitBox fits these turned.
+// With `if_poor` too, into it, the boundary between the vertical edges turned by each of
+// kInnerTurnsDeg (+-18 and +-36 degrees), for FitBox to try when the world-aligned fit is
+// poor: where something beside the block widens its boundary (a pipe's end resting on it),
+// the boundary's edges give the block's yaw poorly.
 std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_camera,
                                        const std::vector<cv::Point>& boundary, double depth,
-                                       const Gradients* gradients = nullptr);
+                                       const Gradients* gradients = nullptr,
+                                       std::vector<Eigen::VectorXd>* if_poor = nullptr);
 // The yaws of a block's horizontal edges, folded into [-45, 45) degrees (radians out): each
 // boundary pixel's edge back-projected to the horizontal direction that projects along it at
 // `depth`. The peaks of a gradient-weighted histogram in 2-degree bins, strongest first, at
@@ -257,11 +270,13 @@ FitOutcome FitCylinder(const std::vector<Eigen::VectorXd>& starts,
                        const LocateOptions& options, const PlausibleFn& plausible = {});
 // The thesis's block first: world-aligned (yaw held at 0), which the faces' edges pin down
 // well. Only when its outline misses the edges (or it came out flat) is the box turned:
-// from five yaws, kept when it explains the images clearly better (a turned box seen nearly
-// face-on can trade yaw against depth and fit about as well, wrongly).
+// from five yaws and the starts `if_poor` (BoxStarts), kept when it explains the images
+// clearly better (a turned box seen nearly face-on can trade yaw against depth and fit about
+// as well, wrongly).
 FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<FitView, 2>& views,
                   const FitOptions& fit, const LocateOptions& options,
-                  const PlausibleFn& plausible = {});
+                  const PlausibleFn& plausible = {},
+                  const std::vector<Eigen::VectorXd>& if_poor = {});
 
 // A fitted pipe's side as one image shades it: the mean grey level across the side (bins
 // evenly spread in the sine of the angle round the axis, clear of the limbs by 2 px; the
