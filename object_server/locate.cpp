@@ -102,6 +102,12 @@ void AddStretched(const MarkedRegion& marks, const geometry::ProjectiveCamera& l
       starts->push_back(*st);
 }
 
+// A cylinder's fit parameters lying within raised_pipe_max_tilt_deg of the horizontal.
+bool LyingPipe(const Eigen::VectorXd& params, const LocateOptions& opt) {
+  const Eigen::Vector3d axis = params.segment<3>(3) - params.segment<3>(0);
+  return std::abs(axis.z()) <= std::sin(opt.raised_pipe_max_tilt_deg * M_PI / 180) * axis.norm();
+}
+
 // A raised pipe's starts (CylinderStarts), fitted only when the other starts' fit is poor
 // (poor_fit_score), leaves the marks or collapsed to a single edge, and kept when they fit a
 // pipe lying within raised_pipe_max_tilt_deg of the horizontal better, or hold a width where
@@ -117,10 +123,7 @@ void TryRaisedPipe(const std::vector<Eigen::VectorXd>& raised, const std::array<
       (f->ok && plausible(*f) && FitScore(*f) <= opt.poor_fit_score && !collapsed(*f)))
     return;
   FitOutcome g = FitCylinder(raised, views, fit, opt, plausible);
-  if (!g.ok) return;
-  const Eigen::Vector3d axis = g.params.segment<3>(3) - g.params.segment<3>(0);
-  if (std::abs(axis.z()) > std::sin(opt.raised_pipe_max_tilt_deg * M_PI / 180) * axis.norm())
-    return;
+  if (!g.ok || !LyingPipe(g.params, opt)) return;
   if (!f->ok || (collapsed(*f) && !collapsed(g)) || BetterFit(g, *f, plausible)) *f = std::move(g);
 }
 
@@ -339,10 +342,11 @@ bool LocateOptions::Check(std::string* error) const {
         "cylinder_depth_reach must be positive";
     return false;
   }
-  if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(score_reference_width_px > 0) ||
+  if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(max_lying_fit_score >= max_fit_score) ||
+      !(max_lying_supported_score >= 0) || !(score_reference_width_px > 0) ||
       !(score_width_power >= 0) || !(sigma_width_power >= 0) ||
       !(min_match_zncc > -1 && min_match_zncc < 1)) {
-    *error = "thresholds must be positive";
+    *error = "thresholds must be positive (max_lying_fit_score at least max_fit_score)";
     return false;
   }
   return true;
@@ -447,11 +451,17 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
     return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);
-  if (res.fit_score > opt.max_fit_score)
-    return fail({Failure::kLeftRightInconsistent,
-                 "the fitted outline explains the edges poorly (score " +
-                     FormatFixed(res.fit_score) + ", limit " + FormatFixed(opt.max_fit_score) +
-                     "): another object's edges, or the other type?"});
+  const StepFailure explains_poorly{Failure::kLeftRightInconsistent,
+                                    "the fitted outline explains the edges poorly (score " +
+                                        FormatFixed(res.fit_score) + ", limit " +
+                                        FormatFixed(opt.max_fit_score) +
+                                        "): another object's edges, or the other type?"};
+  // A lying pipe over the bound, let through on the outline that should show an edge.
+  const bool lying_past_bound = res.fit_score > opt.max_fit_score && cylinder &&
+                                LyingPipe(f.params, opt) &&
+                                res.fit_score <= opt.max_lying_fit_score &&
+                                res.supported_fit_score <= opt.max_lying_supported_score;
+  if (res.fit_score > opt.max_fit_score && !lying_past_bound) return fail(explains_poorly);
 
   // The other type.
   if (WantOtherType(cylinder, f, side, opt)) {
@@ -469,6 +479,10 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                             res.other_type_supported_fit_score},
                            opt))
       return fail(*failure);
+    if (lying_past_bound && other.ok &&
+        res.other_type_supported_fit_score <
+            opt.box_over_cylinder * res.supported_fit_score)  // a block better even there
+      return fail(explains_poorly);
   }
 
   // The result.
