@@ -28,7 +28,9 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# Starts PROGRAM NAME [ARGS...] on a free port; prints the port once it listens.
+# Starts PROGRAM NAME [ARGS...] on a free port; sets PORT once it listens. Not in a command
+# substitution: its subshell's pids would never reach cleanup, and the servers would outlive
+# the script.
 start() {
   local program="$1" name="$2"
   shift 2
@@ -38,7 +40,7 @@ start() {
   local i
   for i in $(seq 1 200); do
     if [ -s "$OUT/$name.port" ]; then
-      cat "$OUT/$name.port"
+      PORT=$(cat "$OUT/$name.port")
       return 0
     fi
     kill -0 "${pids[-1]}" 2>/dev/null || break
@@ -49,9 +51,11 @@ start() {
   return 1
 }
 
-VIDEO_PORT=$(start igms-video-server video --set processes.video.backend=sim) || exit 1
+start igms-video-server video --set processes.video.backend=sim || exit 1
+VIDEO_PORT=$PORT
 say "video server (sim site) on port $VIDEO_PORT, log $OUT/video.log"
-OBJECT_PORT=$(start igms-object-server object --set "processes.video.port=$VIDEO_PORT") || exit 1
+start igms-object-server object --set "processes.video.port=$VIDEO_PORT" || exit 1
+OBJECT_PORT=$PORT
 say "object server on port $OBJECT_PORT, log $OUT/object.log"
 
 "$BUILD/bin/igms-vision-demo" --config "$CONFIG" \

@@ -36,10 +36,16 @@ TEST(VisionDemo, ScriptLocatesEveryTestbedObject) {
                           "/deploy/vision-demo.sh " + Env("IGMS_BUILD_DIR") + " >" + out + " 2>&1");
   const std::string printed = Slurp(out);
   EXPECT_EQ(rc, 0) << printed;
-  std::string json;
+  std::string json, video_log, object_log;
   for (const auto& entry : std::filesystem::directory_iterator(run)) {
-    if (entry.is_directory()) json = Slurp((entry.path() / "results.json").string());
+    if (!entry.is_directory()) continue;
+    json = Slurp((entry.path() / "results.json").string());
+    video_log = Slurp((entry.path() / "video.log").string());
+    object_log = Slurp((entry.path() / "object.log").string());
   }
+  // The script stopped both servers before it returned (it waits for them).
+  EXPECT_NE(video_log.find("shutting down"), std::string::npos) << video_log;
+  EXPECT_NE(object_log.find("shutting down"), std::string::npos) << object_log;
   // The default testbed: five cylinders and two boxes, all found.
   size_t objects = 0, found = 0;
   for (size_t p = 0; (p = json.find("\"found\": ", p)) != std::string::npos; ++p) {
