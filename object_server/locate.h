@@ -285,8 +285,9 @@ struct LocateResult {
   // residuals in the reference camera's pixels (score_reference_width_px).
   double fit_score = 0, other_type_fit_score = -1;
   // The same with the share without an edge taken of the outline that should show one
-  // (SupportedFitScore). Not bounded: on the site scenes' tuning seeds it told right fits
-  // from wrong ones less well than fit_score (docs/protocol-object.md).
+  // (SupportedFitScore). Bounded only for a lying pipe over max_fit_score
+  // (max_lying_supported_score): otherwise, on the site scenes' tuning seeds, it told right
+  // fits from wrong ones less well than fit_score (docs/locator-site-scenes.md).
   double supported_fit_score = 0, other_type_supported_fit_score = -1;
   double elapsed_ms = 0;
   RangeCheck range;
