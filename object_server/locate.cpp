@@ -210,7 +210,8 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
   s.views = {FitView{&c.in.left_camera, &c.grad_left}, FitView{&c.in.right_camera, &c.grad_right}};
   if (c.opt.keep_to_marks) BoundByMarks(c.marks, c.pair, c.depth0, cylinder, c.opt, &s.views);
   HideBehindKnown(c.in_front, &s.views);
-  RaisedPipeStarts raised;                   // tried when the others fit poorly
+  RaisedPipeStarts raised;  // tried when the others fit poorly
+  raised.with_upper_part = asked;
   std::vector<Eigen::VectorXd> box_if_poor;  // tried when the world-aligned box fits poorly
   std::vector<Eigen::VectorXd> starts =
       cylinder
@@ -229,8 +230,7 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
   s.fit = cylinder ? FitCylinder(starts, s.views, s.options, c.opt, c.plausible)
                    : FitBox(starts, s.views, s.options, c.opt, c.plausible, box_if_poor);
   std::vector<Eigen::VectorXd> raised_starts = std::move(raised.upper_limb);
-  if (asked)
-    raised_starts.insert(raised_starts.end(), raised.upper_part.begin(), raised.upper_part.end());
+  raised_starts.insert(raised_starts.end(), raised.upper_part.begin(), raised.upper_part.end());
   TryRaisedPipe(raised_starts, s.views, s.options, c.opt, c.plausible, &s.fit);
   if (!cylinder) LowerToSides(c, s.views, s.options, &s.fit);
   if (cylinder) EndsFromLimbs(s.views, s.options, c.opt, &s.fit);

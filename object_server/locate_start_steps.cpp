@@ -223,7 +223,7 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
         }
     }
   }
-  if (raised) {
+  if (raised && raised->with_upper_part) {
     double top = 1e18, bottom = -1e18;
     for (const auto& q : boundary) {
       top = std::min(top, double(q.y));
