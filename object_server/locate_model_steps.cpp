@@ -393,7 +393,15 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
        (other_fits && opt.other_type_ratio * scores.other_supported < scores.supported)))
     return StepFailure{Failure::kFitFailed, "a box explains the outline much better" + against +
                                                 ": is the object a box?"};
-  // A box is held against a pipe whose side is no pipe's: creased where two faces meet.
+  // A box against a pipe whose side shades as a pipe's does: it must beat the pipe on the
+  // outline that should show an edge too.
+  if (!cylinder && side == SideShape::kClearlyRound && other_fits &&
+      scores.supported > opt.box_over_cylinder * scores.other_supported)
+    return StepFailure{Failure::kFitFailed,
+                       "the side shades round, as a pipe's does, and a cylinder fits the outline "
+                       "about as well" +
+                           against + ": is the object a cylinder?"};
+  // A box is not held against a pipe whose side is no pipe's: creased where two faces meet.
   if (!cylinder && side != SideShape::kCreased &&
       (FitScore(f) > opt.box_over_cylinder * FitScore(other) ||
        (scores.other_fit <= opt.max_fit_score &&

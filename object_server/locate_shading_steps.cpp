@@ -115,7 +115,7 @@ SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveC
 
 SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
                        const std::array<FitView, 2>& views, const LocateOptions& options) {
-  int flat = 0, creased = 0;
+  int flat = 0, creased = 0, clearly_round = 0;
   for (int v = 0; v < 2; ++v) {
     const SideShading sh =
         MeasureSideShading(v ? pair.right : pair.left, v ? *pair.right_camera : *pair.left_camera,
@@ -130,8 +130,11 @@ SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
       ++creased;
     else if (sh.flat_rss < options.flat_side_gain * sh.smooth_rss)
       ++flat;
+    else if (sh.flat_rss >= options.round_side_gain * sh.smooth_rss)
+      ++clearly_round;
   }
   if (creased == 2) return SideShape::kCreased;
+  if (clearly_round == 2) return SideShape::kClearlyRound;
   return flat + creased == 2 ? SideShape::kFlat : SideShape::kRound;
 }
 

@@ -297,8 +297,9 @@ SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveC
 // How a fitted pipe's side shades in both images: creased when in both a crease between two
 // flat faces explains it `crease_gain` times better than the smooth fit; flat when in both it
 // is creased or the smooth fit explains it less than `flat_side_gain` times better than its
-// mean does; round otherwise; unmeasured when an image cannot tell (MeasureSideShading).
-enum class SideShape { kUnmeasured, kRound, kFlat, kCreased };
+// mean does; clearly round when in both the smooth fit explains it at least `round_side_gain`
+// times better; round otherwise; unmeasured when an image cannot tell (MeasureSideShading).
+enum class SideShape { kUnmeasured, kRound, kClearlyRound, kFlat, kCreased };
 SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
                        const std::array<FitView, 2>& views, const LocateOptions& options);
 
@@ -390,7 +391,9 @@ struct TypeScores {
 // `side` is how the cylinder's side shades (ClassifySide): this fit's, or for a box the other
 // one's. A cylinder whose side is creased is refused whatever the box; one whose side is flat
 // when a box the marks bound fits at all (both views explained, under max_fit_score). A box
-// is not held against a cylinder whose side is creased.
+// is not held against a cylinder whose side is creased; against one whose side is clearly
+// round and that fits at all, it must also do `box_over_cylinder` times better on the
+// outline that should show an edge.
 std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                                           const FitOutcome& other, bool other_within_marks,
                                           SideShape side, const TypeScores& scores,

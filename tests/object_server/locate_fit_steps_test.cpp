@@ -423,6 +423,22 @@ TEST(LocateStepsFit, APartialBoxIsNotHeldAgainstACylinderButEveryCylinderAgainst
   EXPECT_NE(tie->detail.find("is the object a cylinder?"), std::string::npos) << tie->detail;
   EXPECT_FALSE(CheckOtherType(false, tight, middling, true, SideShape::kRound,
                               {0.3, 0.5, 0.2, 0.25}, options));
+  // Against a cylinder whose side shades clearly round, a box must beat it by
+  // box_over_cylinder on the outline that should show an edge too; unless that cylinder does
+  // not fit (over max_fit_score, or beyond the marks).
+  const TypeScores a_little_better{0.3, 0.5, 0.22, 0.25};
+  EXPECT_FALSE(
+      CheckOtherType(false, tight, middling, true, SideShape::kRound, a_little_better, options));
+  const auto round = CheckOtherType(false, tight, middling, true, SideShape::kClearlyRound,
+                                    a_little_better, options);
+  ASSERT_TRUE(round.has_value());
+  EXPECT_NE(round->detail.find("shades round"), std::string::npos) << round->detail;
+  EXPECT_FALSE(CheckOtherType(false, tight, middling, true, SideShape::kClearlyRound,
+                              {0.3, 0.5, 0.19, 0.25}, options));
+  EXPECT_FALSE(CheckOtherType(false, tight, middling, false, SideShape::kClearlyRound,
+                              a_little_better, options));
+  EXPECT_FALSE(CheckOtherType(false, tight, loose, true, SideShape::kClearlyRound,
+                              {0.3, 1.0, 0.22, 0.25}, options));
   EXPECT_FALSE(
       CheckOtherType(false, tight, middling, true, SideShape::kCreased, worse_supported, options));
   EXPECT_FALSE(
