@@ -151,13 +151,15 @@ struct LocateOptions {
   double flat_side_gain = 12.0;
   double crease_gain = 50.0;
   // A side whose smooth fit explains it at least this many times better than its mean does, in
-  // both images, shades clearly round: a box asked for is then refused unless it beats the
-  // cylinder by box_over_cylinder on the outline that should show an edge too. Far upright
-  // pipes at 1920x1080 fit a box as well as a cylinder there (their thin end ellipses) and
-  // shade round 200 to 2700 times better than flat; on the tuning seeds, the blocks found
-  // right whose rival cylinder scored within that margin shaded at most 17 times better.
-  // Any bound from 50 to 200 caught the same 2 pipes there; on the held-out seeds, bounds
-  // under 160 lost a right support.
+  // both images, shades clearly round. A box asked for is then refused unless it beats the
+  // cylinder by box_over_cylinder on the outline that should show an edge too; a cylinder
+  // asked for is held against a box there alone (other_type_ratio), not on the whole outline.
+  // Far upright pipes at 1920x1080 fit a box as well as a cylinder on the outline that should
+  // show an edge, better on the whole (their end ellipses' arcs without an edge), and shade
+  // round 200 to 2700 times better than flat. On the tuning seeds, the blocks found right
+  // whose rival cylinder scored within box_over_cylinder shaded at most 17 times better; any
+  // bound from 50 to 200 caught the same 2 pipes asked for as blocks there. On the held-out
+  // seeds, bounds under 160 lost a right support.
   double round_side_gain = 200.0;
   // A box is reported only when it explains the outline clearly better than a cylinder: its
   // score at most this share of the cylinder's (a box fits an upright cylinder about as well).

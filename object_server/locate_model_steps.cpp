@@ -388,8 +388,11 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                        "the side shades flat, as a block's faces do, not round as a pipe's, and a "
                        "box fits the outline too" +
                            against + ": is the object a box?"};
+  // A pipe whose side shades clearly round is held against a box on the outline that should
+  // show an edge alone: elsewhere a box's straight edges can skip what a far pipe's end
+  // ellipses leave without an edge.
   if (cylinder && other_explains &&
-      (opt.other_type_ratio * FitScore(other) < FitScore(f) ||
+      ((side != SideShape::kClearlyRound && opt.other_type_ratio * FitScore(other) < FitScore(f)) ||
        (other_fits && opt.other_type_ratio * scores.other_supported < scores.supported)))
     return StepFailure{Failure::kFitFailed, "a box explains the outline much better" + against +
                                                 ": is the object a box?"};

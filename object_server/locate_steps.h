@@ -393,7 +393,8 @@ struct TypeScores {
 // when a box the marks bound fits at all (both views explained, under max_fit_score). A box
 // is not held against a cylinder whose side is creased; against one whose side is clearly
 // round and that fits at all, it must also do `box_over_cylinder` times better on the
-// outline that should show an edge.
+// outline that should show an edge. A cylinder whose side is clearly round is held against a
+// box on that outline alone.
 std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                                           const FitOutcome& other, bool other_within_marks,
                                           SideShape side, const TypeScores& scores,

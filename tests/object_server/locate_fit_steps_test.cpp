@@ -413,6 +413,12 @@ TEST(LocateStepsFit, APartialBoxIsNotHeldAgainstACylinderButEveryCylinderAgainst
                               options));
   EXPECT_FALSE(CheckOtherType(true, tight, middling, true, SideShape::kRound, {0.3, 0.5, 0.4, 0.3},
                               options));
+  // One whose side shades clearly round is held against the box on that outline alone.
+  EXPECT_TRUE(check(true, loose, tight, true, SideShape::kRound).has_value());
+  EXPECT_FALSE(CheckOtherType(true, loose, tight, true, SideShape::kClearlyRound,
+                              {1.0, 0.3, 0.3, 0.3}, options));
+  EXPECT_TRUE(CheckOtherType(true, loose, tight, true, SideShape::kClearlyRound,
+                             {1.0, 0.3, 0.5, 0.3}, options));
   // A box beating the cylinder's score but not on the outline that should show an edge:
   // refused; not against a "cylinder" whose side is creased, nor one that explains the images
   // too poorly to be reported itself (over max_fit_score).

@@ -171,5 +171,27 @@ TEST(SideShading, APipeAskedForAsABoxIsRefusedWhenItsSideShadesClearlyRound) {
   EXPECT_TRUE(Locate(pipe.input).found);
 }
 
+TEST(SideShading, APipeWhoseSideShadesClearlyRoundIsHeldAgainstABoxWhereEdgesShouldShow) {
+  // Level far, seed 3, 1920x1080: upright_2, 80 in away. A box scores better on the whole
+  // outline, not on the part that should show an edge; the side shades round hundreds of times
+  // better than flat.
+  const Asked a = AskFor(3, site::SiteLevel::kFar, true, "upright_2", SolidType::kCylinder);
+  ASSERT_NE(a.shape, nullptr);
+  const auto& truth = std::get<site::Cylinder>(*a.shape);
+  const LocateResult found = Locate(a.input);
+  ASSERT_TRUE(found.found) << found.detail;
+  EXPECT_NEAR(found.cylinder.radius, truth.radius, 0.03);
+  EXPECT_NEAR(found.cylinder.height, truth.height, 0.15);
+  EXPECT_LT((found.cylinder.center - truth.center).norm(), 0.1);
+  EXPECT_GT(found.other_type_supported_fit_score, found.supported_fit_score);
+  EXPECT_LT(found.other_type_fit_score, found.fit_score);
+  // Judged on the whole outline, it was refused.
+  LocateOptions off;
+  off.round_side_gain = 1e300;
+  const LocateResult refused = Locate(a.input, off);
+  EXPECT_FALSE(refused.found);
+  EXPECT_TRUE(Contains(refused.detail, "a box explains the outline much better")) << refused.detail;
+}
+
 }  // namespace
 }  // namespace igms::object
