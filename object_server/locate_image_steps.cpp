@@ -252,8 +252,22 @@ SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, d
   const auto qb =
       pair.right_camera->Project(PointOnPixelRay(*pair.left_camera, search.centre, far));
   if (!qa || !qb) return SsdMatch{};
-  return MatchAlongSegment(pair.left, pair.right, search.patch & ImageRect(pair.left),
-                           *qa - search.centre, *qb - search.centre);
+  const Eigen::Vector2d offset_a = *qa - search.centre, offset_b = *qb - search.centre;
+  const cv::Rect patch = search.patch & ImageRect(pair.left);
+  SsdMatch match = MatchAlongSegment(pair.left, pair.right, patch, offset_a, offset_b);
+  if (match.ok) return match;
+  // No depth keeps the whole patch in the right image (an object near its edge, the patch
+  // taking in what lies beside it): the part of the patch that stays in at every depth.
+  cv::Rect kept = patch;
+  for (const Eigen::Vector2d& o : {offset_a, offset_b}) {
+    if (!(o.cwiseAbs().maxCoeff() < 1e6)) return match;  // no pixel offset (a NaN, a far point)
+    const cv::Rect inside(cvCeil(1 - o.x()), cvCeil(1 - o.y()), pair.right.cols - 2,
+                          pair.right.rows - 2);
+    kept &= inside;
+  }
+  constexpr int kMinSidePx = 8;
+  if (kept.width < kMinSidePx || kept.height < kMinSidePx || kept == patch) return match;
+  return MatchAlongSegment(pair.left, pair.right, kept, offset_a, offset_b);
 }
 
 StepResult<SsdMatch> MatchObject(const StereoPair& pair, const DepthSearch& search,

@@ -139,8 +139,9 @@ struct DepthSearch {
 DepthSearch ObjectDepthSearch(const std::vector<cv::Point>& boundary, double mark_depth,
                               const LocateOptions& options);
 // The patch matched into the right image by the smallest SSD (3.6, equation 3.30) along the
-// epipolar segment of left-camera depths near..far; not ok when the segment does not project
-// or leaves the right image.
+// epipolar segment of left-camera depths near..far. When the whole patch leaves the right
+// image at every depth, the part of it that stays in at every depth is matched (at least 8 px
+// each way); not ok when the segment does not project or that part is smaller.
 SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, double near,
                             double far);
 // The match over the search's depth range. Fails (match over threshold) when there is none:

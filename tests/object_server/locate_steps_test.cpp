@@ -12,6 +12,7 @@
 
 #include "object_server/solid_models.h"
 #include "tests/object_server/locate_steps_fixture.h"
+#include "tests/object_server/site_request.h"
 
 namespace igms::object {
 namespace {
@@ -340,6 +341,41 @@ TEST_F(LocateSteps, MatchObjectFailsWhenTheSearchLeavesTheRightImage) {
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.failure().reason, Failure::kMatchOverThreshold);
   EXPECT_TRUE(Contains(r.failure().detail, "leaves the right image")) << r.failure().detail;
+}
+
+TEST_F(LocateSteps, APatchReachingPastTheRightImageAtEveryDepthIsMatchedOnWhatStaysIn) {
+  const LocateInput in = Input(true);
+  Through3 t = RunThroughStep3(in);
+  ASSERT_LT(t.match.offset.x(), -1);  // the right image sees the cylinder further left
+  // The patch taken out to the left image's edge (marks taking in what lies beside the
+  // object): shifted by any disparity of the search, it leaves the right image.
+  DepthSearch wide = t.search;
+  wide.patch.width += wide.patch.x;
+  wide.patch.x = 0;
+  const auto r = MatchObject(t.pair, wide, options_);
+  ASSERT_TRUE(r.ok()) << r.failure().detail;
+  EXPECT_FALSE(CheckMatch(*r, options_).has_value());
+  // The table beside the cylinder, at other depths, weighs in: within the depth the fit's
+  // starts reach (about a pixel of disparity per inch here).
+  EXPECT_NEAR(r->offset.x(), t.match.offset.x(), 2.5);
+  EXPECT_NEAR(r->offset.y(), t.match.offset.y(), 0.5);
+  // Kept in, the whole patch is matched as before.
+  const auto again = MatchObject(t.pair, t.search, options_);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->offset, t.match.offset);
+}
+
+TEST(LocateStepsSite, APipeNearTheRightImagesEdgeIsMatchedAndFound) {
+  // Level clutter, seed 10, the thesis's cameras: upright_11 stands 13 px from the right
+  // image's left edge, and its boundary takes in edges 20 px beside it; at no depth of the
+  // search did the whole patch stay in the right image.
+  const SiteRequest r = AskFor(10, site::SiteLevel::kClutter, false, "upright_11");
+  ASSERT_TRUE(r.present);
+  const auto& truth = std::get<site::Cylinder>(r.shape);
+  const LocateResult found = Locate(r.input);
+  ASSERT_TRUE(found.found) << found.detail;
+  EXPECT_NEAR(found.cylinder.radius, truth.radius, 0.03);
+  EXPECT_LT((found.cylinder.center - truth.center).norm(), 0.3);
 }
 
 TEST(LocateStepsGeometry, CheckMatchHoldsTheCorrelationLimit) {
