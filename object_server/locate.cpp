@@ -127,6 +127,24 @@ void TryRaisedPipe(const std::vector<Eigen::VectorXd>& raised, const std::array<
   if (!f->ok || (collapsed(*f) && !collapsed(g)) || BetterFit(g, *f, plausible)) *f = std::move(g);
 }
 
+// A fit collapsed onto one limb (CheckCylinderWidth) tried again from the pipes that limb
+// bounds (PipesBesideLimb); kept when one holds a width.
+void TryBesideLimb(const std::array<Eigen::Vector3d, 4>& marks, const std::array<FitView, 2>& views,
+                   const FitOptions& fit, const LocateOptions& opt, const PlausibleFn& plausible,
+                   FitOutcome* f) {
+  const auto collapsed = [&](const FitOutcome& o) {
+    return CheckCylinderWidth(CylinderFromFit(o.params, o.covariance), *views[0].camera, opt)
+        .has_value();
+  };
+  if (!f->ok || !collapsed(*f)) return;
+  const std::vector<Eigen::VectorXd> starts = PipesBesideLimb(f->params, marks, *views[0].camera);
+  if (starts.empty()) return;
+  FitOutcome g = FitCylinder(starts, views, fit, opt, plausible);
+  spdlog::debug("locate: collapsed onto a limb; fitted beside it, {} scoring {:.3f}",
+                g.ok && !collapsed(g) ? "a pipe" : "collapsed again", FitScore(g));
+  if (g.ok && !collapsed(g)) *f = std::move(g);
+}
+
 void HideBehindKnown(const std::vector<KnownInFront>& in_front, std::array<FitView, 2>* views) {
   for (const KnownInFront& k : in_front)
     for (int v = 0; v < 2; ++v) (*views)[v].hidden.push_back(k.outline[v]);
@@ -197,6 +215,7 @@ void LowerToSides(const FitContext& c, const std::array<FitView, 2>& views, cons
 // limbs. Only a pipe asked for is also started from its boundary's upper part: fitted against
 // a block asked for, a pipe on the block's top refused 4 right blocks of the tuning and
 // held-out seeds as "a cylinder explains the outline about as well", and took 13 ms more.
+// A pipe asked for whose fit collapsed onto one limb is fitted again beside it.
 struct SolidFit {
   FitOutcome fit;
   FitOptions options;
@@ -232,6 +251,7 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
   std::vector<Eigen::VectorXd> raised_starts = std::move(raised.upper_limb);
   raised_starts.insert(raised_starts.end(), raised.upper_part.begin(), raised.upper_part.end());
   TryRaisedPipe(raised_starts, s.views, s.options, c.opt, c.plausible, &s.fit);
+  if (cylinder && asked) TryBesideLimb(c.in.marks, s.views, s.options, c.opt, c.plausible, &s.fit);
   if (!cylinder) LowerToSides(c, s.views, s.options, &s.fit);
   if (cylinder) EndsFromLimbs(s.views, s.options, c.opt, &s.fit);
   return s;

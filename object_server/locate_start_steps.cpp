@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "common/geometry/triangulation.h"
@@ -236,6 +237,29 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
       if (upper.size() >= 8) from_points(upper, true, &raised->upper_part);
     }
   }
+  return starts;
+}
+
+std::vector<Eigen::VectorXd> PipesBesideLimb(const Eigen::VectorXd& collapsed,
+                                             const std::array<Eigen::Vector3d, 4>& marks,
+                                             const geometry::ProjectiveCamera& camera) {
+  const Eigen::Vector3d p0 = collapsed.segment<3>(0), p1 = collapsed.segment<3>(3);
+  const Eigen::Vector3d across = (p1 - p0).cross(0.5 * (p0 + p1) - camera.Center());
+  if (!(across.norm() > 1e-9)) return {};
+  const Eigen::Vector3d d = across.normalized();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& m : marks) {
+    lo = std::min(lo, m.dot(d));
+    hi = std::max(hi, m.dot(d));
+  }
+  std::vector<Eigen::VectorXd> starts;
+  for (const double share : kLimbRadiusShares)
+    for (const double side : {-1.0, 1.0}) {
+      const double r = share * (hi - lo);
+      Eigen::VectorXd s(7);
+      s << p0 + side * r * d, p1 + side * r * d, r;
+      starts.push_back(s);
+    }
   return starts;
 }
 

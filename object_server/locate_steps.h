@@ -22,6 +22,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <functional>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -216,6 +217,15 @@ std::optional<Eigen::VectorXd> CylinderStretchedToMarks(const Eigen::VectorXd& s
                                                         const MarkedRegion& marks,
                                                         const geometry::ProjectiveCamera& camera,
                                                         double margin);
+// A cylinder fit collapsed onto one limb (under min_radius_px: the other limb gave the fit no
+// edge it kept, as on a raised pipe over a dark gap): the pipes that limb bounds, their axis
+// moved off it across the view (perpendicular to the axis and the line of sight from the
+// camera) to either side by their radius, with radii of kLimbRadiusShares of the marks'
+// extent that way. Empty when the fit has no axis or looks along it.
+inline constexpr std::array<double, 3> kLimbRadiusShares = {0.15, 0.25, 0.35};
+std::vector<Eigen::VectorXd> PipesBesideLimb(const Eigen::VectorXd& collapsed,
+                                             const std::array<Eigen::Vector3d, 4>& marks,
+                                             const geometry::ProjectiveCamera& camera);
 // A block (3.8.2), world-axis-aligned: the boundary back-projected onto its front plane at
 // `depth` gives the two extents across the view; the one along the view starts as their
 // mean. That depth is the least seen (a side face's strip, a sliver of the top), so two more
