@@ -112,17 +112,24 @@ TEST(SideShading, ABlocksFrontShadesFlat) {
   EXPECT_FALSE(MeasureSideShading(pair->left, a.input.left_camera, block, everywhere).measured);
 }
 
+// Refused (fit failed) with a detail holding `phrase`, the rule's; reported found with the
+// rule off (`without`).
+void ExpectRefusedByTheRuleAlone(const LocateInput& in, const std::string& phrase,
+                                 const LocateOptions& without) {
+  const LocateResult refused = Locate(in);
+  EXPECT_FALSE(refused.found);
+  EXPECT_EQ(refused.reason, Failure::kFitFailed);
+  EXPECT_TRUE(Contains(refused.detail, phrase)) << refused.detail;
+  EXPECT_TRUE(Locate(in, without).found);
+}
+
 TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenItsSideShadesFlat) {
   const Asked a = AskFor(5, site::SiteLevel::kFar, false, "box_6", SolidType::kCylinder);
   ASSERT_NE(a.shape, nullptr);
-  const LocateResult as_pipe = Locate(a.input);
-  EXPECT_FALSE(as_pipe.found);
-  EXPECT_EQ(as_pipe.reason, Failure::kFitFailed);
-  EXPECT_TRUE(Contains(as_pipe.detail, "shades flat")) << as_pipe.detail;
   // Without the rule a pipe explains the block's outline well enough to be reported.
   LocateOptions off;
   off.flat_side_gain = 0;
-  EXPECT_TRUE(Locate(a.input, off).found);
+  ExpectRefusedByTheRuleAlone(a.input, "shades flat", off);
 }
 
 TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenACreaseRunsAlongItsSide) {
@@ -152,14 +159,9 @@ TEST(SideShading, APipeAskedForAsABoxIsRefusedWhenItsSideShadesClearlyRound) {
   // ellipses); its side shades round hundreds of times better than flat.
   const Asked a = AskFor(8, site::SiteLevel::kFar, true, "upright_1", SolidType::kBox);
   ASSERT_NE(a.shape, nullptr);
-  const LocateResult as_box = Locate(a.input);
-  EXPECT_FALSE(as_box.found);
-  EXPECT_EQ(as_box.reason, Failure::kFitFailed);
-  EXPECT_TRUE(Contains(as_box.detail, "shades round")) << as_box.detail;
-  // Without the rule the box is reported.
   LocateOptions off;
   off.round_side_gain = 1e300;
-  EXPECT_TRUE(Locate(a.input, off).found);
+  ExpectRefusedByTheRuleAlone(a.input, "shades round", off);
   // The bound is above the flat one, or a side would be both.
   std::string error;
   off.round_side_gain = off.flat_side_gain / 2;

@@ -3,6 +3,8 @@
 // start from.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <string>
 #include <variant>
@@ -38,6 +40,24 @@ inline SiteRequest AskFor(uint64_t seed, site::SiteLevel level, bool hd, const s
   r.input.left_camera = r.scene.cameras.left;
   r.input.right_camera = r.scene.cameras.right;
   return r;
+}
+
+// The request's pipe located with `options`: found, its radius, length and centre within the
+// tolerances given (world units).
+struct PipeTolerance {
+  double radius = 0.03, length = 0.1, centre = 0.1;
+};
+inline LocateResult ExpectPipeFound(const SiteRequest& r, const PipeTolerance& tolerance = {},
+                                    const LocateOptions& options = {}) {
+  EXPECT_TRUE(r.present);
+  const auto* truth = std::get_if<site::Cylinder>(&r.shape);
+  LocateResult found = Locate(r.input, options);
+  EXPECT_TRUE(found.found) << found.detail;
+  if (!found.found || !truth) return found;
+  EXPECT_NEAR(found.cylinder.radius, truth->radius, tolerance.radius);
+  EXPECT_NEAR(found.cylinder.height, truth->height, tolerance.length);
+  EXPECT_LT((found.cylinder.center - truth->center).norm(), tolerance.centre);
+  return found;
 }
 
 }  // namespace igms::object
