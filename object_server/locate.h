@@ -155,11 +155,11 @@ struct LocateOptions {
   // cylinder by box_over_cylinder on the outline that should show an edge too; a cylinder
   // asked for is held against a box there alone (other_type_ratio), not on the whole outline.
   // Far upright pipes at 1920x1080 fit a box as well as a cylinder on the outline that should
-  // show an edge, better on the whole (their end ellipses' arcs without an edge), and shade
-  // round 200 to 2700 times better than flat. On the tuning seeds, the blocks found right
-  // whose rival cylinder scored within box_over_cylinder shaded at most 17 times better; any
-  // bound from 50 to 200 caught the same 2 pipes asked for as blocks there. On the held-out
-  // seeds, bounds under 160 lost a right support.
+  // show an edge, better on the whole (a tenth of a pipe's outline can find no edge over the
+  // fit's gradient bound), and shade round 200 to 2700 times better than flat. On the tuning
+  // seeds, the blocks found right whose rival cylinder scored within box_over_cylinder shaded
+  // at most 17 times better; any bound from 50 to 200 caught the same 2 pipes asked for as
+  // blocks there. On the held-out seeds, bounds under 160 lost a right support.
   double round_side_gain = 200.0;
   // A box is reported only when it explains the outline clearly better than a cylinder: its
   // score at most this share of the cylinder's (a box fits an upright cylinder about as well).

@@ -389,8 +389,8 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                        "box fits the outline too" +
                            against + ": is the object a box?"};
   // A pipe whose side shades clearly round is held against a box on the outline that should
-  // show an edge alone: elsewhere a box's straight edges can skip what a far pipe's end
-  // ellipses leave without an edge.
+  // show an edge alone: on the whole outline a box can score better on a far pipe than the
+  // pipe does (part of its outline finds no edge over the fit's gradient bound).
   if (cylinder && other_explains &&
       ((side != SideShape::kClearlyRound && opt.other_type_ratio * FitScore(other) < FitScore(f)) ||
        (other_fits && opt.other_type_ratio * scores.other_supported < scores.supported)))

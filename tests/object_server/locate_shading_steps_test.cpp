@@ -155,8 +155,8 @@ TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenACreaseRunsAlongItsSide) {
 
 TEST(SideShading, APipeAskedForAsABoxIsRefusedWhenItsSideShadesClearlyRound) {
   // Level far, seed 8, 1920x1080: upright_1, 93 in away. A box fits its outline as well as a
-  // cylinder on the outline that should show an edge, and better on the whole (its thin end
-  // ellipses); its side shades round hundreds of times better than flat.
+  // cylinder on the outline that should show an edge, and better on the whole; its side
+  // shades round hundreds of times better than flat.
   const Asked a = AskFor(8, site::SiteLevel::kFar, true, "upright_1", SolidType::kBox);
   ASSERT_NE(a.shape, nullptr);
   LocateOptions off;
