@@ -108,6 +108,11 @@ bool LyingPipe(const Eigen::VectorXd& params, const LocateOptions& opt) {
   return std::abs(axis.z()) <= std::sin(opt.raised_pipe_max_tilt_deg * M_PI / 180) * axis.norm();
 }
 
+// A cylinder fit that collapsed to a single edge (under min_radius_px in the reference view).
+bool Collapsed(const FitOutcome& o, const std::array<FitView, 2>& views, const LocateOptions& opt) {
+  return o.ok && CheckCylinderWidth(CylinderFromFit(o.params, o.covariance), *views[0].camera, opt);
+}
+
 // A raised pipe's starts (CylinderStarts), fitted only when the other starts' fit is poor
 // (poor_fit_score), leaves the marks or collapsed to a single edge, and kept when they fit a
 // pipe lying within raised_pipe_max_tilt_deg of the horizontal better, or hold a width where
@@ -115,10 +120,7 @@ bool LyingPipe(const Eigen::VectorXd& params, const LocateOptions& opt) {
 void TryRaisedPipe(const std::vector<Eigen::VectorXd>& raised, const std::array<FitView, 2>& views,
                    const FitOptions& fit, const LocateOptions& opt, const PlausibleFn& plausible,
                    FitOutcome* f) {
-  const auto collapsed = [&](const FitOutcome& o) {
-    return o.ok &&
-           CheckCylinderWidth(CylinderFromFit(o.params, o.covariance), *views[0].camera, opt);
-  };
+  const auto collapsed = [&](const FitOutcome& o) { return Collapsed(o, views, opt); };
   if (raised.empty() ||
       (f->ok && plausible(*f) && FitScore(*f) <= opt.poor_fit_score && !collapsed(*f)))
     return;
@@ -132,11 +134,8 @@ void TryRaisedPipe(const std::vector<Eigen::VectorXd>& raised, const std::array<
 void TryBesideLimb(const std::array<Eigen::Vector3d, 4>& marks, const std::array<FitView, 2>& views,
                    const FitOptions& fit, const LocateOptions& opt, const PlausibleFn& plausible,
                    FitOutcome* f) {
-  const auto collapsed = [&](const FitOutcome& o) {
-    return CheckCylinderWidth(CylinderFromFit(o.params, o.covariance), *views[0].camera, opt)
-        .has_value();
-  };
-  if (!f->ok || !collapsed(*f)) return;
+  const auto collapsed = [&](const FitOutcome& o) { return Collapsed(o, views, opt); };
+  if (!collapsed(*f)) return;
   const std::vector<Eigen::VectorXd> starts = PipesBesideLimb(f->params, marks, *views[0].camera);
   if (starts.empty()) return;
   FitOutcome g = FitCylinder(starts, views, fit, opt, plausible);
