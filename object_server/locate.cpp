@@ -56,6 +56,28 @@ std::optional<StepFailure> CheckCylinderLengthDetermined(const CylinderResult& c
                                               FormatFixed(c.height_sigma) + ")"};
 }
 
+// A model that lies mostly inside a known solid, or takes one in, is that solid found again:
+// the object marked is hidden behind it, or is it. Solids cannot share their volume.
+std::optional<StepFailure> CheckNotKnown(const LocateResult& res,
+                                         const std::vector<KnownShape>& known,
+                                         const LocateOptions& opt) {
+  const bool cylinder = res.type == SolidType::kCylinder;
+  const Eigen::VectorXd x = KnownFromResult(res, "").params;
+  for (const KnownShape& k : known) {
+    if (k.params.size() != 7 || !k.params.allFinite()) continue;
+    const bool k_cylinder = k.type == SolidType::kCylinder;
+    const double share = std::max(ShareInside(cylinder, x, k_cylinder, k.params),
+                                  ShareInside(k_cylinder, k.params, cylinder, x));
+    if (share > opt.max_shared_volume)
+      return StepFailure{Failure::kAlreadyModelled,
+                         "the fitted model is " + k.name + ", already in the database (" +
+                             FormatFixed(100 * share, 0) +
+                             "% of one lies inside the other): the object is hidden behind it, "
+                             "or is it"};
+  }
+  return std::nullopt;
+}
+
 // A cylinder thinner than min_radius_px is one edge taken for a pipe (a block's side).
 std::optional<StepFailure> CheckCylinderWidth(const CylinderResult& c,
                                               const geometry::ProjectiveCamera& left_camera,
@@ -317,6 +339,8 @@ const char* FailureName(Failure f) {
       return "fit_failed";
     case Failure::kOccluded:
       return "occluded";
+    case Failure::kAlreadyModelled:
+      return "already_modelled";
   }
   return "unknown";
 }
@@ -332,6 +356,10 @@ bool LocateOptions::Check(std::string* error) const {
   }
   if (!(camera_blur_px >= 0 && camera_blur_px <= 10)) {
     *error = "camera_blur_px must be in 0..10";
+    return false;
+  }
+  if (!(max_shared_volume > 0 && max_shared_volume <= 1)) {
+    *error = "max_shared_volume must be in (0, 1]";
     return false;
   }
   if (!(box_side_reach > 0 && box_side_reach <= 1) || !(max_lowered_size_sigma > 0)) {
@@ -530,6 +558,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     res.box.texture_rect = *rect;
     if (!rect->empty()) res.box.texture = LeftTexture(in, *rect);
   }
+  if (const auto failure = CheckNotKnown(res, in.known, opt)) return fail(*failure);
   if (in.range) CheckRange(in, opt, f.params, &res.range);
   res.found = true;
   return finish(res);

@@ -52,7 +52,8 @@ enum class Failure {
   kLeftRightInconsistent = 8,  // the fitted model does not explain one of the two images
   kFitFailed = 9,              // the model fit diverged or gave an impossible solid
   // 10 is the server's FAILURE_FRAME_UNAVAILABLE.
-  kOccluded = 11,  // the object's outline is mostly hidden: by another object or the frame
+  kOccluded = 11,         // the object's outline is mostly hidden: by another object or the frame
+  kAlreadyModelled = 12,  // the model found is a known solid again
 };
 const char* FailureName(Failure f);
 
@@ -111,6 +112,10 @@ struct LocateOptions {
   // more. A cylinder's length (height) more uncertain than this is refused too: a lying pipe
   // pointing away reports up to about 2.3 in, an end nothing holds 100 in.
   double max_box_size_sigma = 3.5;
+  // A model with more than this share of its volume inside a known solid, or of the known
+  // solid's inside it, is that solid found again (FAILURE_ALREADY_MODELLED): solids cannot
+  // share volume, and a pipe resting on a block shares none.
+  double max_shared_volume = 0.5;
   // A block's sides' edges that end below this share of its height put its top there
   // (TopFromSides), and the block so lowered is kept only with every size's sigma within
   // max_lowered_size_sigma.

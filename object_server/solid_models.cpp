@@ -144,4 +144,42 @@ double BoxYawErrorDeg(double found_yaw_deg, const Eigen::Matrix3d& true_rotation
   return std::abs(std::remainder(found_yaw_deg - StandingBoxYawDeg(true_rotation), 90.0));
 }
 
+bool InsideSolid(bool cylinder, const Eigen::VectorXd& x, const Eigen::Vector3d& p) {
+  if (cylinder) {
+    const Eigen::Vector3d p0 = x.segment<3>(0), d = x.segment<3>(3) - p0;
+    const double len2 = d.squaredNorm();
+    if (len2 < 1e-18) return false;
+    const double t = (p - p0).dot(d) / len2;
+    return t >= 0 && t <= 1 && (p - p0 - t * d).norm() <= std::abs(x[6]);
+  }
+  const Eigen::Vector3d local = BoxRotation(x[6]).transpose() * (p - x.head<3>());
+  return (local.cwiseAbs() - 0.5 * x.segment<3>(3).cwiseAbs()).maxCoeff() <= 0;
+}
+
+double ShareInside(bool a_cylinder, const Eigen::VectorXd& a, bool b_cylinder,
+                   const Eigen::VectorXd& b) {
+  constexpr int kSteps = 8;  // per axis: 512 points through a box, about 400 through a pipe
+  int through = 0, inside = 0;
+  const auto at = [](int i) { return (i + 0.5) / kSteps - 0.5; };  // in (-0.5, 0.5)
+  Eigen::Vector3d w, u, v;
+  if (a_cylinder) CylinderFrame(a, w, u, v);
+  for (int i = 0; i < kSteps; ++i)
+    for (int j = 0; j < kSteps; ++j)
+      for (int k = 0; k < kSteps; ++k) {
+        Eigen::Vector3d p;
+        if (a_cylinder) {
+          const double r = std::abs(a[6]);
+          if (std::hypot(at(i), at(j)) > 0.5) continue;  // outside the disc
+          p = 0.5 * (a.segment<3>(0) + a.segment<3>(3)) + 2 * r * (at(i) * u + at(j) * v) +
+              at(k) * (a.segment<3>(3) - a.segment<3>(0));
+        } else {
+          p = a.head<3>() + BoxRotation(a[6]) *
+                                a.segment<3>(3).cwiseProduct(Eigen::Vector3d(at(i), at(j), at(k)));
+        }
+        ++through;
+        inside += InsideSolid(b_cylinder, b, p);
+      }
+  return through ? double(inside) / through : 0.0;
+}
+
 }  // namespace igms::object

@@ -35,4 +35,11 @@ double StandingBoxYawDeg(const Eigen::Matrix3d& rotation);
 // turn that swaps a box's x and y sizes: 0 to 45 degrees.
 double BoxYawErrorDeg(double found_yaw_deg, const Eigen::Matrix3d& true_rotation);
 
+// Whether `p` lies inside the solid `x` (a cylinder's parameters, or a box's).
+bool InsideSolid(bool cylinder, const Eigen::VectorXd& x, const Eigen::Vector3d& p);
+// The share of solid a's volume that lies inside solid b, from a grid of points through a.
+// Two solids cannot share volume: one that lies mostly in another is the same object.
+double ShareInside(bool a_cylinder, const Eigen::VectorXd& a, bool b_cylinder,
+                   const Eigen::VectorXd& b);
+
 }  // namespace igms::object

@@ -50,6 +50,24 @@ TEST_F(Failures, GoodMarksFindTheCylinder) {
   EXPECT_LT(r.cylinder.radius_sigma, 0.05);
 }
 
+// The same pipe marked again, once in the database: its model is the known one again. A
+// known solid elsewhere does not stop it.
+TEST_F(Failures, ThePipeMarkedAgainIsAlreadyModelled) {
+  const LocateResult first = Run();
+  ASSERT_TRUE(first.found) << first.detail;
+  KnownShape elsewhere = KnownFromResult(first, "pipe_elsewhere");
+  elsewhere.params.head<3>().x() += 20;
+  elsewhere.params.segment<3>(3).x() += 20;
+  input_.known = {elsewhere};
+  EXPECT_TRUE(Run().found);
+  input_.known.push_back(KnownFromResult(first, "pipe_1"));
+  const LocateResult again = Run();
+  EXPECT_FALSE(again.found);
+  EXPECT_EQ(again.reason, Failure::kAlreadyModelled);
+  EXPECT_NE(again.detail.find("pipe_1, already in the database"), std::string::npos)
+      << again.detail;
+}
+
 TEST_F(Failures, NanMarkIsBadInput) {
   input_.marks[2].x() = std::nan("");
   EXPECT_EQ(Run().reason, Failure::kBadInput);

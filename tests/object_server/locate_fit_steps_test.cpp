@@ -662,5 +662,28 @@ TEST(KnownSteps, ABlockWithItsTopHiddenReachesUpToThePipeItCarries) {
   EXPECT_EQ(held.size.z(), 2);
 }
 
+TEST(KnownSteps, ShareInsideIsTheShareOfOneSolidsVolumeInsideTheOther) {
+  Eigen::VectorXd block(7), half(7), turned(7), pipe(7), resting(7);
+  block << 0, 0, 1, 2, 2, 2, 0;           // x, y in [-1, 1], z in [0, 2]
+  half << 1, 0, 1, 2, 2, 2, 0;            // its half x > 0 overlaps the block
+  turned << 0, 0, 1, 2, 2, 2, M_PI / 4;   // the block turned an eighth of a turn
+  pipe << -0.5, 0, 1, 0.5, 0, 1, 0.25;    // wholly inside the block
+  resting << -3, 0, 2.5, 3, 0, 2.5, 0.5;  // lying on the block's top
+  EXPECT_DOUBLE_EQ(ShareInside(false, block, false, block), 1.0);
+  EXPECT_DOUBLE_EQ(ShareInside(false, half, false, block), 0.5);
+  EXPECT_DOUBLE_EQ(ShareInside(true, pipe, false, block), 1.0);
+  // Of the block around it, only the pipe's own volume lies inside the pipe.
+  EXPECT_NEAR(ShareInside(false, block, true, pipe), M_PI * 0.25 * 0.25 * 1 / 8, 0.01);
+  // The turned block's corners stick out: the octagon the two sections share is
+  // 2 (sqrt 2 - 1), 83%, of either.
+  EXPECT_NEAR(ShareInside(false, turned, false, block), 2 * (std::sqrt(2.0) - 1), 0.03);
+  // A pipe resting on a block shares no volume with it.
+  EXPECT_EQ(ShareInside(true, resting, false, block), 0.0);
+  EXPECT_EQ(ShareInside(false, block, true, resting), 0.0);
+  EXPECT_TRUE(InsideSolid(true, pipe, Eigen::Vector3d(0, 0.2, 1)));
+  EXPECT_FALSE(InsideSolid(true, pipe, Eigen::Vector3d(0, 0.3, 1)));
+  EXPECT_FALSE(InsideSolid(true, pipe, Eigen::Vector3d(0.6, 0, 1)));
+}
+
 }  // namespace
 }  // namespace igms::object

@@ -96,7 +96,7 @@ TEST(LabBank, HoldsEverySoundOfTheThesisAndTheFailureReasons) {
         "Is object a box or a cylinder?"}) {
     EXPECT_TRUE(texts.count(text)) << text;
   }
-  EXPECT_EQ(reasons.size(), 11u);
+  EXPECT_EQ(reasons.size(), 12u);
   for (const char* key : {"no_echo", "server_lost", "server_back", "device_lost", "device_back"}) {
     ASSERT_NE(m.FindKey(key), nullptr) << key;
     EXPECT_EQ(m.FindKey(key)->kind, SoundKind::kSpeech) << key;

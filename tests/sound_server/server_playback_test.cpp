@@ -89,7 +89,7 @@ TEST(ServerPlayback, FailureAndHealthMessages) {
     count += pick ? 1 : 0;
     return pick;
   });
-  EXPECT_EQ(count, 15);  // eleven failure reasons, four health messages
+  EXPECT_EQ(count, 16);  // twelve failure reasons, four health messages
 }
 
 }  // namespace
