@@ -2,8 +2,10 @@
 // utterance, on the tuning set and on the held-out test sets (evaluation.h: espeak-ng's test
 // voices and flite's, every other word in every voice), the test set with the grammar alone,
 // confidence-threshold sweeps, and each test voice as an enrolled operator.
-//   build/bench/bench_voice [tuning|test|flite|enrolled|enrolled-tuning|all]  (default all)
-// (enrolled-tuning: each tuning voice enrolled on its own, with every tuning word; not in all)
+//   build/bench/bench_voice [tuning|test|flite|enrolled|enrolled-tuning|adapted|all]
+// (default all; enrolled-tuning: each tuning voice enrolled on its own, with every tuning
+// word; adapted: one model adapted to every tuning voice's enrolment prompts, on both test
+// sets: what a model adapted to other speakers does; neither is in all)
 // BENCH_VOICE_ALL=1 adds one line per utterance; BENCH_VOICE_GRAMMAR=1 prints the
 // model-building state's grammar (with its decoys); BENCH_VOICE_CSV=prefix writes each set's
 // features per utterance to prefix-<set>.csv (tune on the tuning set's only);
@@ -129,13 +131,41 @@ RecognizerOptions WithEnvironment(RecognizerOptions options) {
   return WithoutEvaluationWords(options);
 }
 
+// One model adapted to every enrolment prompt of the twelve tuning voices (none of the test
+// voices), then both test sets decoded with it, with the settings for an adapted model.
+bool RunAdaptedToTuningVoices() {
+  const auto enrolment = SynthesizeEnrolment(TuningVoices());
+  if (!enrolment.ok()) {
+    std::cerr << enrolment.error() << "\n";
+    return false;
+  }
+  AdaptationOptions adaptation;
+  adaptation.out_dir =
+      std::filesystem::temp_directory_path() / ("bench_voice_adapted_" + std::to_string(getpid()));
+  const AdaptationReport adapted = AdaptModel(*enrolment, adaptation);
+  bool ok = adapted.ok() && IsAdaptedModel(adaptation.out_dir);
+  if (!ok) std::cerr << "adaptation failed: " << adapted.error << "\n";
+  if (ok) {
+    const RecognizerOptions options = WithEnvironment(RecognizerOptionsFor(adaptation.out_dir));
+    const int espeak = static_cast<int>(TestVoices().size());
+    const int flite = static_cast<int>(FliteTestVoices().size());
+    ok &= Run("adapted-espeak set, adapted to the tuning voices", options, TestVoices(),
+              TestWords(), espeak);
+    ok &= Run("adapted-flite set, adapted to the tuning voices", options, FliteTestVoices(),
+              TestWords(), flite);
+  }
+  std::filesystem::remove_all(adaptation.out_dir);
+  return ok;
+}
+
 int RunBenchmark(int argc, char** argv) {
   const std::string which = argc > 1 ? argv[1] : "all";
   if (which != "tuning" && which != "test" && which != "flite" && which != "enrolled" &&
-      which != "enrolled-tuning" && which != "all") {
-    std::cerr << "usage: bench_voice [tuning|test|flite|enrolled|enrolled-tuning|all]\n";
+      which != "enrolled-tuning" && which != "adapted" && which != "all") {
+    std::cerr << "usage: bench_voice [tuning|test|flite|enrolled|enrolled-tuning|adapted|all]\n";
     return 2;
   }
+  if (which == "adapted") return RunAdaptedToTuningVoices() ? 0 : 1;
   // An adapted model gets the settings igms-voiced gives it (adaptation.h).
   const char* dir = std::getenv("BENCH_VOICE_MODEL_DIR");
   const RecognizerOptions options =
