@@ -120,6 +120,19 @@ TEST_F(ObjectServerTest, LocatesTheTestbedsFirstCylinderAndBox) {
       EXPECT_EQ(texture.cols, b.texture_u1() - b.texture_u0() + 1);
       EXPECT_EQ(texture.rows, b.texture_v1() - b.texture_v0() + 1);
       EXPECT_GT(cv::mean(texture)[0], 60.0);  // mostly the white block, not the dark table
+      // Marked again with its model known (as the control client sends the database), it
+      // is that model found again, named.
+      LocateRequest again = RequestFor(scene.objects[i].shape, frame, i);
+      auto* known = again.add_known();
+      known->set_name("box 1");
+      known->set_type(OBJECT_TYPE_BOX);
+      *known->mutable_box() = b;
+      known->mutable_box()->clear_texture_png();
+      const auto refused = client->CallSync<LocateResponse>(kLocate, again, 60s);
+      ASSERT_TRUE(refused.ok()) << refused.status.message;
+      EXPECT_FALSE(refused.value.found());
+      EXPECT_EQ(refused.value.reason(), FAILURE_ALREADY_MODELLED) << refused.value.detail();
+      EXPECT_NE(refused.value.detail().find("box 1"), std::string::npos);
     }
   }
   EXPECT_EQ(cylinders > 0 && boxes > 0, true);
