@@ -405,6 +405,31 @@ bool LocateOptions::Check(std::string* error) const {
   return true;
 }
 
+// The result: the fitted solid's sizes, each checked as the images determine it, a box's
+// texture, and the solid checked against the known ones.
+static std::optional<StepFailure> ResultFromFit(const LocateInput& in, const FitOutcome& f,
+                                                const cv::Rect& image_rect,
+                                                const LocateOptions& opt, LocateResult* res) {
+  if (res->type == SolidType::kCylinder) {
+    res->cylinder = CylinderFromFit(f.params, f.covariance);
+    if (res->cylinder.height < 1e-6 || res->cylinder.radius < 1e-6)
+      return StepFailure{Failure::kFitFailed, "the fitted cylinder has no size"};
+    if (auto failure = CheckCylinderWidth(res->cylinder, in.left_camera, opt)) return failure;
+    if (auto failure = CheckCylinderLengthDetermined(res->cylinder, opt)) return failure;
+  } else {
+    res->box = BoxFromFit(f.params, f.covariance);
+    if (res->box.size.minCoeff() < 1e-6)
+      return StepFailure{Failure::kFitFailed, "the fitted box has no size"};
+    ReachUpToKnown(in.known, opt, &res->box);
+    if (auto failure = CheckBoxSizesDetermined(res->box, opt)) return failure;
+    const StepResult<cv::Rect> rect = BoxTextureRect(f.params, in.left_camera, image_rect);
+    if (!rect.ok()) return rect.failure();
+    res->box.texture_rect = *rect;
+    if (!rect->empty()) res->box.texture = LeftTexture(in, *rect);
+  }
+  return CheckNotKnown(*res, in.known, opt);
+}
+
 // Samples of each view's outline: in all, outside the image, with contrast, with an edge.
 static void DebugOutlineSupport(const std::array<OutlineSupport, 2>& support) {
   spdlog::debug("locate: outline support left {}/{}/{}/{} right {}/{}/{}/{}", support[0].samples,
@@ -538,27 +563,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
       return fail(explains_poorly);
   }
 
-  // The result.
-  if (cylinder) {
-    res.cylinder = CylinderFromFit(f.params, f.covariance);
-    if (res.cylinder.height < 1e-6 || res.cylinder.radius < 1e-6)
-      return fail({Failure::kFitFailed, "the fitted cylinder has no size"});
-    if (const auto failure = CheckCylinderWidth(res.cylinder, in.left_camera, opt))
-      return fail(*failure);
-    if (const auto failure = CheckCylinderLengthDetermined(res.cylinder, opt))
-      return fail(*failure);
-  } else {
-    res.box = BoxFromFit(f.params, f.covariance);
-    if (res.box.size.minCoeff() < 1e-6)
-      return fail({Failure::kFitFailed, "the fitted box has no size"});
-    ReachUpToKnown(in.known, opt, &res.box);
-    if (const auto failure = CheckBoxSizesDetermined(res.box, opt)) return fail(*failure);
-    const StepResult<cv::Rect> rect = BoxTextureRect(f.params, in.left_camera, image_rect);
-    if (!rect.ok()) return fail(rect.failure());
-    res.box.texture_rect = *rect;
-    if (!rect->empty()) res.box.texture = LeftTexture(in, *rect);
-  }
-  if (const auto failure = CheckNotKnown(res, in.known, opt)) return fail(*failure);
+  if (const auto failure = ResultFromFit(in, f, image_rect, opt, &res)) return fail(*failure);
   if (in.range) CheckRange(in, opt, f.params, &res.range);
   res.found = true;
   return finish(res);
