@@ -71,8 +71,8 @@ namespace {
 
 // The boundary pixels whose gradient lies within 20 degrees of the boundary's dominant
 // orientation (a histogram of gradient angles modulo 180, weighted by magnitude): a pipe's
-// two limbs, without the vertical edges of the blocks it rests on. Empty when under half
-// the boundary or no orientation dominates.
+// two limbs, without the vertical edges of the blocks it rests on, however many of those
+// there are. Empty when no orientation dominates.
 std::vector<cv::Point> LimbPixels(const std::vector<cv::Point>& boundary,
                                   const Gradients& gradients) {
   constexpr int kBins = 36;
@@ -106,7 +106,6 @@ std::vector<cv::Point> LimbPixels(const std::vector<cv::Point>& boundary,
     d = std::min(d, M_PI - d);
     if (d < 20 * M_PI / 180) out.push_back(boundary[i]);
   }
-  if (out.size() < boundary.size() / 2) return {};
   return out;
 }
 
@@ -114,9 +113,11 @@ std::vector<cv::Point> LimbPixels(const std::vector<cv::Point>& boundary,
 // offset across the limbs' common direction, 1 px bins; its first peak of at least a fifth of
 // the tallest, and the pixels within 2 px of it): a raised pipe's upper limb, above its lower
 // limb and the supports' feet. Empty unless the limbs lie within 45 degrees of the rows, where
-// "up" is the image's.
+// "up" is the image's. `lower`, when given, gets the lower limb: the pixels of the tallest
+// peak below that line and clear of it (none when no such peak).
 std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs,
-                                   const Gradients& gradients) {
+                                   const Gradients& gradients,
+                                   std::vector<cv::Point>* lower = nullptr) {
   if (limbs.size() < 16) return {};
   // The gradients' mean orientation, modulo 180 degrees (their doubled angles averaged).
   Eigen::Vector2d doubled = Eigen::Vector2d::Zero();
@@ -149,6 +150,16 @@ std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs,
   std::vector<cv::Point> line;
   for (size_t i = 0; i < limbs.size(); ++i)
     if (peak >= 0 && std::abs(offset[i] - lo + 1 - peak) <= 2.0) line.push_back(limbs[i]);
+  // The lower limb: the tallest peak below the top line, clear of it.
+  if (lower && peak >= 0) {
+    int second = -1;
+    for (int b = peak + 4; b + 1 < bins; ++b)
+      if (smooth[b] >= std::max(6.0, 0.2 * tallest) && smooth[b] >= smooth[b - 1] &&
+          smooth[b] >= smooth[b + 1] && (second < 0 || smooth[b] > smooth[second]))
+        second = b;
+    for (size_t i = 0; i < limbs.size(); ++i)
+      if (second >= 0 && std::abs(offset[i] - lo + 1 - second) <= 2.0) lower->push_back(limbs[i]);
+  }
   return line;
 }
 
@@ -207,8 +218,15 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
     // blocks under it hide or the background swallows: its copy a fraction of the way down to
     // the boundary's lowest pixel stands for the lower limb. Only for a line at least that
     // long (a pipe's side, not an upright's end).
+    std::vector<cv::Point> lower;
     const std::vector<cv::Point> top =
-        raised ? TopLimbLine(limbs, *gradients) : std::vector<cv::Point>{};
+        raised ? TopLimbLine(limbs, *gradients, &lower) : std::vector<cv::Point>{};
+    // The two limb lines alone, where both show: the supports' edges between them left out.
+    if (!top.empty() && !lower.empty()) {
+      std::vector<cv::Point> both = top;
+      both.insert(both.end(), lower.begin(), lower.end());
+      from_points(both, false, &raised->upper_limb);
+    }
     if (!top.empty()) {
       double lowest = -1e18, mean_v = 0;
       for (const auto& q : boundary) lowest = std::max(lowest, double(q.y));

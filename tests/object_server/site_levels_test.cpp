@@ -134,5 +134,28 @@ TEST(SiteLevels, APipeOnBlocksIsFoundFromItsUpperLimb) {
   EXPECT_EQ(checked, 3);
 }
 
+// A pipe tilted onto a block that stands in front of part of its lower limb (70 in away,
+// 1920x1080): the block's sides are most of the boundary, and the rectangle around it all
+// starts a cylinder far too fat. Its limb pixels (the boundary's dominant orientation), however
+// few of the boundary they are, split into the upper limb line and the lower one, and the two
+// lines alone start the pipe; before, it was refused as explaining the edges poorly.
+TEST(SiteLevels, APipeWhoseBlockHidesPartOfItsLowerLimbStartsFromBothLimbLines) {
+  cv::setNumThreads(1);
+  const auto scene = site::SiteScene(5003, site::SiteLevel::kPipes, true);
+  const auto evals = EvaluateScene(scene, "pipes_hd_5003", 5003);
+  int checked = 0;
+  for (const auto& e : evals) {
+    if (e.object_name != "lying_2") continue;
+    ++checked;
+    ASSERT_GE(e.visible, kFullView);
+    ASSERT_TRUE(e.result.found) << e.result.detail;
+    EXPECT_FALSE(e.wrong);
+    EXPECT_LT(e.radius_error, 0.03);
+    EXPECT_LT(e.height_error, 0.1);
+    EXPECT_LT(e.position_error, 0.3);
+  }
+  EXPECT_EQ(checked, 1);
+}
+
 }  // namespace
 }  // namespace igms::object
