@@ -349,10 +349,13 @@ std::optional<UprightFrame> BoundaryUpright(const geometry::ProjectiveCamera& le
 // the block and reaching past its sides. An edge's length is the rows along the vertical its
 // pixels cover, however wide the blur spreads it, so a block's side against the table counts
 // as much as one where a pipe's limb runs on up from it. Empty when no two such edges stand
-// apart or they span the boundary anyway.
+// apart or they span the boundary anyway. `under_tops`, when given, gets those pixels no
+// higher than the lower of the two edges' tops, when that cuts 3 rows or more off: the block
+// without the pipe resting on it, whose end or limb carries the other edge on up.
 std::vector<cv::Point> BetweenVerticalEdges(const geometry::ProjectiveCamera& left_camera,
                                             const std::vector<cv::Point>& boundary, double depth,
-                                            const Gradients& gradients) {
+                                            const Gradients& gradients,
+                                            std::vector<cv::Point>* under_tops = nullptr) {
   const auto frame = BoundaryUpright(left_camera, boundary, depth);
   if (!frame) return {};
   const Eigen::Vector2d &across = frame->across, &up = frame->up;
@@ -396,6 +399,21 @@ std::vector<cv::Point> BetweenVerticalEdges(const geometry::ProjectiveCamera& le
   for (const auto& p : boundary) {
     const double c = across.dot(Eigen::Vector2d(p.x, p.y)) - lo;
     if (c >= first - 1.5 && c <= last + 1.5) out.push_back(p);
+  }
+  if (under_tops) {
+    // Each outer edge's top: the highest row its columns cover. The lower of the two is the
+    // block's top when a pipe resting on it carries the other on up.
+    const auto edge_top = [&](int column) {
+      int top = -1;
+      for (int j = std::max(0, column - 1); j <= std::min(bins - 1, column + 1); ++j)
+        for (int r = rows - 1; r > top; --r)
+          if (covers[j][r]) top = r;
+      return top;
+    };
+    const int top = std::min(edge_top(first), edge_top(last));
+    if (top >= 0 && top + 3 < rows - 1)
+      for (const auto& p : out)
+        if (up.dot(Eigen::Vector2d(p.x, p.y)) - up_lo <= top + 1.5) under_tops->push_back(p);
   }
   return out;
 }
@@ -510,10 +528,14 @@ std::vector<Eigen::VectorXd> BoxStarts(const geometry::ProjectiveCamera& left_ca
                                        std::vector<Eigen::VectorXd>* if_poor) {
   std::vector<Eigen::VectorXd> starts = BoxStartsFrom(left_camera, boundary, depth);
   if (gradients) {
+    std::vector<cv::Point> under_tops;
     const std::vector<cv::Point> inner =
-        BetweenVerticalEdges(left_camera, boundary, depth, *gradients);
+        BetweenVerticalEdges(left_camera, boundary, depth, *gradients, &under_tops);
     if (inner.size() >= 8)
       for (auto& st : BoxStartsFrom(left_camera, inner, depth)) starts.push_back(std::move(st));
+    if (under_tops.size() >= 8)  // and under the lower of their tops
+      for (auto& st : BoxStartsFrom(left_camera, under_tops, depth))
+        starts.push_back(std::move(st));
     // A block turned about the vertical: one start at each yaw its horizontal edges show,
     // none when the strongest says it is not turned.
     const std::vector<double> yaws =
