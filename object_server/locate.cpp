@@ -186,6 +186,16 @@ struct FitContext {
   const PlausibleFn& plausible;
 };
 
+// A block fitted again lower (LowerToSides, LowerByShares) replaces the fit if it fits better
+// and its sizes are known to max_lowered_size_sigma.
+void KeepLowered(FitOutcome g, const char* how, const FitContext& c, FitOutcome* f) {
+  const double worst_sigma = g.ok ? BoxFromFit(g.params, g.covariance).size_sigma.maxCoeff() : 0;
+  spdlog::debug("locate: fitted {}, it scores {:.3f} against {:.3f}, its sizes known to {:.2f}",
+                how, FitScore(g), FitScore(*f), worst_sigma);
+  if (g.ok && worst_sigma <= c.opt.max_lowered_size_sigma && BetterFit(g, *f, c.plausible))
+    *f = std::move(g);
+}
+
 // A block fitted up to a pipe resting on it (TopFromSides) fitted again below the top its
 // sides show: from there, and from the starts of the boundary below that top. Kept if it fits
 // better and its sizes are known to max_lowered_size_sigma: with a pipe lying over its top,
@@ -220,14 +230,29 @@ void LowerToSides(const FitContext& c, const std::array<FitView, 2>& views, cons
     starts.push_back(aligned);
   }
   starts.push_back(*lowered);
-  FitOutcome g = FitBox(starts, views, fit, c.opt, c.plausible, if_poor);
-  const double worst_sigma = g.ok ? BoxFromFit(g.params, g.covariance).size_sigma.maxCoeff() : 0;
-  spdlog::debug(
-      "locate: fitted below the sides' top, it scores {:.3f} against {:.3f}, its sizes known to "
-      "{:.2f}",
-      FitScore(g), FitScore(*f), worst_sigma);
-  if (g.ok && worst_sigma <= c.opt.max_lowered_size_sigma && BetterFit(g, *f, c.plausible))
-    *f = std::move(g);
+  KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, if_poor), "below the sides' top",
+              c, f);
+}
+
+// A block that would be refused as explaining the edges poorly, fitted again from itself
+// lowered to lowered_shares of its height (its bottom kept): a pipe resting on it, or another
+// object on top, carries the fit's top up to its own where the sides say nothing of the block's
+// (TopFromSides). Kept as LowerToSides keeps its fit: if it fits better and its sizes are known
+// to max_lowered_size_sigma (without that bound, blocks in line behind came in, inches deep).
+void LowerByShares(const FitContext& c, const std::array<FitView, 2>& views, const FitOptions& fit,
+                   FitOutcome* f) {
+  if (c.opt.lowered_shares.empty() || !f->ok || f->params.size() != 7 ||
+      FitScore(*f, ScoreResidualScale(c.opt, c.pair.left.cols)) <= c.opt.max_fit_score)
+    return;
+  std::vector<Eigen::VectorXd> starts;
+  const double height = std::abs(f->params[5]);
+  for (const double share : c.opt.lowered_shares) {
+    Eigen::VectorXd x = f->params;
+    x[2] -= 0.5 * (1 - share) * height;
+    x[5] = share * height;
+    starts.push_back(x);
+  }
+  KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, {}), "lowered by shares", c, f);
 }
 
 // One type's fit, whether that type was asked for or is the other one tried against it: its
@@ -236,7 +261,8 @@ void LowerToSides(const FitContext& c, const std::array<FitView, 2>& views, cons
 // limbs. Only a pipe asked for is also started from its boundary's upper part: fitted against
 // a block asked for, a pipe on the block's top refused 4 right blocks of the tuning and
 // held-out seeds as "a cylinder explains the outline about as well", and took 13 ms more.
-// A pipe asked for whose fit collapsed onto one limb is fitted again beside it.
+// A pipe asked for whose fit collapsed onto one limb is fitted again beside it; a block fitted
+// up to what rests on it, lower.
 struct SolidFit {
   FitOutcome fit;
   FitOptions options;
@@ -273,7 +299,10 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
   raised_starts.insert(raised_starts.end(), raised.upper_part.begin(), raised.upper_part.end());
   TryRaisedPipe(raised_starts, s.views, s.options, c.opt, c.plausible, &s.fit);
   if (cylinder && asked) TryBesideLimb(c.in.marks, s.views, s.options, c.opt, c.plausible, &s.fit);
-  if (!cylinder) LowerToSides(c, s.views, s.options, &s.fit);
+  if (!cylinder) {
+    LowerToSides(c, s.views, s.options, &s.fit);
+    LowerByShares(c, s.views, s.options, &s.fit);
+  }
   if (cylinder) EndsFromLimbs(s.views, s.options, c.opt, &s.fit);
   return s;
 }
@@ -350,6 +379,11 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "depth_tolerance must be positive";
     return false;
   }
+  for (const double share : lowered_shares)
+    if (!(share > 0 && share < 1)) {
+      *error = "lowered_shares must each be in (0, 1)";
+      return false;
+    }
   if (!(edge_sigma >= 0 && edge_sigma <= 10)) {
     *error = "edge_sigma must be in 0..10";
     return false;

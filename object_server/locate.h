@@ -121,6 +121,10 @@ struct LocateOptions {
   // max_lowered_size_sigma.
   double box_side_reach = 0.9;
   double max_lowered_size_sigma = 1.0;
+  // A block whose fit would be refused as explaining the edges poorly is fitted again from
+  // itself lowered to these shares of its height, its bottom kept (LowerByShares), and kept
+  // as a block lowered to its sides' top is. Empty: not tried.
+  std::vector<double> lowered_shares = {0.55, 0.7, 0.85};
   bool box_inner_edges = true;       // fit a box's edges between seen faces too, not only
                                      // its silhouette
   bool cylinder_inner_edges = true;  // fit the rim of a seen end cap against the side too

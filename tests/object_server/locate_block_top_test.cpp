@@ -92,11 +92,31 @@ TEST(BlockTop, ABlockUnderAPipeWhoseEndRisesAboveItIsFoundToItsTop) {
   ASSERT_TRUE(found.found) << found.detail;
   EXPECT_NEAR(found.box.size.z(), a.truth.size.z(), 0.1);
   EXPECT_LT((found.box.center - a.truth.center).norm(), 0.2);
-  LocateOptions off;
-  off.box_side_reach = 1e-9;
+  // Without the sides' reach, the fit lowered by shares of its height finds it too; without
+  // either, it is not found to its top.
+  LocateOptions by_shares;
+  by_shares.box_side_reach = 1e-9;
+  const LocateResult lowered = Locate(a.input, by_shares);
+  ASSERT_TRUE(lowered.found) << lowered.detail;
+  EXPECT_NEAR(lowered.box.size.z(), a.truth.size.z(), 0.1);
+  LocateOptions off = by_shares;
+  off.lowered_shares.clear();
   const LocateResult up_to_the_pipe = Locate(a.input, off);
   EXPECT_FALSE(up_to_the_pipe.found &&
                std::abs(up_to_the_pipe.box.size.z() - a.truth.size.z()) < 0.1);
+}
+
+TEST(BlockTop, TheLoweredSharesAreChecked) {
+  std::string error;
+  for (const double bad : {0.0, 1.0, -0.5, std::nan("")}) {
+    LocateOptions options;
+    options.lowered_shares = {0.5, bad};
+    EXPECT_FALSE(options.Check(&error)) << bad;
+    EXPECT_NE(error.find("lowered_shares"), std::string::npos);
+  }
+  LocateOptions none;
+  none.lowered_shares.clear();
+  EXPECT_TRUE(none.Check(&error)) << error;
 }
 
 }  // namespace

@@ -57,7 +57,7 @@ TEST(SiteLevels, SeededScenesOfEachLevel) {
               wrong_types);
   ASSERT_GE(s.full, 25);
   // Found and right: a wrong model counts against, not for.
-  EXPECT_GE(s.full_found - s.full_wrong, 16);
+  EXPECT_GE(s.full_found - s.full_wrong, 18);
   EXPECT_LE(s.full_wrong + s.hidden_wrong, 3);
   ASSERT_GE(requests, 5);
   EXPECT_EQ(false_finds, 0);
@@ -168,8 +168,34 @@ TEST(SiteLevels, ABlockUnderAnUnknownPipeStartsBelowItsSidesTops) {
   const auto evals = EvaluateScene(scene, "clutter_thesis_5006", 5006);
   int checked = 0;
   for (const auto& e : evals) {
-    if (e.object_name == "lying_0") EXPECT_FALSE(e.result.found);  // the pipe it carries
+    if (e.object_name == "lying_0") {
+      EXPECT_FALSE(e.result.found);  // the pipe it carries
+    }
     if (e.object_name != "support_2") continue;
+    ++checked;
+    ASSERT_GE(e.visible, kFullView);
+    ASSERT_TRUE(e.result.found) << e.result.detail;
+    EXPECT_FALSE(e.wrong);
+    EXPECT_LT(e.size_error.maxCoeff(), 0.1);
+    EXPECT_LT(e.position_error, 0.3);
+  }
+  EXPECT_EQ(checked, 1);
+}
+
+// A block (39 in away, the thesis's cameras) carrying the high end of a tilted pipe whose end
+// rises over it, the pipe refused: every fit took the pipe's end in, 1.2 in too tall, and
+// explained the edges poorly; its sides' edges run on up into the pipe's and say nothing of its
+// top. Fitted again lowered to shares of its height, it is found.
+TEST(SiteLevels, ABlockFittedUpToThePipeOnItIsFittedAgainLowered) {
+  cv::setNumThreads(1);
+  const auto scene = site::SiteScene(4, site::SiteLevel::kPipes, false);
+  const auto evals = EvaluateScene(scene, "pipes_thesis_4", 4);
+  int checked = 0;
+  for (const auto& e : evals) {
+    if (e.object_name == "lying_2") {
+      EXPECT_FALSE(e.result.found);  // the pipe it carries
+    }
+    if (e.object_name != "support_3") continue;
     ++checked;
     ASSERT_GE(e.visible, kFullView);
     ASSERT_TRUE(e.result.found) << e.result.detail;
