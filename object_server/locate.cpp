@@ -255,14 +255,34 @@ void LowerByShares(const FitContext& c, const std::array<FitView, 2>& views, con
   KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, {}), "lowered by shares", c, f);
 }
 
+// An upright pipe fitted with its foot more than floor_gap off the site's floor (an object in
+// front hides its foot, or the foot has the table's shade and no edge holds it) fitted again
+// from the pipe standing on the floor under its top end; kept if that fits better.
+void StandOnFloor(const FitContext& c, const std::array<FitView, 2>& views, const FitOptions& fit,
+                  FitOutcome* f) {
+  if (!c.opt.floor_height || !f->ok || f->params.size() != 7) return;
+  const Eigen::VectorXd& x = f->params;
+  const Eigen::Vector3d axis = x.segment<3>(3) - x.segment<3>(0);
+  if (!(axis.norm() > 1e-9) || std::abs(axis.z()) < c.opt.upright_axis_cos * axis.norm()) return;
+  const int foot = x[2] < x[5] ? 0 : 3, top = 3 - foot;
+  if (std::abs(x[foot + 2] - *c.opt.floor_height) <= c.opt.floor_gap) return;
+  Eigen::VectorXd standing = x;
+  standing.segment<3>(foot) << x[top], x[top + 1], *c.opt.floor_height;
+  FitOutcome g = FitCylinder({standing}, views, fit, c.opt, c.plausible);
+  spdlog::debug("locate: standing on the floor, it scores {:.3f} against {:.3f}", FitScore(g),
+                FitScore(*f));
+  if (g.ok && BetterFit(g, *f, c.plausible)) *f = std::move(g);
+}
+
 // One type's fit, whether that type was asked for or is the other one tried against it: its
 // own edge angles and outline regions, its starts (a pipe's also stretched to fill the marks,
 // and from a raised pipe's upper limb when the others fit poorly), and a pipe's ends from its
 // limbs. Only a pipe asked for is also started from its boundary's upper part: fitted against
 // a block asked for, a pipe on the block's top refused 4 right blocks of the tuning and
 // held-out seeds as "a cylinder explains the outline about as well", and took 13 ms more.
-// A pipe asked for whose fit collapsed onto one limb is fitted again beside it; a block fitted
-// up to what rests on it, lower.
+// A pipe asked for whose fit collapsed onto one limb is fitted again beside it; an upright pipe
+// whose foot is off the site's floor, standing on it; a block fitted up to what rests on it,
+// lower.
 struct SolidFit {
   FitOutcome fit;
   FitOptions options;
@@ -303,7 +323,10 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
     LowerToSides(c, s.views, s.options, &s.fit);
     LowerByShares(c, s.views, s.options, &s.fit);
   }
-  if (cylinder) EndsFromLimbs(s.views, s.options, c.opt, &s.fit);
+  if (cylinder) {
+    StandOnFloor(c, s.views, s.options, &s.fit);
+    EndsFromLimbs(s.views, s.options, c.opt, &s.fit);
+  }
   return s;
 }
 
@@ -384,6 +407,14 @@ bool LocateOptions::Check(std::string* error) const {
       *error = "lowered_shares must each be in (0, 1)";
       return false;
     }
+  if (floor_height && !std::isfinite(*floor_height)) {
+    *error = "floor_height must be a finite number when given";
+    return false;
+  }
+  if (!(floor_gap >= 0)) {
+    *error = "floor_gap must not be negative";
+    return false;
+  }
   if (!(edge_sigma >= 0 && edge_sigma <= 10)) {
     *error = "edge_sigma must be in 0..10";
     return false;

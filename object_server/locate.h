@@ -103,6 +103,12 @@ struct LocateOptions {
   // An upright pipe (its axis within acos of this of the vertical) whose limbs run past a
   // held end in both images, by 3 px and 3 of its sigmas, is moved there too.
   double upright_axis_cos = 0.87;
+  // The height (world z) of the floor the site's objects stand on, when the site has one: an
+  // upright pipe whose foot the fit leaves more than floor_gap off it is fitted again standing
+  // on it, and kept if that fits better (a pipe standing on a block stays there: reaching
+  // down through the block, it fits worse). Unset: no floor is known.
+  std::optional<double> floor_height;
+  double floor_gap = 0.3;
   // A fitted cylinder thinner than this (radius, pixels in the left image) is refused.
   double min_radius_px = 1.0;
   // ... and only edges that run along its outline, within this (degrees).

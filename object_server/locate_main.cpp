@@ -37,7 +37,8 @@ int Run(int argc, char** argv) {
   po::options_description desc(
       "igms locate: find a cylinder or box from a stereo pair and four marks\n"
       "Usage: igms locate --calibration FILE --left IMG --right IMG --type cylinder|box "
-      "--mark X,Y,Z (four times) [--range D] [--camera-blur PX] [--debug-image FILE] [--json]\n"
+      "--mark X,Y,Z (four times) [--range D] [--camera-blur PX] [--floor-height Z]\n"
+      "[--debug-image FILE] [--json]\n"
       "Options");
   std::string calibration, left_path, right_path, type, debug_image;
   double range = -1;
@@ -57,6 +58,9 @@ int Run(int argc, char** argv) {
       "camera-blur", po::value(&input_options.camera_blur_px),
       "the cameras' blur as a Gaussian's sigma in pixels (default 0.7, the simulated site's; "
       "measure it for real cameras): curved edges are corrected for it")(
+      "floor-height", po::value<double>(),
+      "the height (world z) of the floor the objects stand on, when the site has one: an "
+      "upright pipe whose foot the images leave open is fitted standing on it too")(
       "verbose,v", "log the pipeline's steps to stderr");
   po::variables_map vm;
   try {
@@ -116,6 +120,7 @@ int Run(int argc, char** argv) {
   input.right = cv::imread(right_path, cv::IMREAD_GRAYSCALE);
   if (input.right.empty()) return bad("cannot read image " + right_path);
 
+  if (vm.count("floor-height")) input_options.floor_height = vm["floor-height"].as<double>();
   if (std::string problem; !input_options.Check(&problem)) return bad("options: " + problem);
   const auto result = igms::object::Locate(input, input_options);
   if (!debug_image.empty()) {

@@ -20,6 +20,8 @@ config::Keys ObjectKeys(ObjectServiceOptions* options) {
   keys.Bind("workers", &options->workers, "locates run at once");
   keys.Bind("camera_blur_px", &options->locate.camera_blur_px,
             "the cameras' blur in pixels, for the silhouette fit");
+  keys.Bind("floor_height", &options->locate.floor_height,
+            "the height (world z) of the floor the site's objects stand on; none: no floor known");
   keys.Bind("video", &options->video_process, "the video server process it fetches frames from");
   return keys;
 }

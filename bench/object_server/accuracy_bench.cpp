@@ -35,7 +35,7 @@ int RunBenchmark(int argc, char** argv) {
     const auto scene = default_scene ? igms::site::DefaultTestbedScene()
                                      : igms::site::RandomTestbedScene(first + s);
     const auto evals = igms::object::EvaluateScene(scene, "scene_" + std::to_string(first + s),
-                                                   first + s, {}, debug_dir);
+                                                   first + s, igms::object::SiteLocateOptions(), debug_dir);
     for (const auto& e : evals) {
       if (verbose)
         std::printf(

@@ -376,6 +376,8 @@ template void ReadBound<std::vector<double>>(const KeySource&, const KeySpec&,
 template void ReadBound<std::vector<int>>(const KeySource&, const KeySpec&, std::vector<int>*);
 template void ReadBound<std::vector<bool>>(const KeySource&, const KeySpec&, std::vector<bool>*);
 template void ReadBound<std::optional<int>>(const KeySource&, const KeySpec&, std::optional<int>*);
+template void ReadBound<std::optional<double>>(const KeySource&, const KeySpec&,
+                                                std::optional<double>*);
 
 }  // namespace detail
 

@@ -24,6 +24,12 @@ std::string DebugPath(const std::string& dir, const std::string& scene, const st
 
 }  // namespace
 
+LocateOptions SiteLocateOptions() {
+  LocateOptions options;
+  options.floor_height = 0.0;
+  return options;
+}
+
 std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
                                             uint64_t mark_seed, const LocateOptions& options,
                                             const std::string& debug_dir, bool database) {

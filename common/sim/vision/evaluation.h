@@ -50,13 +50,18 @@ inline constexpr double kFullView = 0.95;
 // sigma may say is ill seen) by more than 0.5 in and 3 reported sigma.
 bool WrongModel(const ObjectEvaluation& e);
 
+// The locator's options as the simulated lab configures its object server: the site's floor
+// is the table top, z = 0 (deploy/lab.yaml, floor_height).
+LocateOptions SiteLocateOptions();
+
 // Renders the scene's stereo pair, generates marks for each cylinder and box from the
 // ground truth (seeded by mark_seed and the object's index), locates and compares. The objects
 // are marked in the scene's order (a pipe before its supports) and, with `database`, each
 // locate knows those found before it (LocateInput::known), as in a session. With a debug_dir,
 // writes each object's debug image (debug_image.h) there as SCENE_OBJECT.png.
 std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std::string& scene_name,
-                                            uint64_t mark_seed, const LocateOptions& options = {},
+                                            uint64_t mark_seed,
+                                            const LocateOptions& options = SiteLocateOptions(),
                                             const std::string& debug_dir = "",
                                             bool database = true);
 
@@ -76,7 +81,8 @@ struct NothingThereEvaluation {
 std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scene,
                                                          const std::string& scene_name,
                                                          uint64_t seed, int count,
-                                                         const LocateOptions& options = {},
+                                                         const LocateOptions& options =
+                                                             SiteLocateOptions(),
                                                          const std::string& debug_dir = "");
 
 struct Summary {
