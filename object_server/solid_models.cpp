@@ -8,12 +8,29 @@ namespace igms::object {
 namespace {
 
 // A cylinder's axis (unit, p0 to p1) and two unit vectors across it.
+// The axis w and two directions u, v across it. Within 60 degrees of the vertical, u is the
+// world's x, or y for an axis pointing down, carried onto the plane across w by the shortest
+// rotation from the vertical, which turns smoothly with w. Eigen's unitOrthogonal, kept
+// further from the vertical, turns u with the direction the axis leans, which swings fast on a
+// pipe standing nearly straight up: the fit's numeric derivatives saw the rim's 64 points turn
+// round the axis, and an upright pipe's radius came out with a sigma of up to 100 in.
 void CylinderFrame(const Eigen::VectorXd& x, Eigen::Vector3d& w, Eigen::Vector3d& u,
                    Eigen::Vector3d& v) {
   w = x.segment<3>(3) - x.segment<3>(0);
   if (w.norm() < 1e-9) w = Eigen::Vector3d::UnitZ();
   w.normalize();
-  u = w.unitOrthogonal();
+  if (std::abs(w.z()) <= 0.5) {
+    u = w.unitOrthogonal();
+  } else {
+    const bool down = w.z() < 0;
+    const Eigen::Vector3d from(0, 0, down ? -1.0 : 1.0);
+    const Eigen::Vector3d across(down ? 0.0 : 1.0, down ? 1.0 : 0.0, 0);
+    // Rodrigues: R = I + [k]x + [k]x^2 / (1 + c), k = from x w, c = from . w (over 0.5 here).
+    const Eigen::Vector3d k = from.cross(w);
+    const double c = from.dot(w);
+    u = across + k.cross(across) + k.cross(k.cross(across)) / (1 + c);
+    u = (u - u.dot(w) * w).normalized();
+  }
   v = w.cross(u);
 }
 

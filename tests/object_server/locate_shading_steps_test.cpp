@@ -136,11 +136,14 @@ TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenACreaseRunsAlongItsSide) {
   // Level far, seed 7, 1920x1080: box_11 turned to show two faces lit 46 grey levels apart.
   const Asked a = AskFor(7, site::SiteLevel::kFar, true, "box_11", SolidType::kCylinder);
   ASSERT_NE(a.shape, nullptr);
-  const LocateResult as_pipe = Locate(a.input);
+  // The site's floor known, as the lab configures it: the block's rival pipe stands on it.
+  LocateOptions lab;
+  lab.floor_height = 0.0;
+  const LocateResult as_pipe = Locate(a.input, lab);
   EXPECT_FALSE(as_pipe.found);
   EXPECT_TRUE(Contains(as_pipe.detail, "crease")) << as_pipe.detail;
   // Not creased, a crease is still not round: the side counts as flat, and a box fits.
-  LocateOptions no_crease;
+  LocateOptions no_crease = lab;
   no_crease.crease_gain = 1e300;
   const LocateResult flat = Locate(a.input, no_crease);
   EXPECT_FALSE(flat.found);
