@@ -230,8 +230,8 @@ void LowerToSides(const FitContext& c, const std::array<FitView, 2>& views, cons
     starts.push_back(aligned);
   }
   starts.push_back(*lowered);
-  KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, if_poor), "below the sides' top",
-              c, f);
+  KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, if_poor), "below the sides' top", c,
+              f);
 }
 
 // A block that would be refused as explaining the edges poorly, fitted again from itself

@@ -115,8 +115,7 @@ std::vector<cv::Point> LimbPixels(const std::vector<cv::Point>& boundary,
 // limb and the supports' feet. Empty unless the limbs lie within 45 degrees of the rows, where
 // "up" is the image's. `lower`, when given, gets the lower limb: the pixels of the tallest
 // peak below that line and clear of it (none when no such peak).
-std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs,
-                                   const Gradients& gradients,
+std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs, const Gradients& gradients,
                                    std::vector<cv::Point>* lower = nullptr) {
   if (limbs.size() < 16) return {};
   // The gradients' mean orientation, modulo 180 degrees (their doubled angles averaged).

@@ -34,8 +34,9 @@ int RunBenchmark(int argc, char** argv) {
   for (int s = 0; s < scenes; ++s) {
     const auto scene = default_scene ? igms::site::DefaultTestbedScene()
                                      : igms::site::RandomTestbedScene(first + s);
-    const auto evals = igms::object::EvaluateScene(scene, "scene_" + std::to_string(first + s),
-                                                   first + s, igms::object::SiteLocateOptions(), debug_dir);
+    const auto evals =
+        igms::object::EvaluateScene(scene, "scene_" + std::to_string(first + s), first + s,
+                                    igms::object::SiteLocateOptions(), debug_dir);
     for (const auto& e : evals) {
       if (verbose)
         std::printf(

@@ -139,7 +139,8 @@ int RunBenchmark(int argc, char** argv) {
         name += camera;
         name += '_';
         name += std::to_string(first + s);
-        for (const auto& e : igms::object::EvaluateScene(scene, name, first + s, igms::object::SiteLocateOptions(), debug_dir)) {
+        for (const auto& e : igms::object::EvaluateScene(
+                 scene, name, first + s, igms::object::SiteLocateOptions(), debug_dir)) {
           // Sigmas: a box's sizes; a cylinder's radius, height and centre (its largest).
           const Eigen::Vector3d sd =
               e.kind == "box"
@@ -174,8 +175,8 @@ int RunBenchmark(int argc, char** argv) {
           }
           all.push_back(e);
         }
-        for (const auto& n :
-             igms::object::EvaluateNothingThere(scene, name, first + s, 2, igms::object::SiteLocateOptions(), debug_dir)) {
+        for (const auto& n : igms::object::EvaluateNothingThere(
+                 scene, name, first + s, 2, igms::object::SiteLocateOptions(), debug_dir)) {
           if (verbose && (n.result.found || n.what == "wrong_type"))
             std::printf(
                 "%-18s nothing there (%s %s) %s as %s, score %.3f, other type's %.3f, supported "

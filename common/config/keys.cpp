@@ -377,7 +377,7 @@ template void ReadBound<std::vector<int>>(const KeySource&, const KeySpec&, std:
 template void ReadBound<std::vector<bool>>(const KeySource&, const KeySpec&, std::vector<bool>*);
 template void ReadBound<std::optional<int>>(const KeySource&, const KeySpec&, std::optional<int>*);
 template void ReadBound<std::optional<double>>(const KeySource&, const KeySpec&,
-                                                std::optional<double>*);
+                                               std::optional<double>*);
 
 }  // namespace detail
 

@@ -145,8 +145,7 @@ TEST_F(LocateCli, BadInputExitsTwo) {
   EXPECT_NE(blur.out.find("camera_blur_px must be in 0..10"), std::string::npos) << blur.out;
   const ProcessRun floor = Exec(base_ + " --type box" + four + " --floor-height nan", true);
   EXPECT_EQ(floor.status, 2);
-  EXPECT_NE(floor.out.find("floor_height must be a finite number"), std::string::npos)
-      << floor.out;
+  EXPECT_NE(floor.out.find("floor_height must be a finite number"), std::string::npos) << floor.out;
 }
 
 TEST_F(LocateCli, DebugImageShowsEdgesPointsAndOutline) {

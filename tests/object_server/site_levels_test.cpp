@@ -12,9 +12,8 @@
 #include <gtest/gtest.h>
 
 #include <limits>
-#include <string>
-
 #include <opencv2/core/utility.hpp>
+#include <string>
 
 #include "common/sim/site_scenes.h"
 #include "common/sim/vision/evaluation.h"
@@ -217,8 +216,8 @@ TEST(SiteLevels, AnUprightPipeWhoseFootIsUnseenStandsOnTheFloor) {
   cv::setNumThreads(1);
   const auto scene = site::SiteScene(3, site::SiteLevel::kClutter, false);
   for (const bool floor : {true, false}) {
-    const auto evals = EvaluateScene(scene, "clutter_thesis_3", 3,
-                                     floor ? SiteLocateOptions() : LocateOptions{});
+    const auto evals =
+        EvaluateScene(scene, "clutter_thesis_3", 3, floor ? SiteLocateOptions() : LocateOptions{});
     int checked = 0;
     for (const auto& e : evals) {
       if (e.object_name != "upright_5") continue;

@@ -78,12 +78,9 @@ struct NothingThereEvaluation {
 // clears every object's by 16 px or more, "gap" when an object lies within 30 px), and the
 // wrong-type requests. With a debug_dir, writes each wrong-type request's debug image there as
 // SCENE_OBJECT_as_TYPE.png.
-std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scene,
-                                                         const std::string& scene_name,
-                                                         uint64_t seed, int count,
-                                                         const LocateOptions& options =
-                                                             SiteLocateOptions(),
-                                                         const std::string& debug_dir = "");
+std::vector<NothingThereEvaluation> EvaluateNothingThere(
+    const site::Scene& scene, const std::string& scene_name, uint64_t seed, int count,
+    const LocateOptions& options = SiteLocateOptions(), const std::string& debug_dir = "");
 
 struct Summary {
   int count = 0, found = 0;
