@@ -146,9 +146,13 @@ std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs, const Gr
     if (smooth[b] >= std::max(6.0, 0.2 * tallest) && smooth[b] >= smooth[b - 1] &&
         smooth[b] >= smooth[b + 1])
       peak = b;
+  // The limb pixels within 2 px of a peak's bin.
+  const auto at_peak = [&](int bin, std::vector<cv::Point>* out) {
+    for (size_t i = 0; i < limbs.size(); ++i)
+      if (bin >= 0 && std::abs(offset[i] - lo + 1 - bin) <= 2.0) out->push_back(limbs[i]);
+  };
   std::vector<cv::Point> line;
-  for (size_t i = 0; i < limbs.size(); ++i)
-    if (peak >= 0 && std::abs(offset[i] - lo + 1 - peak) <= 2.0) line.push_back(limbs[i]);
+  at_peak(peak, &line);
   // The lower limb: the tallest peak below the top line, clear of it.
   if (lower && peak >= 0) {
     int second = -1;
@@ -156,8 +160,7 @@ std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs, const Gr
       if (smooth[b] >= std::max(6.0, 0.2 * tallest) && smooth[b] >= smooth[b - 1] &&
           smooth[b] >= smooth[b + 1] && (second < 0 || smooth[b] > smooth[second]))
         second = b;
-    for (size_t i = 0; i < limbs.size(); ++i)
-      if (second >= 0 && std::abs(offset[i] - lo + 1 - second) <= 2.0) lower->push_back(limbs[i]);
+    at_peak(second, lower);
   }
   return line;
 }
@@ -405,8 +408,8 @@ std::vector<cv::Point> BetweenVerticalEdges(const geometry::ProjectiveCamera& le
     const auto edge_top = [&](int column) {
       int top = -1;
       for (int j = std::max(0, column - 1); j <= std::min(bins - 1, column + 1); ++j)
-        for (int r = rows - 1; r > top; --r)
-          if (covers[j][r]) top = r;
+        for (int r = 0; r < rows; ++r)
+          if (covers[j][r]) top = std::max(top, r);
       return top;
     };
     const int top = std::min(edge_top(first), edge_top(last));
