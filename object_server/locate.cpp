@@ -629,6 +629,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   }
 
   if (const auto failure = ResultFromFit(in, f, image_rect, opt, &res)) return fail(*failure);
+  if (cylinder) RefineLimbsForShading(*pair, views, fit, opt, f, &res.cylinder);
   if (in.range) CheckRange(in, opt, f.params, &res.range);
   res.found = true;
   return finish(res);

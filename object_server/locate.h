@@ -109,6 +109,11 @@ struct LocateOptions {
   // down through the block, it fits worse). Unset: no floor is known.
   std::optional<double> floor_height;
   double floor_gap = 0.3;
+  // A found pipe's limbs read inside its silhouette where its side's shade changes up to
+  // them (a Lambertian side seen edge on): its limbs' edges are moved out by what their own
+  // grey-level profiles say (LimbEdgeShift), at most this (pixels), and its radius fitted
+  // again. 0: not done.
+  double max_limb_shading_px = 0.5;
   // A fitted cylinder thinner than this (radius, pixels in the left image) is refused.
   double min_radius_px = 1.0;
   // ... and only edges that run along its outline, within this (degrees).

@@ -6,12 +6,22 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "object_server/locate_steps.h"
+#include "object_server/solid_models.h"
 
 namespace igms::object {
 namespace {
+
+// A limb whose profile steps by less than this (grey levels) has no clear edge to place.
+constexpr double kMinLimbStep = 8.0;
+// ... or whose profile the model leaves more than this share of its step unexplained (RMS): a
+// shadow's edge or another object beside it, or a side too narrow for the model (about 5 px
+// across: the easy scenes' pipes so refused would have come out 0.016-0.022 in too thick;
+// those moved, within 0.015 of their step).
+constexpr double kMaxLimbMisfit = 0.02;
 
 // The side's mean grey level across it: bins evenly spread in the sine of the angle round the
 // axis (so evenly in the image), each over the middle 60% of the length.
@@ -20,27 +30,49 @@ struct Profile {
   std::vector<int> count;
 };
 
+// A pipe's side as a camera sees it: w, the side's normal facing the camera; u, across the
+// view; the side's half width and length in the image, and the image's direction of u.
+struct SideFrame {
+  bool ok = false;
+  Eigen::Vector3d p0, axis, w, u;  // axis: unit
+  double len = 0, r = 0, r_px = 0, len_px = 0;
+  Eigen::Vector2d across;
+};
+
+SideFrame FrameOfSide(const geometry::ProjectiveCamera& camera, const Eigen::VectorXd& params) {
+  SideFrame f;
+  f.p0 = params.segment<3>(0);
+  const Eigen::Vector3d p1 = params.segment<3>(3);
+  f.r = std::abs(params[6]);
+  f.axis = p1 - f.p0;
+  f.len = f.axis.norm();
+  if (f.len < 1e-9 || f.r < 1e-9) return f;
+  f.axis /= f.len;
+  const Eigen::Vector3d mid = 0.5 * (f.p0 + p1);
+  f.w = camera.Center() - mid;
+  f.w -= f.w.dot(f.axis) * f.axis;
+  if (f.w.norm() < 1e-9) return f;  // looking down the axis: no side seen
+  f.w.normalize();
+  f.u = f.axis.cross(f.w);
+  const auto qm = camera.Project(mid), qu = camera.Project(mid + f.r * f.u);
+  const auto q0 = camera.Project(f.p0), q1 = camera.Project(p1);
+  if (!qm || !qu || !q0 || !q1) return f;
+  f.r_px = (*qu - *qm).norm();
+  f.len_px = (*q1 - *q0).norm();
+  if (f.r_px < 1e-9) return f;
+  f.across = (*qu - *qm) / f.r_px;
+  f.ok = true;
+  return f;
+}
+
 // Profile of the side; empty when too narrow or short to tell, or a bin has under 3 samples.
 Profile SampleProfile(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
                       const Eigen::VectorXd& params,
                       const std::vector<std::vector<Eigen::Vector2d>>& hidden) {
-  const Eigen::Vector3d p0 = params.segment<3>(0), p1 = params.segment<3>(3);
-  const double r = std::abs(params[6]);
-  Eigen::Vector3d axis = p1 - p0;
-  const double len = axis.norm();
-  if (len < 1e-9 || r < 1e-9 || image.empty()) return {};
-  axis /= len;
-  // w: the side's normal facing the camera; u: across the view.
-  const Eigen::Vector3d mid = 0.5 * (p0 + p1);
-  Eigen::Vector3d w = camera.Center() - mid;
-  w -= w.dot(axis) * axis;
-  if (w.norm() < 1e-9) return {};  // looking down the axis: no side seen
-  w.normalize();
-  const Eigen::Vector3d u = axis.cross(w);
-  const auto qm = camera.Project(mid), qu = camera.Project(mid + r * u);
-  const auto q0 = camera.Project(p0), q1 = camera.Project(p1);
-  if (!qm || !qu || !q0 || !q1) return {};
-  const double r_px = (*qu - *qm).norm(), len_px = (*q1 - *q0).norm();
+  const SideFrame side = FrameOfSide(camera, params);
+  if (!side.ok || image.empty()) return {};
+  const Eigen::Vector3d &p0 = side.p0, &axis = side.axis, &w = side.w, &u = side.u;
+  const double r = side.r, len = side.len, r_px = side.r_px, len_px = side.len_px;
   // Clear of the limbs by 2 px (the blur mixes the background in there); a bin a pixel wide.
   const double s_max = 1.0 - 2.0 / std::max(r_px, 1e-9);
   const int bins = std::min(16, static_cast<int>(2 * r_px * s_max));
@@ -69,7 +101,202 @@ Profile SampleProfile(const cv::Mat& image, const geometry::ProjectiveCamera& ca
   return p;
 }
 
+// A limb's grey-level profile across it, outward from the model's limb line, averaged along
+// the middle 60% of the side: sub-pixel samples every kProfileStep pixels.
+constexpr double kProfileStep = 0.25;
+
+// The profile's model: a step from the side's shade to the background at e, the side shading
+// as a Lambertian cylinder's under distant lights (a constant, and the cosine and sine of the
+// angle round the axis, which the depth inside the limb fixes: sine 1 - depth / r_px), seen
+// through the camera's blur (a Gaussian of sigma pixels). Its four terms at offset z = d - e,
+// tabulated for one sigma and half width.
+class LimbProfileModel {
+ public:
+  LimbProfileModel(double sigma, double r_px, double inside, double outside)
+      : z0_(-inside - 1), n_(static_cast<int>((inside + outside + 2) / kGrid) + 1), table_(n_) {
+    const double reach = std::min(2 * r_px, inside + 4 * sigma);
+    for (int i = 0; i < n_; ++i) {
+      const double z = z0_ + i * kGrid;
+      Eigen::Vector4d t(0.5 * std::erfc(-z / (sigma * std::sqrt(2.0))), 0, 0, 0);
+      for (double depth = 0.5 * kGrid; depth < reach; depth += kGrid) {
+        const double v = (z + depth) / sigma;
+        const double wgt = std::exp(-0.5 * v * v) * kGrid / (sigma * std::sqrt(2 * M_PI));
+        const double sine = 1 - depth / r_px;
+        t[1] += wgt;
+        t[2] += wgt * std::sqrt(std::max(0.0, 1 - sine * sine));
+        t[3] += wgt * sine;
+      }
+      table_[i] = t;
+    }
+  }
+  Eigen::Vector4d At(double z) const {
+    const double x = std::clamp((z - z0_) / kGrid, 0.0, n_ - 1.001);
+    const int i = static_cast<int>(x);
+    return table_[i] + (x - i) * (table_[i + 1] - table_[i]);
+  }
+
+ private:
+  static constexpr double kGrid = 0.1;
+  double z0_;
+  int n_;
+  std::vector<Eigen::Vector4d> table_;
+};
+
+// The profile's step (offset from the model's limb line, outward positive) for one camera
+// blur: the model above fitted over the step's place within +-kStepReach, its residual sum of
+// squares, and whether the step is clear (over min_step grey levels and short of the reach).
+constexpr double kStepReach = 2.0;
+struct StepFit {
+  double at = 0, rss = std::numeric_limits<double>::infinity();
+  double contrast = 0;  // the shade at the limb against the background
+  bool clear = false;
+};
+StepFit FitStep(const LimbProfile& limb, const LimbProfileModel& model, double min_step) {
+  constexpr double kStep = 0.05;
+  StepFit best;
+  Eigen::Vector4d best_coef = Eigen::Vector4d::Zero();
+  for (double e = -kStepReach; e <= kStepReach + 1e-9; e += kStep) {
+    Eigen::Matrix4d AtA = Eigen::Matrix4d::Zero();
+    Eigen::Vector4d Atb = Eigen::Vector4d::Zero();
+    double bb = 0;
+    for (size_t k = 0; k < limb.grey.size(); ++k) {
+      const Eigen::Vector4d row = model.At(-limb.inside + k * kProfileStep - e);
+      AtA += row * row.transpose();
+      Atb += row * limb.grey[k];
+      bb += limb.grey[k] * limb.grey[k];
+    }
+    const Eigen::Vector4d coef = AtA.ldlt().solve(Atb);
+    const double rss = bb - coef.dot(Atb);
+    if (rss < best.rss) {
+      best.rss = rss;
+      best.at = e;
+      best_coef = coef;
+    }
+  }
+  // The shade at the limb (cosine 0, sine 1) against the background, and the model's misfit.
+  best.contrast = std::abs(best_coef[1] + best_coef[3] - best_coef[0]);
+  const double rms = std::sqrt(std::max(0.0, best.rss) / static_cast<double>(limb.grey.size()));
+  best.clear = std::abs(best.at) < kStepReach - kStep && best.contrast >= min_step &&
+               rms <= kMaxLimbMisfit * best.contrast;
+  return best;
+}
+
 }  // namespace
+
+std::array<std::optional<LimbProfile>, 2> LimbProfiles(
+    const cv::Mat& image, const geometry::ProjectiveCamera& camera, const Gradients& gradients,
+    const Eigen::VectorXd& params, const std::vector<std::vector<Eigen::Vector2d>>& hidden,
+    double min_gradient) {
+  std::array<std::optional<LimbProfile>, 2> out;
+  const SideFrame side = FrameOfSide(camera, params);
+  if (!side.ok || image.empty() || side.len_px < 8) return out;
+  // Inside up to the side's far half (the other limb's blur beyond), outside 4 px.
+  LimbProfile limb;
+  limb.r_px = side.r_px;
+  limb.inside = std::floor(std::min(6.0, 2 * side.r_px - 2) / kProfileStep) * kProfileStep;
+  limb.outside = 4.0;
+  if (limb.inside < 1.5) return out;
+  const int n = static_cast<int>(std::lround((limb.inside + limb.outside) / kProfileStep)) + 1;
+  const int lines = std::clamp(static_cast<int>(0.6 * side.len_px), 8, 64);
+  const auto in_view = [&](const Eigen::Vector2d& x) {
+    return x.x() >= 0 && x.y() >= 0 && x.x() <= image.cols - 1.001 && x.y() <= image.rows - 1.001 &&
+           !InsideAny(hidden, x);
+  };
+  for (int s = 0; s < 2; ++s) {
+    const double sign = s ? 1.0 : -1.0;
+    const Eigen::Vector2d out_dir = sign * side.across;
+    limb.grey.assign(n, 0.0);
+    double peak_sum = 0;
+    int used = 0, peaks = 0;
+    for (int j = 0; j < lines; ++j) {
+      const double t = 0.2 + 0.6 * (j + 0.5) / lines;
+      const auto q = camera.Project(side.p0 + t * side.len * side.axis + sign * side.r * side.u);
+      if (!q || !in_view(*q - limb.inside * out_dir) || !in_view(*q + limb.outside * out_dir) ||
+          !in_view(*q))
+        continue;
+      for (int k = 0; k < n; ++k)
+        limb.grey[k] += GreyAt(image, *q + (-limb.inside + k * kProfileStep) * out_dir);
+      ++used;
+      double at;  // where the fit's edge search finds the limb on this line
+      if (EdgeAlongNormal(gradients, *q, out_dir, 2.5, min_gradient, &at)) {
+        peak_sum += at;
+        ++peaks;
+      }
+    }
+    if (used < 6 || peaks < 6) continue;
+    for (double& g : limb.grey) g /= used;
+    limb.peak = peak_sum / peaks;
+    out[s] = limb;
+  }
+  return out;
+}
+
+std::optional<double> LimbEdgeShift(const std::vector<LimbProfile>& limbs, double min_step) {
+  if (limbs.empty()) return std::nullopt;
+  double best_rss = std::numeric_limits<double>::infinity();
+  std::vector<StepFit> best;
+  for (const double sigma : {0.5, 0.7, 0.9, 1.1, 1.3}) {
+    std::vector<StepFit> fits;
+    double rss = 0;
+    // Both limbs of a view share their model (their half width and extents).
+    std::optional<LimbProfileModel> model;
+    const LimbProfile* modelled = nullptr;
+    for (const LimbProfile& limb : limbs) {
+      if (!modelled || limb.r_px != modelled->r_px || limb.inside != modelled->inside) {
+        model.emplace(sigma, limb.r_px, limb.inside + kStepReach, limb.outside + kStepReach);
+        modelled = &limb;
+      }
+      fits.push_back(FitStep(limb, *model, min_step));
+      rss += fits.back().rss;
+    }
+    if (rss < best_rss) {
+      best_rss = rss;
+      best = std::move(fits);
+    }
+  }
+  double sum = 0;
+  int clear = 0;
+  for (size_t i = 0; i < limbs.size(); ++i)
+    if (best[i].clear) {
+      sum += best[i].at - limbs[i].peak;
+      ++clear;
+    }
+  if (clear == 0) return std::nullopt;
+  return sum / clear;
+}
+
+void RefineLimbsForShading(const StereoPair& pair, const std::array<FitView, 2>& views,
+                           const FitOptions& fit, const LocateOptions& opt, const FitOutcome& f,
+                           CylinderResult* res) {
+  // Upright pipes only: a pipe lying on something has its own shadow or the table's contact
+  // beside its lower limb, no even background, and on the site scenes its radius came out
+  // worse for the move (docs/locator-site-scenes.md).
+  if (!(opt.max_limb_shading_px > 0) || !f.ok || std::abs(res->axis.z()) < opt.upright_axis_cos)
+    return;
+  std::vector<LimbProfile> limbs;
+  for (int v = 0; v < 2; ++v)
+    for (auto& limb :
+         LimbProfiles(v ? pair.right : pair.left, *views[v].camera, *views[v].gradients, f.params,
+                      views[v].hidden, fit.min_gradient))
+      if (limb) limbs.push_back(std::move(*limb));
+  const std::optional<double> shift = LimbEdgeShift(limbs, kMinLimbStep);
+  if (!shift) return;
+  std::array<FitView, 2> shaded = views;
+  for (FitView& v : shaded)
+    v.limb_shift_px = std::clamp(*shift, -opt.max_limb_shading_px, opt.max_limb_shading_px);
+  FitOptions last = fit;
+  last.first_outer = std::max(0, fit.outer_iterations - 2);
+  InnerEdgesFn inner;
+  if (opt.cylinder_inner_edges) inner = CylinderInnerEdges;
+  const FitOutcome g = FitSilhouette(CylinderOutline, f.params, shaded, last, inner);
+  if (!g.ok) return;
+  const CylinderResult c = CylinderFromFit(g.params, g.covariance);
+  spdlog::debug(
+      "locate: limbs moved out {:.3f} px for the side's shading ({} limbs): radius "
+      "{:.4f} against {:.4f}",
+      *shift, limbs.size(), c.radius, res->radius);
+  res->radius = c.radius;
+}
 
 SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
                                const Eigen::VectorXd& params,

@@ -305,6 +305,37 @@ struct SideShading {
 SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
                                const Eigen::VectorXd& params,
                                const std::vector<std::vector<Eigen::Vector2d>>& hidden);
+// A fitted pipe's two limbs in one image: each one's grey levels outward from the fitted limb line,
+// every 0.25 px from -inside to +outside, averaged along the middle 60% of the side, and where
+// the fit's edge search (EdgeAlongNormal over min_gradient) finds it on the same lines
+// (pixels, outward positive). nullopt for a limb mostly hidden, out of view, or whose edge the
+// search finds on under 6 lines.
+struct LimbProfile {
+  double r_px = 0, inside = 0, outside = 0;
+  std::vector<double> grey;
+  double peak = 0;
+};
+std::array<std::optional<LimbProfile>, 2> LimbProfiles(
+    const cv::Mat& image, const geometry::ProjectiveCamera& camera, const Gradients& gradients,
+    const Eigen::VectorXd& params, const std::vector<std::vector<Eigen::Vector2d>>& hidden,
+    double min_gradient);
+// How far outside where the edge search finds them the limbs' silhouette lies (pixels, mean
+// over the limbs): a Lambertian side's shade changes fastest at its limb, seen edge on, and
+// the blurred step's gradient peaks inside it. Each profile is fitted as a step from the
+// side's shade (a constant and the cosine and sine of the angle round the axis) to the
+// background, through one Gaussian camera blur shared by all the limbs. A limb counts when its
+// step is clear: at least min_step grey levels, within 2 px of the search's edge, and the
+// model explaining its profile to 2% of the step (RMS); nullopt when none is.
+std::optional<double> LimbEdgeShift(const std::vector<LimbProfile>& limbs, double min_step);
+
+// A found pipe (`f`, its result in `res`) fitted again for its last two passes with its
+// limbs' edges moved out by LimbEdgeShift over the limbs LimbProfiles gives in both views
+// (at most LocateOptions::max_limb_shading_px): its radius goes into `res`; its axis, ends,
+// sigmas and everything the checks judged stay the first fit's.
+void RefineLimbsForShading(const StereoPair& pair, const std::array<FitView, 2>& views,
+                           const FitOptions& fit, const LocateOptions& opt, const FitOutcome& f,
+                           CylinderResult* res);
+
 // How a fitted pipe's side shades in both images: creased when in both a crease between two
 // flat faces explains it `crease_gain` times better than the smooth fit; flat when in both it
 // is creased or the smooth fit explains it less than `flat_side_gain` times better than its

@@ -288,6 +288,12 @@ std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int 
           std::cos(options.max_edge_angle_deg * M_PI / 180) * g.norm())
         continue;
     }
+    if (fv.limb_shift_px != 0) {  // a pipe's limb, read inside it for its side's shading
+      const int n = static_cast<int>(outline.px.size()), a = samples.segment[i];
+      const int at = outline.position[a];
+      const int b = at >= 0 ? outline.hull[(at + 1) % outline.hull.size()] : a;
+      if ((a < n / 2) != (b < n / 2)) s += fv.limb_shift_px;
+    }
     // Where the outline turns fast (a thin pipe's ends) the blur moves the edge most.
     const double k =
         std::min(samples.curvature[i], 1.0 / std::max(1e-9, 1.5 * options.edge_blur_px));

@@ -55,6 +55,10 @@ struct FitView {
   // outline there is not measured and not counted, and an edge found there is not the
   // object's.
   std::vector<std::vector<Eigen::Vector2d>> hidden;
+  // A pipe's side shading up to its limbs moves the blurred edge's gradient peak inside the
+  // true silhouette: a silhouette edge measured on a hull segment between the outline's two
+  // halves (a cylinder's rims, CylinderOutline: its limbs) is moved out by this (pixels).
+  double limb_shift_px = 0;
 };
 
 // Whether p lies inside one of the polygons.
