@@ -454,10 +454,10 @@ bool LocateOptions::Check(std::string* error) const {
     return false;
   }
   if (!(region_weight >= 0) || !(cylinder_depth_reach > 0) || !(stretch_margin >= 0) ||
-      !(min_radius_px >= 0)) {
+      !(min_radius_px >= 0) || !(max_limb_shading_px >= 0)) {
     *error =
-        "region_weight, stretch_margin and min_radius_px must not be negative, "
-        "cylinder_depth_reach must be positive";
+        "region_weight, stretch_margin, min_radius_px and max_limb_shading_px must not be "
+        "negative, cylinder_depth_reach must be positive";
     return false;
   }
   if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(max_lying_fit_score >= max_fit_score) ||

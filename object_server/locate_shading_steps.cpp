@@ -114,17 +114,26 @@ class LimbProfileModel {
  public:
   LimbProfileModel(double sigma, double r_px, double inside, double outside)
       : z0_(-inside - 1), n_(static_cast<int>((inside + outside + 2) / kGrid) + 1), table_(n_) {
-    const double reach = std::min(2 * r_px, inside + 4 * sigma);
+    // Depth j inside the limb lies at (j + 0.5) grid steps; offset i adds i steps: the
+    // Gaussian's weight depends on i + j alone, worked out once.
+    const int depths = static_cast<int>(std::min(2 * r_px, inside + 4 * sigma) / kGrid);
+    std::vector<double> weight(n_ + depths), cosine(depths), sine(depths);
+    for (size_t m = 0; m < weight.size(); ++m) {
+      const double v = (z0_ + (static_cast<double>(m) + 0.5) * kGrid) / sigma;
+      weight[m] = std::exp(-0.5 * v * v) * kGrid / (sigma * std::sqrt(2 * M_PI));
+    }
+    for (int j = 0; j < depths; ++j) {
+      sine[j] = 1 - (j + 0.5) * kGrid / r_px;
+      cosine[j] = std::sqrt(std::max(0.0, 1 - sine[j] * sine[j]));
+    }
     for (int i = 0; i < n_; ++i) {
       const double z = z0_ + i * kGrid;
       Eigen::Vector4d t(0.5 * std::erfc(-z / (sigma * std::sqrt(2.0))), 0, 0, 0);
-      for (double depth = 0.5 * kGrid; depth < reach; depth += kGrid) {
-        const double v = (z + depth) / sigma;
-        const double wgt = std::exp(-0.5 * v * v) * kGrid / (sigma * std::sqrt(2 * M_PI));
-        const double sine = 1 - depth / r_px;
-        t[1] += wgt;
-        t[2] += wgt * std::sqrt(std::max(0.0, 1 - sine * sine));
-        t[3] += wgt * sine;
+      for (int j = 0; j < depths; ++j) {
+        const double w = weight[i + j];
+        t[1] += w;
+        t[2] += w * cosine[j];
+        t[3] += w * sine[j];
       }
       table_[i] = t;
     }
@@ -152,15 +161,16 @@ struct StepFit {
   bool clear = false;
 };
 StepFit FitStep(const LimbProfile& limb, const LimbProfileModel& model, double min_step) {
-  constexpr double kStep = 0.05;
+  constexpr double kCoarse = 0.2, kFine = 0.05;
   StepFit best;
   Eigen::Vector4d best_coef = Eigen::Vector4d::Zero();
-  for (double e = -kStepReach; e <= kStepReach + 1e-9; e += kStep) {
+  const auto try_at = [&](double e) {
     Eigen::Matrix4d AtA = Eigen::Matrix4d::Zero();
     Eigen::Vector4d Atb = Eigen::Vector4d::Zero();
     double bb = 0;
     for (size_t k = 0; k < limb.grey.size(); ++k) {
-      const Eigen::Vector4d row = model.At(-limb.inside + k * kProfileStep - e);
+      const Eigen::Vector4d row =
+          model.At(-limb.inside + static_cast<double>(k) * kProfileStep - e);
       AtA += row * row.transpose();
       Atb += row * limb.grey[k];
       bb += limb.grey[k] * limb.grey[k];
@@ -172,7 +182,13 @@ StepFit FitStep(const LimbProfile& limb, const LimbProfileModel& model, double m
       best.at = e;
       best_coef = coef;
     }
-  }
+  };
+  // Every 0.2 px over the reach, then every 0.05 px about the best.
+  for (double e = -kStepReach; e <= kStepReach + 1e-9; e += kCoarse) try_at(e);
+  const double coarse = best.at;
+  for (double e = coarse - kCoarse + kFine; e < coarse + kCoarse - 1e-9; e += kFine)
+    if (std::abs(e - coarse) > 1e-9) try_at(e);
+  constexpr double kStep = kFine;
   // The shade at the limb (cosine 0, sine 1) against the background, and the model's misfit.
   best.contrast = std::abs(best_coef[1] + best_coef[3] - best_coef[0]);
   const double rms = std::sqrt(std::max(0.0, best.rss) / static_cast<double>(limb.grey.size()));
@@ -285,7 +301,7 @@ void RefineLimbsForShading(const StereoPair& pair, const std::array<FitView, 2>&
   for (FitView& v : shaded)
     v.limb_shift_px = std::clamp(*shift, -opt.max_limb_shading_px, opt.max_limb_shading_px);
   FitOptions last = fit;
-  last.first_outer = std::max(0, fit.outer_iterations - 2);
+  last.first_outer = std::max(0, fit.outer_iterations - 1);
   InnerEdgesFn inner;
   if (opt.cylinder_inner_edges) inner = CylinderInnerEdges;
   const FitOutcome g = FitSilhouette(CylinderOutline, f.params, shaded, last, inner);

@@ -328,7 +328,7 @@ std::array<std::optional<LimbProfile>, 2> LimbProfiles(
 // model explaining its profile to 2% of the step (RMS); nullopt when none is.
 std::optional<double> LimbEdgeShift(const std::vector<LimbProfile>& limbs, double min_step);
 
-// A found pipe (`f`, its result in `res`) fitted again for its last two passes with its
+// A found pipe (`f`, its result in `res`) fitted again for its last pass with its
 // limbs' edges moved out by LimbEdgeShift over the limbs LimbProfiles gives in both views
 // (at most LocateOptions::max_limb_shading_px): its radius goes into `res`; its axis, ends,
 // sigmas and everything the checks judged stay the first fit's.

@@ -235,6 +235,10 @@ TEST(SiteLevels, TheFloorIsChecked) {
   options.floor_gap = -0.1;
   EXPECT_FALSE(options.Check(&error));
   EXPECT_NE(error.find("floor_gap"), std::string::npos);
+  options = SiteLocateOptions();
+  options.max_limb_shading_px = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(options.Check(&error));
+  EXPECT_NE(error.find("max_limb_shading_px"), std::string::npos);
 }
 
 }  // namespace
