@@ -157,23 +157,22 @@ class LimbProfileModel {
 constexpr double kStepReach = 2.0;
 struct StepFit {
   double at = 0, rss = std::numeric_limits<double>::infinity();
-  double contrast = 0;  // the shade at the limb against the background
   bool clear = false;
 };
 StepFit FitStep(const LimbProfile& limb, const LimbProfileModel& model, double min_step) {
   constexpr double kCoarse = 0.2, kFine = 0.05;
   StepFit best;
   Eigen::Vector4d best_coef = Eigen::Vector4d::Zero();
+  double bb = 0;
+  for (const double g : limb.grey) bb += g * g;
   const auto try_at = [&](double e) {
     Eigen::Matrix4d AtA = Eigen::Matrix4d::Zero();
     Eigen::Vector4d Atb = Eigen::Vector4d::Zero();
-    double bb = 0;
     for (size_t k = 0; k < limb.grey.size(); ++k) {
       const Eigen::Vector4d row =
           model.At(-limb.inside + static_cast<double>(k) * kProfileStep - e);
       AtA += row * row.transpose();
       Atb += row * limb.grey[k];
-      bb += limb.grey[k] * limb.grey[k];
     }
     const Eigen::Vector4d coef = AtA.ldlt().solve(Atb);
     const double rss = bb - coef.dot(Atb);
@@ -188,12 +187,11 @@ StepFit FitStep(const LimbProfile& limb, const LimbProfileModel& model, double m
   const double coarse = best.at;
   for (double e = coarse - kCoarse + kFine; e < coarse + kCoarse - 1e-9; e += kFine)
     if (std::abs(e - coarse) > 1e-9) try_at(e);
-  constexpr double kStep = kFine;
   // The shade at the limb (cosine 0, sine 1) against the background, and the model's misfit.
-  best.contrast = std::abs(best_coef[1] + best_coef[3] - best_coef[0]);
+  const double contrast = std::abs(best_coef[1] + best_coef[3] - best_coef[0]);
   const double rms = std::sqrt(std::max(0.0, best.rss) / static_cast<double>(limb.grey.size()));
-  best.clear = std::abs(best.at) < kStepReach - kStep && best.contrast >= min_step &&
-               rms <= kMaxLimbMisfit * best.contrast;
+  best.clear = std::abs(best.at) < kStepReach - kFine && contrast >= min_step &&
+               rms <= kMaxLimbMisfit * contrast;
   return best;
 }
 
