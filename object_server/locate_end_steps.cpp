@@ -45,9 +45,9 @@ std::optional<double> AxisParameterAt(const geometry::ProjectiveCamera& camera,
 // the far end's projection lies `length` px along): each limb, a line `radius_px` to either
 // side of the axis, walked through the image from the middle outward while an edge across it
 // (a gradient of at least min_gradient across the line, within kLimbBandPx of it) recurs
-// within kLimbGapPx, and not out of `region` (when given). The farther-reaching limb sets each
-// end. nullopt when a limb has no edge at the middle.
-std::optional<std::pair<double, double>> LimbExtent(const Gradients& gradients,
+// within kLimbGapPx, and not out of `region` (when given). Per limb, how far it reaches back
+// and on; nullopt when a limb has no edge at the middle.
+std::optional<std::array<std::pair<double, double>, 2>> LimbExtent(const Gradients& gradients,
                                                     const std::vector<Eigen::Vector2d>& region,
                                                     const Eigen::Vector2d& q0,
                                                     const Eigen::Vector2d& dir, double length,
@@ -61,9 +61,9 @@ std::optional<std::pair<double, double>> LimbExtent(const Gradients& gradients,
       if (std::abs(gradients.At(on + o * n).dot(n)) >= min_gradient) return true;
     return false;
   };
-  double lo = 1e18, hi = -1e18;
-  for (const double side : {-1.0, 1.0}) {
-    const double mid = 0.5 * length;
+  std::array<std::pair<double, double>, 2> limbs;
+  for (int l = 0; l < 2; ++l) {
+    const double side = l ? 1.0 : -1.0, mid = 0.5 * length;
     if (!edge_at(mid, side) && !edge_at(mid - 1, side) && !edge_at(mid + 1, side))
       return std::nullopt;
     for (const double step : {-1.0, 1.0}) {
@@ -72,13 +72,10 @@ std::optional<std::pair<double, double>> LimbExtent(const Gradients& gradients,
         if (s < -length || s > 2 * length) break;
         if (edge_at(s, side)) last = s;
       }
-      if (step < 0)
-        lo = std::min(lo, last);
-      else
-        hi = std::max(hi, last);
+      (step < 0 ? limbs[l].first : limbs[l].second) = last;
     }
   }
-  return std::make_pair(lo, hi);
+  return limbs;
 }
 
 // How far up a block's side (pixels from its bottom corner q0 along the unit `dir`, the side
@@ -132,13 +129,31 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
     const Eigen::Vector2d dir = (*q1 - *q0) / length, n(-dir.y(), dir.x());
     double radius_px = 0;
     for (const auto& h : f->outline[v]) radius_px = std::max(radius_px, std::abs(n.dot(h - *q0)));
-    const auto extent = LimbExtent(*views[v].gradients, views[v].region, *q0, dir, length,
-                                   radius_px, fit.min_gradient);
-    if (!extent) return;
+    const auto limbs = LimbExtent(*views[v].gradients, views[v].region, *q0, dir, length,
+                                  radius_px, fit.min_gradient);
+    if (!limbs) return;
     unit[v] = len / length;
+    // Limbs that run on to within kBorderPx of the marks' border say nothing of where the
+    // pipe ends (a neighbour's edge in line with one can carry them there).
+    const auto at_border = [&](double s_end, double out) {
+      if (views[v].region.size() < 3) return false;
+      for (const double side : {-1.0, 1.0}) {
+        const Eigen::Vector2d past = *q0 + (s_end + kBorderPx * out) * dir + side * radius_px * n;
+        if (SignedDistance(views[v].region, past) > 0) return true;
+      }
+      return false;
+    };
     for (int end = 0; end < 2; ++end) {
       const double out = end == 0 ? -1.0 : 1.0;  // away from the pipe's middle
-      const double s_end = end == 0 ? extent->first : extent->second;
+      // The farther-reaching limb sets the end (the other may fade first, shaded or against
+      // the table); when a neighbour's edge carries it on to the marks' border, the other
+      // limb, if it stops short of there: the other view must agree with it (below).
+      std::array<double, 2> s_limb{};
+      for (int l = 0; l < 2; ++l)
+        s_limb[l] = end == 0 ? (*limbs)[l].first : (*limbs)[l].second;
+      const int far = out * (s_limb[1] - s_limb[0]) > 0 ? 1 : 0;
+      double s_end = s_limb[far];
+      if (at_border(s_end, out) && !at_border(s_limb[1 - far], out)) s_end = s_limb[1 - far];
       const auto t = AxisParameterAt(cam, p0, p1, s_end);
       if (!t) return;
       // Where the background changes across the axis beside a limb's end (the table's far
@@ -152,18 +167,11 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
           if (std::abs(views[v].gradients->At(q).dot(dir)) > fit.min_gradient)
             background_changes = true;
         }
-      // Limbs that run on to within kBorderPx of the marks' border say nothing of where the
-      // pipe ends (a neighbour's edge in line with one can carry them there).
-      bool at_border = false;
-      if (views[v].region.size() >= 3)
-        for (const double side : {-1.0, 1.0}) {
-          const Eigen::Vector2d past = *q0 + (s_end + kBorderPx * out) * dir + side * radius_px * n;
-          if (SignedDistance(views[v].region, past) > 0) at_border = true;
-        }
-      reach[end].push_back(background_changes || at_border ? kKeep : *t);
+      const bool border = at_border(s_end, out);
+      reach[end].push_back(background_changes || border ? kKeep : *t);
       // In the left image, where the limbs stop at a change of the background, the pipe ends
       // between there and where its axis leaves the marks.
-      if (v != 0 || !background_changes || at_border || views[v].region.size() < 3) continue;
+      if (v != 0 || !background_changes || border || views[v].region.size() < 3) continue;
       double s = s_end;
       while (std::abs(s - s_end) < 4 * length &&
              SignedDistance(views[v].region, *q0 + (s + out) * dir) <= 0)
