@@ -186,13 +186,31 @@ struct FitContext {
   const PlausibleFn& plausible;
 };
 
+// A block fitted lower that explains the edges (under max_fit_score) but with a size nothing
+// holds (its top face hidden under what rests on it, too thin in the image for its near edge
+// to be measured): said when the fit up to the top is refused, so the operator knows why.
+struct OpenLowered {
+  double score = 0;  // FitScore in reference pixels
+  int axis = 0;      // the open size: 0 width, 1 depth, 2 height
+  double size = 0, sigma = 0;
+};
+
 // A block fitted again lower (LowerToSides, LowerByShares) replaces the fit if it fits better
-// and its sizes are known to max_lowered_size_sigma.
-void KeepLowered(FitOutcome g, const char* how, const FitContext& c, FitOutcome* f) {
-  const double worst_sigma = g.ok ? BoxFromFit(g.params, g.covariance).size_sigma.maxCoeff() : 0;
+// and its sizes are known to max_lowered_size_sigma; one that explains the edges with a size
+// left open is remembered in `open`.
+void KeepLowered(FitOutcome g, const char* how, const FitContext& c, FitOutcome* f,
+                 std::optional<OpenLowered>* open) {
+  if (!g.ok) return;
+  const BoxResult box = BoxFromFit(g.params, g.covariance);
+  int axis = 0;
+  const double worst_sigma = box.size_sigma.maxCoeff(&axis);
   spdlog::debug("locate: fitted {}, it scores {:.3f} against {:.3f}, its sizes known to {:.2f}",
                 how, FitScore(g), FitScore(*f), worst_sigma);
-  if (g.ok && worst_sigma <= c.opt.max_lowered_size_sigma && BetterFit(g, *f, c.plausible))
+  const double score = FitScore(g, ScoreResidualScale(c.opt, c.pair.left.cols));
+  if (worst_sigma > c.opt.max_lowered_size_sigma && score <= c.opt.max_fit_score &&
+      (!*open || score < (*open)->score))
+    *open = OpenLowered{score, axis, box.size[axis], worst_sigma};
+  if (worst_sigma <= c.opt.max_lowered_size_sigma && BetterFit(g, *f, c.plausible))
     *f = std::move(g);
 }
 
@@ -202,7 +220,7 @@ void KeepLowered(FitOutcome g, const char* how, const FitContext& c, FitOutcome*
 // what holds its depth is scarce, and a pipe running back along it is easily taken for the
 // top's far edge.
 void LowerToSides(const FitContext& c, const std::array<FitView, 2>& views, const FitOptions& fit,
-                  FitOutcome* f) {
+                  FitOutcome* f, std::optional<OpenLowered>* open) {
   const auto lowered = TopFromSides(views, fit, c.opt, *f);
   if (!lowered) return;
   // The boundary no higher than the lowered block's top face.
@@ -231,7 +249,7 @@ void LowerToSides(const FitContext& c, const std::array<FitView, 2>& views, cons
   }
   starts.push_back(*lowered);
   KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, if_poor), "below the sides' top", c,
-              f);
+              f, open);
 }
 
 // A block that would be refused as explaining the edges poorly, fitted again from itself
@@ -240,7 +258,7 @@ void LowerToSides(const FitContext& c, const std::array<FitView, 2>& views, cons
 // (TopFromSides). Kept as LowerToSides keeps its fit: if it fits better and its sizes are known
 // to max_lowered_size_sigma (without that bound, blocks in line behind came in, inches deep).
 void LowerByShares(const FitContext& c, const std::array<FitView, 2>& views, const FitOptions& fit,
-                   FitOutcome* f) {
+                   FitOutcome* f, std::optional<OpenLowered>* open) {
   if (c.opt.lowered_shares.empty() || !f->ok || f->params.size() != 7 ||
       FitScore(*f, ScoreResidualScale(c.opt, c.pair.left.cols)) <= c.opt.max_fit_score)
     return;
@@ -252,7 +270,8 @@ void LowerByShares(const FitContext& c, const std::array<FitView, 2>& views, con
     x[5] = share * height;
     starts.push_back(x);
   }
-  KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, {}), "lowered by shares", c, f);
+  KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, {}), "lowered by shares", c, f,
+              open);
 }
 
 // An upright pipe fitted with its foot more than floor_gap off the site's floor (an object in
@@ -287,6 +306,7 @@ struct SolidFit {
   FitOutcome fit;
   FitOptions options;
   std::array<FitView, 2> views;
+  std::optional<OpenLowered> open_lowered;  // a block's
 };
 SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
   SolidFit s;
@@ -320,8 +340,8 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
   TryRaisedPipe(raised_starts, s.views, s.options, c.opt, c.plausible, &s.fit);
   if (cylinder && asked) TryBesideLimb(c.in.marks, s.views, s.options, c.opt, c.plausible, &s.fit);
   if (!cylinder) {
-    LowerToSides(c, s.views, s.options, &s.fit);
-    LowerByShares(c, s.views, s.options, &s.fit);
+    LowerToSides(c, s.views, s.options, &s.fit, &s.open_lowered);
+    LowerByShares(c, s.views, s.options, &s.fit, &s.open_lowered);
   }
   if (cylinder) {
     StandOnFloor(c, s.views, s.options, &s.fit);
@@ -594,17 +614,27 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
     return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);
+  const std::string poorly = "the fitted outline explains the edges poorly (score " +
+                             FormatFixed(res.fit_score) + ", limit " +
+                             FormatFixed(opt.max_fit_score) + ")";
   const StepFailure explains_poorly{Failure::kLeftRightInconsistent,
-                                    "the fitted outline explains the edges poorly (score " +
-                                        FormatFixed(res.fit_score) + ", limit " +
-                                        FormatFixed(opt.max_fit_score) +
-                                        "): another object's edges, or the other type?"};
+                                    poorly + ": another object's edges, or the other type?"};
   // A lying pipe over the bound, let through on the outline that should show an edge.
   const bool lying_past_bound = res.fit_score > opt.max_fit_score && cylinder &&
                                 LyingPipe(f.params, opt) &&
                                 res.fit_score <= opt.max_lying_fit_score &&
                                 res.supported_fit_score <= opt.max_lying_supported_score;
-  if (res.fit_score > opt.max_fit_score && !lying_past_bound) return fail(explains_poorly);
+  if (res.fit_score > opt.max_fit_score && !lying_past_bound) {
+    if (!solid.open_lowered) return fail(explains_poorly);
+    // Lower, the block would explain them, but then nothing holds one of its sizes.
+    const OpenLowered& open = *solid.open_lowered;
+    const char* axis_names[3] = {"width", "depth", "height"};
+    return fail({Failure::kLeftRightInconsistent,
+                 poorly + "; fitted lower, as under something resting on it, the box explains them (score " +
+                     FormatFixed(open.score) + "), but nothing there holds its " +
+                     axis_names[open.axis] + " (" + FormatFixed(open.size) + " +/- " +
+                     FormatFixed(open.sigma) + ")"});
+  }
 
   // The other type.
   if (WantOtherType(cylinder, f, side, opt)) {

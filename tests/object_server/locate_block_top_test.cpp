@@ -106,6 +106,27 @@ TEST(BlockTop, ABlockUnderAPipeWhoseEndRisesAboveItIsFoundToItsTop) {
                std::abs(up_to_the_pipe.box.size.z() - a.truth.size.z()) < 0.1);
 }
 
+TEST(BlockTop, ABlockWhoseTopNothingHoldsBelowThePipeOnItSaysSo) {
+  // Level pipes, seed 3: support_1 carries a tilted pipe across its top. Fitted up to the
+  // pipe's top, the outline explains the edges poorly; fitted lower, the block explains them,
+  // but nothing the fit measures holds its height (its top face lies under the pipe). The
+  // refusal says both.
+  const AskedBlock a = AskForBlock(3, site::SiteLevel::kPipes, "support_1");
+  ASSERT_TRUE(a.present);
+  const LocateResult r = Locate(a.input);
+  ASSERT_FALSE(r.found);
+  EXPECT_EQ(r.reason, Failure::kLeftRightInconsistent) << r.detail;
+  EXPECT_NE(r.detail.find("explains the edges poorly"), std::string::npos) << r.detail;
+  EXPECT_NE(r.detail.find("nothing there holds its height"), std::string::npos) << r.detail;
+  // Without the lowered fits, only the first part is said.
+  LocateOptions off;
+  off.lowered_shares.clear();
+  off.box_side_reach = 1e-9;
+  const LocateResult plain = Locate(a.input, off);
+  ASSERT_FALSE(plain.found);
+  EXPECT_EQ(plain.detail.find("nothing there holds"), std::string::npos) << plain.detail;
+}
+
 TEST(BlockTop, TheLoweredSharesAreChecked) {
   std::string error;
   for (const double bad : {0.0, 1.0, -0.5, std::nan("")}) {
