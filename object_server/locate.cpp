@@ -480,6 +480,10 @@ bool LocateOptions::Check(std::string* error) const {
         "negative, cylinder_depth_reach must be positive";
     return false;
   }
+  if (!(max_face_shading_px >= 0) || !(max_face_px > 0)) {
+    *error = "max_face_shading_px must not be negative, max_face_px must be positive";
+    return false;
+  }
   if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(max_lying_fit_score >= max_fit_score) ||
       !(max_lying_supported_score >= 0) || !(score_reference_width_px > 0) ||
       !(score_width_power >= 0) || !(sigma_width_power >= 0) ||
@@ -658,6 +662,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
       return fail(explains_poorly);
   }
 
+  if (!cylinder) RefineBoxForFaces(*pair, views, fit, opt, &solid.fit);
   if (const auto failure = ResultFromFit(in, f, image_rect, opt, &res)) return fail(*failure);
   if (cylinder) RefineLimbsForShading(*pair, views, fit, opt, f, &res.cylinder);
   if (in.range) CheckRange(in, opt, f.params, &res.range);

@@ -114,6 +114,10 @@ struct LocateOptions {
   // grey-level profiles say (LimbEdgeShift), at most this (pixels), and its radius fitted
   // again. 0: not done.
   double max_limb_shading_px = 0.5;
+  // A found block's silhouette edges beside a seen face at most max_face_px wide in the image
+  // moved for that face's blur (RefineBoxForFaces), by at most max_face_shading_px; 0: not.
+  double max_face_px = 6.0;
+  double max_face_shading_px = 0.5;
   // A fitted cylinder thinner than this (radius, pixels in the left image) is refused.
   double min_radius_px = 1.0;
   // ... and only edges that run along its outline, within this (degrees).

@@ -336,6 +336,23 @@ void RefineLimbsForShading(const StereoPair& pair, const std::array<FitView, 2>&
                            const FitOptions& fit, const LocateOptions& opt, const FitOutcome& f,
                            CylinderResult* res);
 
+// A found block's silhouette edges beside a seen face at most max_face_px wide in the image:
+// blurred together with the face's other edge, the outer edge's gradient peak moves off the
+// true outline (outward beside a face brighter than the one beyond it). Per outline point
+// (BoxOutline's corners), how far out of where the edge search finds it the hull segment
+// starting there lies: each such edge's grey-level profile, averaged along its middle 60%,
+// fitted as the face between the next face's shade and the background's through a Gaussian
+// blur (0.5-1.3 px); 0 where the step is not clear (8 grey levels, misfit 5% of it).
+std::vector<double> BoxFaceShifts(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
+                                  const Gradients& gradients, const Eigen::VectorXd& x,
+                                  const std::vector<std::vector<Eigen::Vector2d>>& hidden,
+                                  double min_gradient, double max_face_px);
+// A found block fitted again for its last pass with those edges moved (each by at most
+// LocateOptions::max_face_shading_px): its parameters replace the fit's; its covariance and
+// everything the checks judged stay the first fit's.
+void RefineBoxForFaces(const StereoPair& pair, const std::array<FitView, 2>& views,
+                       const FitOptions& fit, const LocateOptions& opt, FitOutcome* f);
+
 // How a fitted pipe's side shades in both images: creased when in both a crease between two
 // flat faces explains it `crease_gain` times better than the smooth fit; flat when in both it
 // is creased or the smooth fit explains it less than `flat_side_gain` times better than its

@@ -294,6 +294,8 @@ std::vector<Measurement> MeasureSilhouetteEdges(const ViewOutline& outline, int 
       const int b = at >= 0 ? outline.hull[(at + 1) % outline.hull.size()] : a;
       if ((a < n / 2) != (b < n / 2)) s += fv.limb_shift_px;
     }
+    if (const size_t a = static_cast<size_t>(samples.segment[i]); a < fv.segment_shift_px.size())
+      s += fv.segment_shift_px[a];
     // Where the outline turns fast (a thin pipe's ends) the blur moves the edge most.
     const double k =
         std::min(samples.curvature[i], 1.0 / std::max(1e-9, 1.5 * options.edge_blur_px));

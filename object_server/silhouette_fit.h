@@ -59,6 +59,9 @@ struct FitView {
   // true silhouette: a silhouette edge measured on a hull segment between the outline's two
   // halves (a cylinder's rims, CylinderOutline: its limbs) is moved out by this (pixels).
   double limb_shift_px = 0;
+  // Per outline point: the hull segment starting there moved out by this (pixels), for the
+  // edge's own blur with a thin face beside it (BoxFaceShifts). Empty: none.
+  std::vector<double> segment_shift_px;
 };
 
 // Whether p lies inside one of the polygons.
