@@ -248,8 +248,8 @@ void LowerToSides(const FitContext& c, const std::array<FitView, 2>& views, cons
     starts.push_back(aligned);
   }
   starts.push_back(*lowered);
-  KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, if_poor), "below the sides' top", c,
-              f, open);
+  KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, if_poor), "below the sides' top", c, f,
+              open);
 }
 
 // A block that would be refused as explaining the edges poorly, fitted again from itself
@@ -270,8 +270,7 @@ void LowerByShares(const FitContext& c, const std::array<FitView, 2>& views, con
     x[5] = share * height;
     starts.push_back(x);
   }
-  KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, {}), "lowered by shares", c, f,
-              open);
+  KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, {}), "lowered by shares", c, f, open);
 }
 
 // An upright pipe fitted with its foot more than floor_gap off the site's floor (an object in
@@ -633,11 +632,12 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     // Lower, the block would explain them, but then nothing holds one of its sizes.
     const OpenLowered& open = *solid.open_lowered;
     const char* axis_names[3] = {"width", "depth", "height"};
-    return fail({Failure::kLeftRightInconsistent,
-                 poorly + "; fitted lower, as under something resting on it, the box explains them (score " +
-                     FormatFixed(open.score) + "), but nothing there holds its " +
-                     axis_names[open.axis] + " (" + FormatFixed(open.size) + " +/- " +
-                     FormatFixed(open.sigma) + ")"});
+    return fail(
+        {Failure::kLeftRightInconsistent,
+         poorly +
+             "; fitted lower, as under something resting on it, the box explains them (score " +
+             FormatFixed(open.score) + "), but nothing there holds its " + axis_names[open.axis] +
+             " (" + FormatFixed(open.size) + " +/- " + FormatFixed(open.sigma) + ")"});
   }
 
   // The other type.

@@ -47,11 +47,10 @@ std::optional<double> AxisParameterAt(const geometry::ProjectiveCamera& camera,
 // (a gradient of at least min_gradient across the line, within kLimbBandPx of it) recurs
 // within kLimbGapPx, and not out of `region` (when given). Per limb, how far it reaches back
 // and on; nullopt when a limb has no edge at the middle.
-std::optional<std::array<std::pair<double, double>, 2>> LimbExtent(const Gradients& gradients,
-                                                    const std::vector<Eigen::Vector2d>& region,
-                                                    const Eigen::Vector2d& q0,
-                                                    const Eigen::Vector2d& dir, double length,
-                                                    double radius_px, double min_gradient) {
+std::optional<std::array<std::pair<double, double>, 2>> LimbExtent(
+    const Gradients& gradients, const std::vector<Eigen::Vector2d>& region,
+    const Eigen::Vector2d& q0, const Eigen::Vector2d& dir, double length, double radius_px,
+    double min_gradient) {
   constexpr double kLimbGapPx = 4.0, kLimbBandPx = 2.0;
   const Eigen::Vector2d n(-dir.y(), dir.x());
   const auto edge_at = [&](double s, double side) {
@@ -129,8 +128,8 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
     const Eigen::Vector2d dir = (*q1 - *q0) / length, n(-dir.y(), dir.x());
     double radius_px = 0;
     for (const auto& h : f->outline[v]) radius_px = std::max(radius_px, std::abs(n.dot(h - *q0)));
-    const auto limbs = LimbExtent(*views[v].gradients, views[v].region, *q0, dir, length,
-                                  radius_px, fit.min_gradient);
+    const auto limbs = LimbExtent(*views[v].gradients, views[v].region, *q0, dir, length, radius_px,
+                                  fit.min_gradient);
     if (!limbs) return;
     unit[v] = len / length;
     // Limbs that run on to within kBorderPx of the marks' border say nothing of where the
@@ -149,8 +148,7 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
       // the table); when a neighbour's edge carries it on to the marks' border, the other
       // limb, if it stops short of there: the other view must agree with it (below).
       std::array<double, 2> s_limb{};
-      for (int l = 0; l < 2; ++l)
-        s_limb[l] = end == 0 ? (*limbs)[l].first : (*limbs)[l].second;
+      for (int l = 0; l < 2; ++l) s_limb[l] = end == 0 ? (*limbs)[l].first : (*limbs)[l].second;
       const int far = out * (s_limb[1] - s_limb[0]) > 0 ? 1 : 0;
       double s_end = s_limb[far];
       if (at_border(s_end, out) && !at_border(s_limb[1 - far], out)) s_end = s_limb[1 - far];

@@ -19,11 +19,11 @@
 namespace igms::object {
 namespace {
 
-constexpr double kStep = 0.25;      // profile samples, pixels
-constexpr double kOutside = 4.0;    // profile beyond the edge, pixels
-constexpr double kReach = 1.5;      // where the step is looked for about the model's edge
-constexpr double kMinStep = 8.0;    // grey levels: an outer step any weaker is not used
-constexpr double kMaxMisfit = 0.05; // the model's RMS misfit, as a share of the outer step
+constexpr double kStep = 0.25;       // profile samples, pixels
+constexpr double kOutside = 4.0;     // profile beyond the edge, pixels
+constexpr double kReach = 1.5;       // where the step is looked for about the model's edge
+constexpr double kMinStep = 8.0;     // grey levels: an outer step any weaker is not used
+constexpr double kMaxMisfit = 0.05;  // the model's RMS misfit, as a share of the outer step
 // A face narrower than this (pixels) is seen edge on: no face to model.
 constexpr double kMinFacePx = 1.0;
 
@@ -105,8 +105,8 @@ std::vector<double> BoxFaceShifts(const cv::Mat& image, const geometry::Projecti
   ViewOutline o;
   if (x.size() != 7 || image.empty() || !ProjectOutline(BoxOutline(x), camera, o)) return shifts;
   const auto in_view = [&](const Eigen::Vector2d& q) {
-    return q.x() >= 0 && q.y() >= 0 && q.x() <= image.cols - 1.001 &&
-           q.y() <= image.rows - 1.001 && !InsideAny(hidden, q);
+    return q.x() >= 0 && q.y() >= 0 && q.x() <= image.cols - 1.001 && q.y() <= image.rows - 1.001 &&
+           !InsideAny(hidden, q);
   };
   const int n = static_cast<int>(o.hull.size());
   for (int i = 0; i < n; ++i) {
@@ -130,7 +130,8 @@ std::vector<double> BoxFaceShifts(const cv::Mat& image, const geometry::Projecti
     for (int j = 0; j < lines; ++j) {
       const Eigen::Vector2d q = pa + (0.2 + 0.6 * (j + 0.5) / lines) * len * dir;
       if (!in_view(q - p.inside * out) || !in_view(q + kOutside * out)) continue;
-      for (int k = 0; k < samples; ++k) p.grey[k] += GreyAt(image, q + (-p.inside + k * kStep) * out);
+      for (int k = 0; k < samples; ++k)
+        p.grey[k] += GreyAt(image, q + (-p.inside + k * kStep) * out);
       ++used;
       double at;
       if (EdgeAlongNormal(gradients, q, out, 2.5, min_gradient, &at)) {
@@ -158,8 +159,8 @@ void RefineBoxForFaces(const StereoPair& pair, const std::array<FitView, 2>& vie
   bool any = false;
   for (int v = 0; v < 2; ++v) {
     shaded[v].segment_shift_px =
-        BoxFaceShifts(v ? pair.right : pair.left, *views[v].camera, *views[v].gradients,
-                      f->params, views[v].hidden, fit.min_gradient, opt.max_face_px);
+        BoxFaceShifts(v ? pair.right : pair.left, *views[v].camera, *views[v].gradients, f->params,
+                      views[v].hidden, fit.min_gradient, opt.max_face_px);
     for (double& s : shaded[v].segment_shift_px) {
       s = std::clamp(s, -opt.max_face_shading_px, opt.max_face_shading_px);
       any = any || s != 0;
@@ -195,9 +196,10 @@ void RefineBoxForFaces(const StereoPair& pair, const std::array<FitView, 2>& vie
   for (int k = 0; k < 6; ++k)
     if (std::abs(g.params[k] - f->params[k]) > std::sqrt(std::max(0.0, f->covariance(k, k))))
       return;
-  spdlog::debug("locate: box edges beside thin faces moved: size {:.3f} {:.3f} {:.3f} against "
-                "{:.3f} {:.3f} {:.3f}",
-                g.params[3], g.params[4], g.params[5], f->params[3], f->params[4], f->params[5]);
+  spdlog::debug(
+      "locate: box edges beside thin faces moved: size {:.3f} {:.3f} {:.3f} against "
+      "{:.3f} {:.3f} {:.3f}",
+      g.params[3], g.params[4], g.params[5], f->params[3], f->params[4], f->params[5]);
   f->params = g.params;
 }
 
