@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "object_server/locate_steps.h"
+#include "object_server/profile_step.h"
 #include "object_server/silhouette_fit_steps.h"
 #include "object_server/solid_models.h"
 
@@ -47,33 +48,15 @@ struct FaceStep {
   bool clear = false;
 };
 FaceStep FitFaceStep(const FaceProfile& p, double sigma) {
+  constexpr double kFine = 0.025;
+  const ProfileStepFit<3> fit =
+      FitProfileStep<3>(p.grey, -p.inside, kStep, kReach, 0.1, kFine, [&](double d, double e) {
+        return Eigen::Vector3d(1.0, Phi((d - e + p.width) / sigma), Phi((d - e) / sigma));
+      });
   FaceStep best;
-  Eigen::Vector3d best_coef = Eigen::Vector3d::Zero();
-  double bb = 0;
-  for (const double g : p.grey) bb += g * g;
-  const auto try_at = [&](double e) {
-    Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
-    for (size_t k = 0; k < p.grey.size(); ++k) {
-      const double d = -p.inside + static_cast<double>(k) * kStep;
-      const Eigen::Vector3d row(1.0, Phi((d - e + p.width) / sigma), Phi((d - e) / sigma));
-      AtA += row * row.transpose();
-      Atb += row * p.grey[k];
-    }
-    const Eigen::Vector3d coef = AtA.ldlt().solve(Atb);
-    const double rss = bb - coef.dot(Atb);
-    if (rss < best.rss) {
-      best.rss = rss;
-      best.at = e;
-      best_coef = coef;
-    }
-  };
-  constexpr double kCoarse = 0.1, kFine = 0.025;
-  for (double e = -kReach; e <= kReach + 1e-9; e += kCoarse) try_at(e);
-  const double coarse = best.at;
-  for (double e = coarse - kCoarse + kFine; e < coarse + kCoarse - 1e-9; e += kFine)
-    if (std::abs(e - coarse) > 1e-9) try_at(e);
-  const double outer = std::abs(best_coef[2]);
+  best.at = fit.at;
+  best.rss = fit.rss;
+  const double outer = std::abs(fit.coef[2]);
   const double rms = std::sqrt(std::max(0.0, best.rss) / static_cast<double>(p.grey.size()));
   best.clear = std::abs(best.at) < kReach - kFine && outer >= kMinStep && rms <= kMaxMisfit * outer;
   return best;

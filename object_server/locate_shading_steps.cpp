@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "object_server/locate_steps.h"
+#include "object_server/profile_step.h"
 #include "object_server/solid_models.h"
 
 namespace igms::object {
@@ -160,35 +161,16 @@ struct StepFit {
   bool clear = false;
 };
 StepFit FitStep(const LimbProfile& limb, const LimbProfileModel& model, double min_step) {
-  constexpr double kCoarse = 0.2, kFine = 0.05;
-  StepFit best;
-  Eigen::Vector4d best_coef = Eigen::Vector4d::Zero();
-  double bb = 0;
-  for (const double g : limb.grey) bb += g * g;
-  const auto try_at = [&](double e) {
-    Eigen::Matrix4d AtA = Eigen::Matrix4d::Zero();
-    Eigen::Vector4d Atb = Eigen::Vector4d::Zero();
-    for (size_t k = 0; k < limb.grey.size(); ++k) {
-      const Eigen::Vector4d row =
-          model.At(-limb.inside + static_cast<double>(k) * kProfileStep - e);
-      AtA += row * row.transpose();
-      Atb += row * limb.grey[k];
-    }
-    const Eigen::Vector4d coef = AtA.ldlt().solve(Atb);
-    const double rss = bb - coef.dot(Atb);
-    if (rss < best.rss) {
-      best.rss = rss;
-      best.at = e;
-      best_coef = coef;
-    }
-  };
   // Every 0.2 px over the reach, then every 0.05 px about the best.
-  for (double e = -kStepReach; e <= kStepReach + 1e-9; e += kCoarse) try_at(e);
-  const double coarse = best.at;
-  for (double e = coarse - kCoarse + kFine; e < coarse + kCoarse - 1e-9; e += kFine)
-    if (std::abs(e - coarse) > 1e-9) try_at(e);
+  constexpr double kFine = 0.05;
+  const ProfileStepFit<4> fit =
+      FitProfileStep<4>(limb.grey, -limb.inside, kProfileStep, kStepReach, 0.2, kFine,
+                        [&](double d, double e) { return model.At(d - e); });
+  StepFit best;
+  best.at = fit.at;
+  best.rss = fit.rss;
   // The shade at the limb (cosine 0, sine 1) against the background, and the model's misfit.
-  const double contrast = std::abs(best_coef[1] + best_coef[3] - best_coef[0]);
+  const double contrast = std::abs(fit.coef[1] + fit.coef[3] - fit.coef[0]);
   const double rms = std::sqrt(std::max(0.0, best.rss) / static_cast<double>(limb.grey.size()));
   best.clear = std::abs(best.at) < kStepReach - kFine && contrast >= min_step &&
                rms <= kMaxLimbMisfit * contrast;

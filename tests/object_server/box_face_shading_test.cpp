@@ -6,14 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <variant>
 #include <vector>
 
 #include "common/sim/renderer.h"
 #include "common/sim/testbed.h"
-#include "common/sim/vision/evaluation.h"
 #include "object_server/locate_steps.h"
+#include "tests/object_server/testbed_twice.h"
 
 namespace igms::object {
 namespace {
@@ -68,26 +67,19 @@ TEST(RefineBoxForFaces, BlocksComeOutCloserToTheirTrueSize) {
   kept.max_face_shading_px = 0;
   int blocks = 0, changed = 0;
   double height_before = 0, height_after = 0, tall_before = 0, sizes_before = 0, sizes_after = 0;
-  for (uint64_t seed = 1000; seed < 1010; ++seed) {
-    const site::Scene scene = site::RandomTestbedScene(seed);
-    const std::string name = "scene_" + std::to_string(seed);
-    const auto before = EvaluateScene(scene, name, seed, kept);
-    const auto after = EvaluateScene(scene, name, seed, moved);
-    ASSERT_EQ(before.size(), after.size());
-    for (size_t i = 0; i < after.size(); ++i) {
-      if (after[i].kind != "box" || !before[i].result.found || !after[i].result.found) continue;
-      ++blocks;
-      changed += before[i].result.box.size != after[i].result.box.size;
-      height_before += std::abs(before[i].size_signed.z());
-      height_after += std::abs(after[i].size_signed.z());
-      tall_before += before[i].size_signed.z();
-      sizes_before += before[i].size_signed.cwiseAbs().sum();
-      sizes_after += after[i].size_signed.cwiseAbs().sum();
-      // The sigmas are the first fit's covariance's.
-      EXPECT_LT((before[i].result.box.size_sigma - after[i].result.box.size_sigma).norm(),
-                0.01 * before[i].result.box.size_sigma.norm())
-          << name;
-    }
+  for (const auto& [name, before, after] : EvaluateTestbedTwice(1000, 1010, kept, moved)) {
+    if (after.kind != "box" || !before.result.found || !after.result.found) continue;
+    ++blocks;
+    changed += before.result.box.size != after.result.box.size;
+    height_before += std::abs(before.size_signed.z());
+    height_after += std::abs(after.size_signed.z());
+    tall_before += before.size_signed.z();
+    sizes_before += before.size_signed.cwiseAbs().sum();
+    sizes_after += after.size_signed.cwiseAbs().sum();
+    // The sigmas are the first fit's covariance's.
+    EXPECT_LT((before.result.box.size_sigma - after.result.box.size_sigma).norm(),
+              0.01 * before.result.box.size_sigma.norm())
+        << name;
   }
   ASSERT_GE(blocks, 8);
   EXPECT_GE(changed, 4);

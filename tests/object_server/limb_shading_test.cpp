@@ -7,9 +7,8 @@
 #include <cmath>
 #include <vector>
 
-#include "common/sim/testbed.h"
-#include "common/sim/vision/evaluation.h"
 #include "object_server/locate_steps.h"
+#include "tests/object_server/testbed_twice.h"
 
 namespace igms::object {
 namespace {
@@ -75,28 +74,20 @@ TEST(RefineLimbsForShading, UprightPipesComeOutTheirTrueRadius) {
   kept.max_limb_shading_px = 0;
   int uprights = 0, moved_count = 0;
   double off_before = 0, off_after = 0, thin_before = 0;
-  for (uint64_t seed = 1000; seed < 1003; ++seed) {
-    const site::Scene scene = site::RandomTestbedScene(seed);
-    const std::string name = "scene_" + std::to_string(seed);
-    const auto before = EvaluateScene(scene, name, seed, kept);
-    const auto after = EvaluateScene(scene, name, seed, moved);
-    ASSERT_EQ(before.size(), after.size());
-    for (size_t i = 0; i < after.size(); ++i) {
-      const std::string what = name + " " + after[i].object_name;
-      if (after[i].object_name.rfind("upright", 0) != 0) continue;
-      ASSERT_TRUE(before[i].result.found && after[i].result.found) << what;
-      ++uprights;
-      off_before += std::abs(before[i].radius_signed);
-      off_after += std::abs(after[i].radius_signed);
-      thin_before += before[i].radius_signed;
-      // Only the radius moves: the axis and the sigmas are the first fit's.
-      EXPECT_EQ(before[i].result.cylinder.center, after[i].result.cylinder.center) << what;
-      EXPECT_EQ(before[i].result.cylinder.height, after[i].result.cylinder.height) << what;
-      EXPECT_EQ(before[i].result.cylinder.radius_sigma, after[i].result.cylinder.radius_sigma);
-      if (after[i].radius_signed == before[i].radius_signed) continue;  // a limb not measured
-      ++moved_count;
-      EXPECT_LT(std::abs(after[i].radius_signed), 0.006) << what;
-    }
+  for (const auto& [what, before, after] : EvaluateTestbedTwice(1000, 1003, kept, moved)) {
+    if (after.object_name.rfind("upright", 0) != 0) continue;
+    ASSERT_TRUE(before.result.found && after.result.found) << what;
+    ++uprights;
+    off_before += std::abs(before.radius_signed);
+    off_after += std::abs(after.radius_signed);
+    thin_before += before.radius_signed;
+    // Only the radius moves: the axis and the sigmas are the first fit's.
+    EXPECT_EQ(before.result.cylinder.center, after.result.cylinder.center) << what;
+    EXPECT_EQ(before.result.cylinder.height, after.result.cylinder.height) << what;
+    EXPECT_EQ(before.result.cylinder.radius_sigma, after.result.cylinder.radius_sigma);
+    if (after.radius_signed == before.radius_signed) continue;  // a limb not measured
+    ++moved_count;
+    EXPECT_LT(std::abs(after.radius_signed), 0.006) << what;
   }
   ASSERT_GE(uprights, 6);
   EXPECT_GE(moved_count, 4);
