@@ -87,10 +87,6 @@ std::vector<double> BoxFaceShifts(const cv::Mat& image, const geometry::Projecti
   std::vector<double> shifts(8, 0.0);
   ViewOutline o;
   if (x.size() != 7 || image.empty() || !ProjectOutline(BoxOutline(x), camera, o)) return shifts;
-  const auto in_view = [&](const Eigen::Vector2d& q) {
-    return q.x() >= 0 && q.y() >= 0 && q.x() <= image.cols - 1.001 && q.y() <= image.rows - 1.001 &&
-           !InsideAny(hidden, q);
-  };
   const int n = static_cast<int>(o.hull.size());
   for (int i = 0; i < n; ++i) {
     const int a = o.hull[i], b = o.hull[(i + 1) % n];
@@ -112,7 +108,9 @@ std::vector<double> BoxFaceShifts(const cv::Mat& image, const geometry::Projecti
     double peak_sum = 0;
     for (int j = 0; j < lines; ++j) {
       const Eigen::Vector2d q = pa + (0.2 + 0.6 * (j + 0.5) / lines) * len * dir;
-      if (!in_view(q - p.inside * out) || !in_view(q + kOutside * out)) continue;
+      if (!SeenInImage(image, hidden, q - p.inside * out) ||
+          !SeenInImage(image, hidden, q + kOutside * out))
+        continue;
       for (int k = 0; k < samples; ++k)
         p.grey[k] += GreyAt(image, q + (-p.inside + k * kStep) * out);
       ++used;
@@ -156,19 +154,9 @@ void RefineBoxForFaces(const StereoPair& pair, const std::array<FitView, 2>& vie
   if (opt.box_inner_edges) inner = BoxInnerEdges;
   FitOutcome g;
   if (f->params[6] == 0.0) {  // an aligned block stays aligned, as FitBox fitted it
-    const auto aligned = [](const Eigen::VectorXd& p) {
-      Eigen::VectorXd q(7);
-      q << p, 0.0;
-      return q;
-    };
-    InnerEdgesFn inner6;
-    if (inner)
-      inner6 = [&](const Eigen::VectorXd& p, const Eigen::Vector3d& c) {
-        return inner(aligned(p), c);
-      };
-    g = FitSilhouette([&](const Eigen::VectorXd& p) { return BoxOutline(aligned(p)); },
-                      f->params.head<6>(), shaded, last, inner6);
-    if (g.ok) g.params = aligned(g.params);
+    const AlignedBox aligned = AlignedBoxModel(inner);
+    g = FitSilhouette(aligned.outline, f->params.head<6>(), shaded, last, aligned.inner);
+    if (g.ok) g.params = WithZeroYaw(g.params);
   } else {
     g = FitSilhouette(BoxOutline, f->params, shaded, last, inner);
   }

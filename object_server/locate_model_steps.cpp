@@ -126,18 +126,28 @@ FitOutcome FitCylinder(const std::vector<Eigen::VectorXd>& starts,
   return FitFromStarts(CylinderOutline, inner, starts, views, fit, plausible);
 }
 
+Eigen::VectorXd WithZeroYaw(const Eigen::VectorXd& p6) {
+  Eigen::VectorXd q(7);
+  q << p6, 0.0;
+  return q;
+}
+
+AlignedBox AlignedBoxModel(const InnerEdgesFn& inner) {
+  AlignedBox m;
+  m.outline = [](const Eigen::VectorXd& p) { return BoxOutline(WithZeroYaw(p)); };
+  if (inner)
+    m.inner = [inner](const Eigen::VectorXd& p, const Eigen::Vector3d& c) {
+      return inner(WithZeroYaw(p), c);
+    };
+  return m;
+}
+
 FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<FitView, 2>& views,
                   const FitOptions& fit, const LocateOptions& options, const PlausibleFn& plausible,
                   const std::vector<Eigen::VectorXd>& if_poor) {
   const OutlineFn outline = BoxOutline;
   InnerEdgesFn inner;
   if (options.box_inner_edges) inner = BoxInnerEdges;
-  // World-aligned: the first six parameters, the yaw held at 0.
-  auto aligned = [](const Eigen::VectorXd& p) {
-    Eigen::VectorXd q(7);
-    q << p, 0.0;
-    return q;
-  };
   std::vector<Eigen::VectorXd> starts6, yawed;
   starts6.reserve(starts.size());
   for (const auto& st : starts) {
@@ -146,15 +156,11 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
     else
       yawed.push_back(st);
   }
-  InnerEdgesFn inner6;
-  if (inner)
-    inner6 = [&](const Eigen::VectorXd& p, const Eigen::Vector3d& c) {
-      return inner(aligned(p), c);
-    };
-  FitOutcome f = FitFromStarts([&](const Eigen::VectorXd& p) { return outline(aligned(p)); },
-                               inner6, starts6, views, fit, plausible);
+  // World-aligned: the first six parameters, the yaw held at 0.
+  const AlignedBox aligned = AlignedBoxModel(inner);
+  FitOutcome f = FitFromStarts(aligned.outline, aligned.inner, starts6, views, fit, plausible);
   if (f.ok) {
-    f.params = aligned(f.params);
+    f.params = WithZeroYaw(f.params);
     Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(7, 7);
     cov.topLeftCorner<6, 6>() = f.covariance;
     f.covariance = cov;

@@ -90,9 +90,7 @@ Profile SampleProfile(const cv::Mat& image, const geometry::ProjectiveCamera& ca
     for (int j = 0; j < steps; ++j) {
       const double t = 0.2 + 0.6 * (j + 0.5) / steps;
       const auto q = camera.Project(p0 + t * len * axis + rim);
-      if (!q || q->x() < 0 || q->y() < 0 || q->x() > image.cols - 1.001 ||
-          q->y() > image.rows - 1.001 || InsideAny(hidden, *q))
-        continue;
+      if (!q || !SeenInImage(image, hidden, *q)) continue;
       p.sum[k] += GreyAt(image, *q);
       ++p.count[k];
     }
@@ -179,6 +177,12 @@ StepFit FitStep(const LimbProfile& limb, const LimbProfileModel& model, double m
 
 }  // namespace
 
+bool SeenInImage(const cv::Mat& image, const std::vector<std::vector<Eigen::Vector2d>>& hidden,
+                 const Eigen::Vector2d& q) {
+  return q.x() >= 0 && q.y() >= 0 && q.x() <= image.cols - 1.001 && q.y() <= image.rows - 1.001 &&
+         !InsideAny(hidden, q);
+}
+
 std::array<std::optional<LimbProfile>, 2> LimbProfiles(
     const cv::Mat& image, const geometry::ProjectiveCamera& camera, const Gradients& gradients,
     const Eigen::VectorXd& params, const std::vector<std::vector<Eigen::Vector2d>>& hidden,
@@ -194,10 +198,6 @@ std::array<std::optional<LimbProfile>, 2> LimbProfiles(
   if (limb.inside < 1.5) return out;
   const int n = static_cast<int>(std::lround((limb.inside + limb.outside) / kProfileStep)) + 1;
   const int lines = std::clamp(static_cast<int>(0.6 * side.len_px), 8, 64);
-  const auto in_view = [&](const Eigen::Vector2d& x) {
-    return x.x() >= 0 && x.y() >= 0 && x.x() <= image.cols - 1.001 && x.y() <= image.rows - 1.001 &&
-           !InsideAny(hidden, x);
-  };
   for (int s = 0; s < 2; ++s) {
     const double sign = s ? 1.0 : -1.0;
     const Eigen::Vector2d out_dir = sign * side.across;
@@ -207,8 +207,9 @@ std::array<std::optional<LimbProfile>, 2> LimbProfiles(
     for (int j = 0; j < lines; ++j) {
       const double t = 0.2 + 0.6 * (j + 0.5) / lines;
       const auto q = camera.Project(side.p0 + t * side.len * side.axis + sign * side.r * side.u);
-      if (!q || !in_view(*q - limb.inside * out_dir) || !in_view(*q + limb.outside * out_dir) ||
-          !in_view(*q))
+      if (!q || !SeenInImage(image, hidden, *q - limb.inside * out_dir) ||
+          !SeenInImage(image, hidden, *q + limb.outside * out_dir) ||
+          !SeenInImage(image, hidden, *q))
         continue;
       for (int k = 0; k < n; ++k)
         limb.grey[k] += GreyAt(image, *q + (-limb.inside + k * kProfileStep) * out_dir);

@@ -280,6 +280,14 @@ FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
 FitOutcome FitCylinder(const std::vector<Eigen::VectorXd>& starts,
                        const std::array<FitView, 2>& views, const FitOptions& fit,
                        const LocateOptions& options, const PlausibleFn& plausible = {});
+// A world-aligned box (the thesis's block, 3.8.2) as a function of its first six parameters,
+// its yaw held at 0: the seven parameters, its outline, and `inner` (when given) on them.
+Eigen::VectorXd WithZeroYaw(const Eigen::VectorXd& p6);
+struct AlignedBox {
+  OutlineFn outline;
+  InnerEdgesFn inner;
+};
+AlignedBox AlignedBoxModel(const InnerEdgesFn& inner);
 // The thesis's block first: world-aligned (yaw held at 0), which the faces' edges pin down
 // well. Only when its outline misses the edges (or it came out flat) is the box turned:
 // from five yaws and the starts `if_poor` (BoxStarts), kept when it explains the images
@@ -336,6 +344,10 @@ void RefineLimbsForShading(const StereoPair& pair, const std::array<FitView, 2>&
                            const FitOptions& fit, const LocateOptions& opt, const FitOutcome& f,
                            CylinderResult* res);
 
+// Whether q lies inside the image, with a pixel to spare for the interpolation, and outside
+// every `hidden` polygon: a sample that can be read.
+bool SeenInImage(const cv::Mat& image, const std::vector<std::vector<Eigen::Vector2d>>& hidden,
+                 const Eigen::Vector2d& q);
 // A found block's silhouette edges beside a seen face at most max_face_px wide in the image:
 // blurred together with the face's other edge, the outer edge's gradient peak moves off the
 // true outline (outward beside a face brighter than the one beyond it). Per outline point
