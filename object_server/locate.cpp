@@ -450,9 +450,10 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "box_side_reach must be in (0, 1], max_lowered_size_sigma positive";
     return false;
   }
-  if (!(flat_side_gain >= 0) || !(crease_gain > 0) || !(round_side_gain >= flat_side_gain)) {
+  if (!(flat_side_gain >= 0) || !(crease_gain > 0) || !(round_side_gain >= flat_side_gain) ||
+      !(even_side_gain >= 0)) {
     *error =
-        "flat_side_gain must not be negative, crease_gain must be positive, "
+        "flat_side_gain and even_side_gain must not be negative, crease_gain must be positive, "
         "round_side_gain at least flat_side_gain";
     return false;
   }

@@ -366,7 +366,8 @@ std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOpt
 }
 
 bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const LocateOptions& opt) {
-  return !cylinder || side == SideShape::kFlat || side == SideShape::kCreased ||
+  return !cylinder || side == SideShape::kFlat || side == SideShape::kEven ||
+         side == SideShape::kCreased ||
          FitScore(f) > opt.other_type_score;
 }
 
@@ -378,6 +379,11 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
     return StepFailure{Failure::kFitFailed,
                        "a crease runs along the side in both images, where two flat faces meet: "
                        "is the object a box?"};
+  // A pipe's side shades round under any light; flat and even it shades in a shadow alone.
+  if (cylinder && side == SideShape::kEven)
+    return StepFailure{Failure::kFitFailed,
+                       "the side shades flat and even in both images, as a block's face seen "
+                       "square on does, not round as a pipe's: is the object a box?"};
   if (!other.ok) return std::nullopt;
   const std::string against =
       " (score " + FormatFixed(scores.other_fit) + " against " + FormatFixed(scores.fit) +

@@ -319,7 +319,18 @@ SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveC
     A.row(k) << sw, sw * std::cos(a), sw * std::sin(a), sw * std::cos(2 * a), sw * std::sin(2 * a);
     b[k] = sw * p.mean[k];
   }
-  out.smooth_rss = (A * A.colPivHouseholderQr().solve(b) - b).squaredNorm();
+  const Eigen::VectorXd coef = A.colPivHouseholderQr().solve(b);
+  out.smooth_rss = (A * coef - b).squaredNorm();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int k = 0; k < bins; ++k) {
+    const double a = p.angle[k];
+    const double g = coef[0] + coef[1] * std::cos(a) + coef[2] * std::sin(a) +
+                     coef[3] * std::cos(2 * a) + coef[4] * std::sin(2 * a);
+    lo = std::min(lo, g);
+    hi = std::max(hi, g);
+  }
+  out.smooth_range = hi - lo;
+  out.mean = total / samples;
   // Creased: two flat faces, each at least two bins wide.
   out.step_rss = std::numeric_limits<double>::infinity();
   double left_sum = 0, left_count = 0;
@@ -339,7 +350,7 @@ SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveC
 
 SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
                        const std::array<FitView, 2>& views, const LocateOptions& options) {
-  int flat = 0, creased = 0, clearly_round = 0;
+  int flat = 0, creased = 0, clearly_round = 0, even = 0;
   for (int v = 0; v < 2; ++v) {
     const SideShading sh =
         MeasureSideShading(v ? pair.right : pair.left, v ? *pair.right_camera : *pair.left_camera,
@@ -347,18 +358,20 @@ SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
     if (!sh.measured) return SideShape::kUnmeasured;
     spdlog::debug(
         "locate: the side in the {} image shades {:.1f} times better round than flat, "
-        "{:.1f} times better creased than round",
+        "{:.1f} times better creased than round; grey {:.1f}, round over {:.1f}, {} bins",
         v ? "right" : "left", sh.flat_rss / std::max(sh.smooth_rss, 1e-9),
-        sh.smooth_rss / std::max(sh.step_rss, 1e-9));
+        sh.smooth_rss / std::max(sh.step_rss, 1e-9), sh.mean, sh.smooth_range, sh.bins);
     if (sh.smooth_rss > options.crease_gain * sh.step_rss)
       ++creased;
     else if (sh.flat_rss < options.flat_side_gain * sh.smooth_rss)
       ++flat;
     else if (sh.flat_rss >= options.round_side_gain * sh.smooth_rss)
       ++clearly_round;
+    if (sh.flat_rss < options.even_side_gain * std::min(sh.smooth_rss, sh.step_rss)) ++even;
   }
   if (creased == 2) return SideShape::kCreased;
   if (clearly_round == 2) return SideShape::kClearlyRound;
+  if (even == 2) return SideShape::kEven;
   return flat + creased == 2 ? SideShape::kFlat : SideShape::kRound;
 }
 

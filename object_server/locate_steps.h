@@ -309,6 +309,7 @@ struct SideShading {
   bool measured = false;
   int bins = 0;
   double flat_rss = 0, smooth_rss = 0, step_rss = 0;
+  double mean = 0, smooth_range = 0;  // the mean grey level; the smooth fit's max - min
 };
 SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
                                const Eigen::VectorXd& params,
@@ -370,7 +371,9 @@ void RefineBoxForFaces(const StereoPair& pair, const std::array<FitView, 2>& vie
 // is creased or the smooth fit explains it less than `flat_side_gain` times better than its
 // mean does; clearly round when in both the smooth fit explains it at least `round_side_gain`
 // times better; round otherwise; unmeasured when an image cannot tell (MeasureSideShading).
-enum class SideShape { kUnmeasured, kRound, kClearlyRound, kFlat, kCreased };
+// Even when in both neither the smooth fit nor the crease explains it `even_side_gain` times
+// better than its mean does: no shading at all (one face seen square on).
+enum class SideShape { kUnmeasured, kRound, kClearlyRound, kFlat, kCreased, kEven };
 SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
                        const std::array<FitView, 2>& views, const LocateOptions& options);
 

@@ -132,6 +132,21 @@ TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenItsSideShadesFlat) {
   ExpectRefusedByTheRuleAlone(a.input, "shades flat", off);
 }
 
+TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenItsSideShadesEven) {
+  // Level pipes, seed 5002, 1920x1080: support_2, under a pipe, seen square on. No box fits
+  // its outline well enough to hold against the pipe, so the flat side alone does not refuse
+  // it; its side shows no shading at all (a pipe's would, lit).
+  const Asked a = AskFor(5002, site::SiteLevel::kPipes, true, "support_2", SolidType::kCylinder);
+  ASSERT_NE(a.shape, nullptr);
+  LocateOptions off;
+  off.even_side_gain = 0;
+  ExpectRefusedByTheRuleAlone(a.input, "shades flat and even", off);
+  std::string error;
+  off.even_side_gain = -1;
+  EXPECT_FALSE(off.Check(&error));
+  EXPECT_TRUE(Contains(error, "even_side_gain")) << error;
+}
+
 TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenACreaseRunsAlongItsSide) {
   // Level far, seed 7, 1920x1080: box_11 turned to show two faces lit 46 grey levels apart.
   const Asked a = AskFor(7, site::SiteLevel::kFar, true, "box_11", SolidType::kCylinder);
