@@ -273,23 +273,40 @@ void LowerByShares(const FitContext& c, const std::array<FitView, 2>& views, con
   KeepLowered(FitBox(starts, views, fit, c.opt, c.plausible, {}), "lowered by shares", c, f, open);
 }
 
-// An upright pipe fitted with its foot more than floor_gap off the site's floor (an object in
-// front hides its foot, or the foot has the table's shade and no edge holds it) fitted again
-// from the pipe standing on the floor under its top end; kept if that fits better.
-void StandOnFloor(const FitContext& c, const std::array<FitView, 2>& views, const FitOptions& fit,
-                  FitOutcome* f) {
+// A solid fitted off the site's floor, fitted again standing on it under its top; kept if that
+// fits better. An upright pipe's foot more than floor_gap off it (an object in front hides its
+// foot, or the foot has the table's shade and no edge holds it) is kept standing on it when
+// that scores better or is the plausible one. So is a block's bottom, but only when standing
+// scores better and is plausible: a block's foot in the table's shade leaves an implausible fit
+// of its upper part, and a plausible block standing on the floor that fits worse was, on the
+// held-out seeds, an upright pipe asked for as a block.
+void StandOnFloor(const FitContext& c, bool cylinder, const std::array<FitView, 2>& views,
+                  const FitOptions& fit, FitOutcome* f) {
   if (!c.opt.floor_height || !f->ok || f->params.size() != 7) return;
+  const double floor = *c.opt.floor_height;
   const Eigen::VectorXd& x = f->params;
-  const Eigen::Vector3d axis = x.segment<3>(3) - x.segment<3>(0);
-  if (!(axis.norm() > 1e-9) || std::abs(axis.z()) < c.opt.upright_axis_cos * axis.norm()) return;
-  const int foot = x[2] < x[5] ? 0 : 3, top = 3 - foot;
-  if (std::abs(x[foot + 2] - *c.opt.floor_height) <= c.opt.floor_gap) return;
   Eigen::VectorXd standing = x;
-  standing.segment<3>(foot) << x[top], x[top + 1], *c.opt.floor_height;
-  FitOutcome g = FitCylinder({standing}, views, fit, c.opt, c.plausible);
+  if (cylinder) {
+    const Eigen::Vector3d axis = x.segment<3>(3) - x.segment<3>(0);
+    if (!(axis.norm() > 1e-9) || std::abs(axis.z()) < c.opt.upright_axis_cos * axis.norm()) return;
+    const int foot = x[2] < x[5] ? 0 : 3, top = 3 - foot;
+    if (std::abs(x[foot + 2] - floor) <= c.opt.floor_gap) return;
+    standing.segment<3>(foot) << x[top], x[top + 1], floor;
+  } else {
+    // Centre, size, yaw: the top kept, the bottom on the floor.
+    const double top = x[2] + 0.5 * std::abs(x[5]), bottom = x[2] - 0.5 * std::abs(x[5]);
+    if (std::abs(bottom - floor) <= c.opt.floor_gap || top <= floor + c.opt.floor_gap) return;
+    standing[2] = 0.5 * (top + floor);
+    standing[5] = top - floor;
+  }
+  FitOutcome g = cylinder ? FitCylinder({standing}, views, fit, c.opt, c.plausible)
+                          : FitBox({standing}, views, fit, c.opt, c.plausible, {});
   spdlog::debug("locate: standing on the floor, it scores {:.3f} against {:.3f}", FitScore(g),
                 FitScore(*f));
-  if (g.ok && BetterFit(g, *f, c.plausible)) *f = std::move(g);
+  if (!g.ok) return;
+  const bool keep = cylinder ? BetterFit(g, *f, c.plausible)
+                             : FitScore(g) < FitScore(*f) && (!c.plausible || c.plausible(g));
+  if (keep) *f = std::move(g);
 }
 
 // One type's fit, whether that type was asked for or is the other one tried against it: its
@@ -298,9 +315,9 @@ void StandOnFloor(const FitContext& c, const std::array<FitView, 2>& views, cons
 // limbs. Only a pipe asked for is also started from its boundary's upper part: fitted against
 // a block asked for, a pipe on the block's top refused 4 right blocks of the tuning and
 // held-out seeds as "a cylinder explains the outline about as well", and took 13 ms more.
-// A pipe asked for whose fit collapsed onto one limb is fitted again beside it; an upright pipe
-// whose foot is off the site's floor, standing on it; a block fitted up to what rests on it,
-// lower.
+// A pipe asked for whose fit collapsed onto one limb is fitted again beside it; a block fitted
+// up to what rests on it, lower; an upright pipe or a block off the site's floor, standing on
+// it.
 struct SolidFit {
   FitOutcome fit;
   FitOptions options;
@@ -342,10 +359,8 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
     LowerToSides(c, s.views, s.options, &s.fit, &s.open_lowered);
     LowerByShares(c, s.views, s.options, &s.fit, &s.open_lowered);
   }
-  if (cylinder) {
-    StandOnFloor(c, s.views, s.options, &s.fit);
-    EndsFromLimbs(s.views, s.options, c.opt, &s.fit);
-  }
+  StandOnFloor(c, cylinder, s.views, s.options, &s.fit);
+  if (cylinder) EndsFromLimbs(s.views, s.options, c.opt, &s.fit);
   return s;
 }
 

@@ -104,9 +104,9 @@ struct LocateOptions {
   // held end in both images, by 3 px and 3 of its sigmas, is moved there too.
   double upright_axis_cos = 0.87;
   // The height (world z) of the floor the site's objects stand on, when the site has one: an
-  // upright pipe whose foot the fit leaves more than floor_gap off it is fitted again standing
-  // on it, and kept if that fits better (a pipe standing on a block stays there: reaching
-  // down through the block, it fits worse). Unset: no floor is known.
+  // upright pipe or a block whose foot the fit leaves more than floor_gap off it is fitted
+  // again standing on it, and kept if that fits better (a pipe standing on a block stays
+  // there: reaching down through the block, it fits worse). Unset: no floor is known.
   std::optional<double> floor_height;
   double floor_gap = 0.3;
   // A found pipe's limbs read inside its silhouette where its side's shade changes up to
