@@ -367,8 +367,7 @@ std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOpt
 
 bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const LocateOptions& opt) {
   return !cylinder || side == SideShape::kFlat || side == SideShape::kEven ||
-         side == SideShape::kCreased ||
-         FitScore(f) > opt.other_type_score;
+         side == SideShape::kCreased || FitScore(f) > opt.other_type_score;
 }
 
 std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
