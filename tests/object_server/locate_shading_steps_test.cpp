@@ -123,6 +123,13 @@ void ExpectRefusedByTheRuleAlone(const LocateInput& in, const std::string& phras
   EXPECT_TRUE(Locate(in, without).found);
 }
 
+// LocateOptions::Check refuses `bad`, naming `option`.
+void ExpectCheckNames(const LocateOptions& bad, const std::string& option) {
+  std::string error;
+  EXPECT_FALSE(bad.Check(&error));
+  EXPECT_TRUE(Contains(error, option)) << error;
+}
+
 TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenItsSideShadesFlat) {
   const Asked a = AskFor(5, site::SiteLevel::kFar, false, "box_6", SolidType::kCylinder);
   ASSERT_NE(a.shape, nullptr);
@@ -141,10 +148,8 @@ TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenItsSideShadesEven) {
   LocateOptions off;
   off.even_side_gain = 0;
   ExpectRefusedByTheRuleAlone(a.input, "shades flat and even", off);
-  std::string error;
   off.even_side_gain = -1;
-  EXPECT_FALSE(off.Check(&error));
-  EXPECT_TRUE(Contains(error, "even_side_gain")) << error;
+  ExpectCheckNames(off, "even_side_gain");
 }
 
 TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenACreaseRunsAlongItsSide) {
@@ -181,10 +186,8 @@ TEST(SideShading, APipeAskedForAsABoxIsRefusedWhenItsSideShadesClearlyRound) {
   off.round_side_gain = 1e300;
   ExpectRefusedByTheRuleAlone(a.input, "shades round", off);
   // The bound is above the flat one, or a side would be both.
-  std::string error;
   off.round_side_gain = off.flat_side_gain / 2;
-  EXPECT_FALSE(off.Check(&error));
-  EXPECT_TRUE(Contains(error, "round_side_gain")) << error;
+  ExpectCheckNames(off, "round_side_gain");
   // Asked for as what it is, it is found.
   Asked pipe = a;
   pipe.input.type = SolidType::kCylinder;
