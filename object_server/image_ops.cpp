@@ -196,10 +196,18 @@ bool EdgeNearPoint(const Gradients& grad, const Eigen::Vector2d& p, const Eigen:
 }
 
 SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect patch,
-                           const Eigen::Vector2d& offset_a, const Eigen::Vector2d& offset_b) {
+                           const Eigen::Vector2d& offset_a, const Eigen::Vector2d& offset_b,
+                           const cv::Mat& mask) {
   SsdMatch result;
+  const cv::Rect whole = patch;
   patch &= cv::Rect(0, 0, left.cols, left.rows);
   if (patch.area() < 9) return result;
+  cv::Mat used;  // the mask's part over the patch kept in the left image
+  if (!mask.empty()) {
+    if (mask.size() != whole.size()) return result;
+    used = mask(cv::Rect(patch.tl() - whole.tl(), patch.size()));
+    if (cv::countNonZero(used) < 9) return result;
+  }
   // Only the part of the segment where the shifted patch lies inside the right image (with a
   // pixel to spare for the interpolation): an object near the image's edge keeps the rest.
   Eigen::Vector2d a = offset_a, b = offset_b;
@@ -235,8 +243,8 @@ SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect p
                         patch.height + oy1 - oy0);
   if ((search & cv::Rect(0, 0, right.cols, right.rows)) != search) return result;
   cv::Mat map, ncc;
-  cv::matchTemplate(right(search), left(patch), map, cv::TM_SQDIFF);
-  cv::matchTemplate(right(search), left(patch), ncc, cv::TM_CCOEFF_NORMED);
+  cv::matchTemplate(right(search), left(patch), map, cv::TM_SQDIFF, used);
+  cv::matchTemplate(right(search), left(patch), ncc, cv::TM_CCOEFF_NORMED, used);
   // map(y, x) is the SSD at offset (ox0 + x, oy0 + y); read it along the segment.
   const double length = (offset_hi - offset_lo).norm();
   const int steps = std::max(2, static_cast<int>(std::ceil(length / 0.25)));
@@ -258,7 +266,8 @@ SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect p
     }
   }
   result.ok = true;
-  result.rms = std::sqrt(std::max(0.0, best) / patch.area());
+  const int compared = used.empty() ? patch.area() : cv::countNonZero(used);
+  result.rms = std::sqrt(std::max(0.0, best) / compared);
   // A flat patch (no contrast at all) has no defined correlation: OpenCV gives 0 or 1; a
   // patch without texture matches nothing.
   result.zncc = std::clamp(ssd_at(result.offset, ncc), -1.0, 1.0);

@@ -61,14 +61,17 @@ struct SsdMatch {
   // The zero-mean normalised cross-correlation at that offset, in [-1, 1]: the match's
   // quality whatever the images' noise, contrast and brightness (1: the same pattern).
   double zncc = 0;
+  bool banded = false;  // matched on the boundary's band alone (MatchObject)
 };
 
 // Matches the left patch `patch` (a rectangle of the left image) into the right image at
 // offsets on the segment from `offset_a` to `offset_b` (the epipolar segment of the depth
 // range, as offsets of the patch), by the smallest sum of squared differences (3.30). Only
 // the part of the segment where the shifted patch lies inside the right image is searched;
-// not ok when none is. The match's ZNCC is read at the same offset.
+// not ok when none is. The match's ZNCC is read at the same offset. With `mask` (8-bit, the
+// patch's size), only its non-zero pixels are compared.
 SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect patch,
-                           const Eigen::Vector2d& offset_a, const Eigen::Vector2d& offset_b);
+                           const Eigen::Vector2d& offset_a, const Eigen::Vector2d& offset_b,
+                           const cv::Mat& mask = cv::Mat());
 
 }  // namespace igms::object

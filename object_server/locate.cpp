@@ -502,6 +502,10 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "max_face_shading_px must not be negative, max_face_px must be positive";
     return false;
   }
+  if (!(match_band_px >= 0 && match_band_px <= 64)) {
+    *error = "match_band_px must be in 0..64";
+    return false;
+  }
   if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(max_lying_fit_score >= max_fit_score) ||
       !(max_lying_supported_score >= 0) || !(score_reference_width_px > 0) ||
       !(score_width_power >= 0) || !(sigma_width_power >= 0) ||

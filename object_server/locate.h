@@ -70,6 +70,9 @@ struct LocateOptions {
   // reaches this: a measure of the images' own contrast and noise, where a fixed grey-level
   // SSD limit refuses dark, noisy or differently lit objects and accepts bare bright ones.
   double min_match_zncc = 0.5;
+  // ... and, when the whole patch does not reach it, the patch's pixels within this of the
+  // object's boundary alone are matched (DepthSearch::band); 0: not done.
+  double match_band_px = 3.0;
   double boundary_grow_px = 4.0;     // the marked region is grown by this for the boundary
   double hidden_grow_px = 1.5;       // a known solid's silhouette, grown by this, hides edges
   double search_px = 6.0;            // edge search either side of the predicted outline

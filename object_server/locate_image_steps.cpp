@@ -242,11 +242,18 @@ DepthSearch ObjectDepthSearch(const std::vector<cv::Point>& boundary, double mar
   s.far = mark_depth + options.depth_tolerance;
   s.patch =
       cv::Rect(object_rect.x - 3, object_rect.y - 3, object_rect.width + 6, object_rect.height + 6);
+  if (options.match_band_px > 0) {
+    s.band = cv::Mat::zeros(s.patch.size(), CV_8U);
+    for (const auto& p : boundary) s.band.at<uint8_t>(p - s.patch.tl()) = 255;
+    const int r = static_cast<int>(std::ceil(options.match_band_px));
+    cv::dilate(s.band, s.band,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1)));
+  }
   return s;
 }
 
 SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, double near,
-                            double far) {
+                            double far, bool banded) {
   const auto qa =
       pair.right_camera->Project(PointOnPixelRay(*pair.left_camera, search.centre, near));
   const auto qb =
@@ -254,7 +261,14 @@ SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, d
   if (!qa || !qb) return SsdMatch{};
   const Eigen::Vector2d offset_a = *qa - search.centre, offset_b = *qb - search.centre;
   const cv::Rect patch = search.patch & ImageRect(pair.left);
-  SsdMatch match = MatchAlongSegment(pair.left, pair.right, patch, offset_a, offset_b);
+  if (banded && search.band.empty()) return SsdMatch{};
+  // The band's part over a rectangle of the patch.
+  const auto band_over = [&](const cv::Rect& r) {
+    return banded ? search.band(cv::Rect(r.tl() - search.patch.tl(), r.size())) : cv::Mat();
+  };
+  SsdMatch match =
+      MatchAlongSegment(pair.left, pair.right, patch, offset_a, offset_b, band_over(patch));
+  match.banded = banded;
   if (match.ok) return match;
   // No depth keeps the whole patch in the right image (an object near its edge, the patch
   // taking in what lies beside it): the part of the patch that stays in at every depth.
@@ -267,7 +281,9 @@ SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, d
   }
   constexpr int kMinSidePx = 8;
   if (kept.width < kMinSidePx || kept.height < kMinSidePx || kept == patch) return match;
-  return MatchAlongSegment(pair.left, pair.right, kept, offset_a, offset_b);
+  match = MatchAlongSegment(pair.left, pair.right, kept, offset_a, offset_b, band_over(kept));
+  match.banded = banded;
+  return match;
 }
 
 StepResult<SsdMatch> MatchObject(const StereoPair& pair, const DepthSearch& search,
@@ -277,7 +293,9 @@ StepResult<SsdMatch> MatchObject(const StereoPair& pair, const DepthSearch& sear
     return StepFailure{Failure::kMatchOverThreshold,
                        "the object's epipolar search region for the marks' depth +/- " +
                            FormatFixed(options.depth_tolerance, 1) + " leaves the right image"};
-  return match;
+  if (match.zncc >= options.min_match_zncc || search.band.empty()) return match;
+  const SsdMatch banded = MatchBetweenDepths(pair, search, search.near, search.far, true);
+  return banded.ok && banded.zncc >= options.min_match_zncc ? banded : match;
 }
 
 SsdMatch NarrowByRange(const LocateInput& in, const StereoPair& pair, const DepthSearch& search,
@@ -299,7 +317,8 @@ SsdMatch NarrowByRange(const LocateInput& in, const StereoPair& pair, const Dept
                            cv::Point2f(static_cast<float>(qp->x()), static_cast<float>(qp->y())),
                            false) >= 0 &&
       std::abs(qd - mark_depth) <= options.depth_tolerance) {
-    SsdMatch ranged = MatchBetweenDepths(pair, search, std::max(0.5 * qd, qd - beam), qd + beam);
+    SsdMatch ranged =
+        MatchBetweenDepths(pair, search, std::max(0.5 * qd, qd - beam), qd + beam, match.banded);
     if (ranged.ok && ranged.rms <= 1.25 * match.rms + 1.0) {
       check->constrained = true;
       return ranged;

@@ -136,17 +136,23 @@ struct DepthSearch {
   Eigen::Vector2d centre;  // of the boundary's rectangle, left image
   cv::Rect patch;
   double near = 0, far = 0;
+  // The patch's pixels within match_band_px of a boundary pixel (8-bit, the patch's size):
+  // the object's own edges and what lies just beside them. Empty when match_band_px is 0.
+  cv::Mat band;
 };
 DepthSearch ObjectDepthSearch(const std::vector<cv::Point>& boundary, double mark_depth,
                               const LocateOptions& options);
 // The patch matched into the right image by the smallest SSD (3.6, equation 3.30) along the
 // epipolar segment of left-camera depths near..far. When the whole patch leaves the right
 // image at every depth, the part of it that stays in at every depth is matched (at least 8 px
-// each way); not ok when the segment does not project or that part is smaller.
+// each way); not ok when the segment does not project or that part is smaller. `banded`:
+// the search's band of the patch alone.
 SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, double near,
-                            double far);
+                            double far, bool banded = false);
 // The match over the search's depth range. Fails (match over threshold) when there is none:
-// the search region leaves the right image.
+// the search region leaves the right image. A whole patch correlating under min_match_zncc
+// is matched again on its band alone (a thin object beside another at another depth, the
+// patch mostly the other's): that match is taken when it reaches min_match_zncc.
 StepResult<SsdMatch> MatchObject(const StereoPair& pair, const DepthSearch& search,
                                  const LocateOptions& options);
 // With a range, the match searched again around the range's depth (the beam's axis point at

@@ -317,6 +317,35 @@ TEST(LocateStepsGeometry, DepthSearchIsTheMarksDepthWithinTheTolerance) {
   EXPECT_DOUBLE_EQ(s.far, 7);
 }
 
+TEST(LocateStepsGeometry, AMatchOnTheObjectsBandFollowsItsEdgesNotWhatLiesBesideIt) {
+  // The object: a bar 4 px wide, 10 px further left in the right image. Beside it and farther
+  // off, a textured block filling most of the patch, 4 px further left.
+  cv::Mat left(80, 140, CV_8U, cv::Scalar(20));
+  cv::Mat right = left.clone();
+  cv::Mat texture(50, 40, CV_8U);
+  cv::RNG rng(7);
+  rng.fill(texture, cv::RNG::UNIFORM, 0, 256);
+  left(cv::Rect(40, 15, 4, 50)).setTo(200);
+  right(cv::Rect(30, 15, 4, 50)).setTo(200);
+  texture.copyTo(left(cv::Rect(48, 15, 40, 50)));
+  texture.copyTo(right(cv::Rect(44, 15, 40, 50)));
+  const cv::Rect patch(36, 12, 56, 56);
+  const Eigen::Vector2d a(-14, 0), b(-2, 0);
+  const SsdMatch whole = MatchAlongSegment(left, right, patch, a, b);
+  ASSERT_TRUE(whole.ok);
+  EXPECT_NEAR(whole.offset.x(), -4, 0.5);  // the block's
+  // The bar's edges and 3 px either side.
+  cv::Mat band = cv::Mat::zeros(patch.size(), CV_8U);
+  band(cv::Rect(40 - patch.x - 3, 0, 4 + 6, patch.height)).setTo(255);
+  const SsdMatch banded = MatchAlongSegment(left, right, patch, a, b, band);
+  ASSERT_TRUE(banded.ok);
+  EXPECT_NEAR(banded.offset.x(), -10, 0.5);
+  EXPECT_GT(banded.zncc, 0.9);
+  EXPECT_LT(banded.rms, 1.0);
+  // A mask not of the patch's size matches nothing.
+  EXPECT_FALSE(MatchAlongSegment(left, right, patch, a, b, cv::Mat::zeros(5, 5, CV_8U)).ok);
+}
+
 TEST_F(LocateSteps, TheMatchTriangulatesToTheCylindersFrontDepth) {
   const LocateInput in = Input(true);
   const Through3 t = RunThroughStep3(in);

@@ -241,6 +241,26 @@ TEST(SiteLevels, ABlockWhoseFootHasTheTablesShadeStandsOnTheFloor) {
   EXPECT_NE(e->result.detail.find("empty on its bottom"), std::string::npos) << e->result.detail;
 }
 
+// A thin upright pipe in clutter (64 in away, 1920x1080) whose matched patch is mostly the
+// objects beside it, at other depths: the whole patch correlates 0.38 with the right image,
+// under min_match_zncc. Matched again on the band along its boundary alone, it is found.
+TEST(SiteLevels, AThinPipeAmongOthersIsMatchedOnItsOwnEdges) {
+  cv::setNumThreads(1);
+  const auto scene = site::SiteScene(5007, site::SiteLevel::kClutter, true);
+  ExpectFoundRight(InFullView(EvaluateScene(scene, "clutter_hd_5007", 5007), "upright_1"));
+  LocateOptions whole_patch = SiteLocateOptions();
+  whole_patch.match_band_px = 0;
+  const auto without = EvaluateScene(scene, "clutter_hd_5007", 5007, whole_patch);
+  const ObjectEvaluation* e = InFullView(without, "upright_1");
+  ASSERT_NE(e, nullptr);
+  EXPECT_FALSE(e->result.found);
+  EXPECT_EQ(e->result.reason, Failure::kMatchOverThreshold) << e->result.detail;
+  whole_patch.match_band_px = -1;
+  std::string error;
+  EXPECT_FALSE(whole_patch.Check(&error));
+  EXPECT_NE(error.find("match_band_px"), std::string::npos) << error;
+}
+
 TEST(SiteLevels, TheFloorIsChecked) {
   std::string error;
   EXPECT_TRUE(SiteLocateOptions().Check(&error)) << error;
