@@ -202,11 +202,13 @@ SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect p
   const cv::Rect whole = patch;
   patch &= cv::Rect(0, 0, left.cols, left.rows);
   if (patch.area() < 9) return result;
-  cv::Mat used;  // the mask's part over the patch kept in the left image
+  cv::Mat used;                 // the mask's part over the patch kept in the left image
+  int compared = patch.area();  // pixels compared
   if (!mask.empty()) {
     if (mask.size() != whole.size()) return result;
     used = mask(cv::Rect(patch.tl() - whole.tl(), patch.size()));
-    if (cv::countNonZero(used) < 9) return result;
+    compared = cv::countNonZero(used);
+    if (compared < 9) return result;
   }
   // Only the part of the segment where the shifted patch lies inside the right image (with a
   // pixel to spare for the interpolation): an object near the image's edge keeps the rest.
@@ -266,7 +268,6 @@ SsdMatch MatchAlongSegment(const cv::Mat& left, const cv::Mat& right, cv::Rect p
     }
   }
   result.ok = true;
-  const int compared = used.empty() ? patch.area() : cv::countNonZero(used);
   result.rms = std::sqrt(std::max(0.0, best) / compared);
   // A flat patch (no contrast at all) has no defined correlation: OpenCV gives 0 or 1; a
   // patch without texture matches nothing.
