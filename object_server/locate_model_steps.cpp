@@ -85,6 +85,11 @@ FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
                          const std::vector<Eigen::VectorXd>& starts,
                          const std::array<FitView, 2>& views, const FitOptions& fit,
                          const PlausibleFn& plausible) {
+  if (starts.empty()) {
+    FitOutcome none;
+    none.error = "no starting model to fit from";
+    return none;
+  }
   FitOptions first = fit;
   first.step = Eigen::VectorXd::Constant(starts[0].size(), 1e-4);
   first.outer_iterations =
@@ -156,7 +161,8 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
     else
       yawed.push_back(st);
   }
-  // World-aligned: the first six parameters, the yaw held at 0.
+  // World-aligned: the first six parameters, the yaw held at 0. With no start at yaw 0 (a
+  // turned block lowered or stood on the floor), as for a poor aligned fit.
   const AlignedBox aligned = AlignedBoxModel(inner);
   FitOutcome f = FitFromStarts(aligned.outline, aligned.inner, starts6, views, fit, plausible);
   if (f.ok) {

@@ -282,6 +282,18 @@ TEST_F(TurnedBlockSteps, ATurnedBlockStartsAtTheYawItsEdgesShowAndFitsOntoIt) {
   const BoxResult b = BoxFromFit(f.params, f.covariance);
   EXPECT_LT((b.center - box_->center).norm(), 0.3);
   EXPECT_LT(BoxYawErrorDeg(b.yaw_deg, box_->rotation), 1.5);
+
+  // Turned starts alone, as a turned block lowered or stood on the floor gives: no start at
+  // yaw 0 for the aligned fit, so the box is turned from the first start; it lands the same.
+  const FitOutcome g = FitBox(turned, views, FitSettings(options_, t.boundary.strongest), options_);
+  ASSERT_TRUE(g.ok) << g.error;
+  const BoxResult bg = BoxFromFit(g.params, g.covariance);
+  EXPECT_LT((bg.center - box_->center).norm(), 0.3);
+  EXPECT_LT(BoxYawErrorDeg(bg.yaw_deg, box_->rotation), 1.5);
+  // No start at all is a failure that says so, not a fit from nothing.
+  const FitOutcome none = FitFromStarts(BoxOutline, {}, {}, views, FitSettings(options_, 100));
+  EXPECT_FALSE(none.ok);
+  EXPECT_EQ(none.error, "no starting model to fit from");
 }
 
 TEST(LocateStepsFit, FitSettingsFollowTheLocatorsOptions) {
