@@ -34,6 +34,24 @@ TEST(LyingPipe, APipeWhoseOutlinePartlyShowsNoEdgeIsJudgedWhereItShouldShowOne) 
   EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
 }
 
+TEST(LyingPipe, OnTheOutlineThatShouldShowAnEdgeAPipeIsHeldToTheBoundOfEveryFit) {
+  // Level pipes, seed 24: lying_1, in full view, its far limb against the table. It scores
+  // 0.94, and 0.65 on the outline that should show an edge: within max_fit_score there.
+  const SiteRequest r = AskFor(24, site::SiteLevel::kPipes, false, "lying_1");
+  ASSERT_TRUE(r.present);
+  const LocateResult found = ExpectPipeFound(r);
+  const LocateOptions options;
+  EXPECT_GT(found.fit_score, options.max_fit_score);
+  EXPECT_GT(found.supported_fit_score, 0.5);
+  EXPECT_LE(found.supported_fit_score, options.max_lying_supported_score);
+  // Held to half the bound there (as it once was), it is refused.
+  LocateOptions half;
+  half.max_lying_supported_score = 0.5;
+  const LocateResult refused = Locate(r.input, half);
+  EXPECT_FALSE(refused.found);
+  EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
+}
+
 TEST(LyingPipe, APipeLyingOnABlockIsFoundFromTheUpperPartOfTheOutline) {
   // Level pipes, seed 5: lying_1 rests on its supports, turned towards the cameras; the
   // marks and the boundary take in the block under it, and the fit from the whole boundary
