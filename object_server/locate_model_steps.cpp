@@ -161,6 +161,7 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
     else
       yawed.push_back(st);
   }
+  if (starts.empty()) return FitFromStarts(outline, inner, starts, views, fit, plausible);
   // World-aligned: the first six parameters, the yaw held at 0. With no start at yaw 0 (a
   // turned block lowered or stood on the floor), as for a poor aligned fit.
   const AlignedBox aligned = AlignedBoxModel(inner);

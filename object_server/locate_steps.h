@@ -279,6 +279,7 @@ double ScoreResidualScale(const LocateOptions& options, int image_width);
 using PlausibleFn = std::function<bool(const FitOutcome&)>;
 // Whether fit a goes before fit b: a plausible one first, then the lower FitScore.
 bool BetterFit(const FitOutcome& a, const FitOutcome& b, const PlausibleFn& plausible);
+// With no start, a failed fit: "no starting model to fit from".
 FitOutcome FitFromStarts(const OutlineFn& outline, const InnerEdgesFn& inner,
                          const std::vector<Eigen::VectorXd>& starts,
                          const std::array<FitView, 2>& views, const FitOptions& fit,

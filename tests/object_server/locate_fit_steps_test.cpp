@@ -294,6 +294,9 @@ TEST_F(TurnedBlockSteps, ATurnedBlockStartsAtTheYawItsEdgesShowAndFitsOntoIt) {
   const FitOutcome none = FitFromStarts(BoxOutline, {}, {}, views, FitSettings(options_, 100));
   EXPECT_FALSE(none.ok);
   EXPECT_EQ(none.error, "no starting model to fit from");
+  const FitOutcome no_box = FitBox({}, views, FitSettings(options_, 100), options_);
+  EXPECT_FALSE(no_box.ok);
+  EXPECT_EQ(no_box.error, "no starting model to fit from");
 }
 
 TEST(LocateStepsFit, FitSettingsFollowTheLocatorsOptions) {
