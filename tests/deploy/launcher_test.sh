@@ -52,7 +52,7 @@ check "faraway (another host) is not started" test ! -e "$RUN/faraway.pid"
 check "the platform listens at its host, 127.0.0.2" \
   bash -c "ss -Hltn 'sport = :$P1' | grep -q '127.0.0.2:$P1'"
 check "status: platform up" bash -c "IGMS_RUN_DIR='$SCRATCH/run' '$SRC/deploy/lab' status --only platform,viewer --config '$LAB' | grep -qE '^platform .*127.0.0.2:$P1 +[0-9]+ +up'"
-check "status: the platform's clock offset, within a millisecond on one host" bash -c "IGMS_RUN_DIR='$SCRATCH/run' '$SRC/deploy/lab' status --only platform --config '$LAB' | grep -qE '^platform .* up +clock [+-]0\.[0-9]{3} ms\$'"
+check "status: the platform's clock offset, within 10 ms on one host however loaded" bash -c "IGMS_RUN_DIR='$SCRATCH/run' '$SRC/deploy/lab' status --only platform --config '$LAB' | grep -qE '^platform .* up +clock [+-][0-9]\.[0-9]{3} ms\$'"
 out=$(lab up --here --config "$LAB" 2>&1)
 check "up again: already running" grep -q 'platform already running' <<<"$out"
 check "logs show each one's log" bash -c "IGMS_RUN_DIR='$SCRATCH/run' IGMS_BIN_DIR='$BIN' '$SRC/deploy/lab' logs viewer --config '$LAB' | grep -q ."
