@@ -254,6 +254,7 @@ DepthSearch ObjectDepthSearch(const std::vector<cv::Point>& boundary, double mar
 
 SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, double near,
                             double far, bool banded) {
+  if (banded && search.band.empty()) return SsdMatch{};
   const auto qa =
       pair.right_camera->Project(PointOnPixelRay(*pair.left_camera, search.centre, near));
   const auto qb =
@@ -261,7 +262,6 @@ SsdMatch MatchBetweenDepths(const StereoPair& pair, const DepthSearch& search, d
   if (!qa || !qb) return SsdMatch{};
   const Eigen::Vector2d offset_a = *qa - search.centre, offset_b = *qb - search.centre;
   const cv::Rect patch = search.patch & ImageRect(pair.left);
-  if (banded && search.band.empty()) return SsdMatch{};
   // The band's part over a rectangle of the patch.
   const auto band_over = [&](const cv::Rect& r) {
     return banded ? search.band(cv::Rect(r.tl() - search.patch.tl(), r.size())) : cv::Mat();
