@@ -130,6 +130,12 @@ bool LyingPipe(const Eigen::VectorXd& params, const LocateOptions& opt) {
   return std::abs(axis.z()) <= std::sin(opt.raised_pipe_max_tilt_deg * M_PI / 180) * axis.norm();
 }
 
+// A pipe standing within acos(upright_axis_cos) of the vertical.
+bool UprightPipe(const Eigen::VectorXd& params, const LocateOptions& opt) {
+  const Eigen::Vector3d axis = params.segment<3>(3) - params.segment<3>(0);
+  return std::abs(axis.z()) >= opt.upright_axis_cos * axis.norm() && axis.norm() > 1e-9;
+}
+
 // A cylinder fit that collapsed to a single edge (under min_radius_px in the reference view).
 bool Collapsed(const FitOutcome& o, const std::array<FitView, 2>& views, const LocateOptions& opt) {
   return o.ok && CheckCylinderWidth(CylinderFromFit(o.params, o.covariance), *views[0].camera, opt);
@@ -363,7 +369,10 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
   // pipe lying on the table (fresh seeds, level pipes at 1920x1080, seed 7006 lying_0, found
   // right to 0.002 in) and refused it.
   if (cylinder || asked) StandOnFloor(c, cylinder, s.views, s.options, &s.fit);
-  if (cylinder) EndsFromLimbs(s.views, s.options, c.opt, &s.fit);
+  if (cylinder) {
+    EndsFromLimbs(s.views, s.options, c.opt, &s.fit);
+    FootOnFloor(s.views, c.opt, &s.fit);
+  }
   return s;
 }
 
@@ -506,6 +515,14 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "match_band_px must be in 0..64";
     return false;
   }
+  if (!(max_upright_fit_score >= max_fit_score) || !(max_upright_supported_score >= 0) ||
+      !(min_upright_side_share >= 0 && min_upright_side_share <= 1) ||
+      !(max_limb_edge_difference >= 0 && max_limb_edge_difference <= 1)) {
+    *error =
+        "max_upright_fit_score must be at least max_fit_score, max_upright_supported_score not "
+        "negative, min_upright_side_share and max_limb_edge_difference in 0..1";
+    return false;
+  }
   if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(max_lying_fit_score >= max_fit_score) ||
       !(max_lying_supported_score >= 0) || !(score_reference_width_px > 0) ||
       !(score_width_power >= 0) || !(sigma_width_power >= 0) ||
@@ -640,6 +657,9 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
     return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);
+  const bool upright = cylinder && UprightPipe(f.params, opt);
+  if (upright)
+    if (const auto failure = CheckLimbsAgree(support, opt)) return fail(*failure);
   const std::string poorly = "the fitted outline explains the edges poorly (score " +
                              FormatFixed(res.fit_score) + ", limit " +
                              FormatFixed(opt.max_fit_score) + ")";
@@ -650,7 +670,11 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                                 LyingPipe(f.params, opt) &&
                                 res.fit_score <= opt.max_lying_fit_score &&
                                 res.supported_fit_score <= opt.max_lying_supported_score;
-  if (res.fit_score > opt.max_fit_score && !lying_past_bound) {
+  // An upright pipe over the bound, let through on it too.
+  const bool upright_past_bound =
+      res.fit_score > opt.max_fit_score && upright && res.fit_score <= opt.max_upright_fit_score &&
+      res.supported_fit_score <= opt.max_upright_supported_score && ShowsAllButFoot(support, opt);
+  if (res.fit_score > opt.max_fit_score && !lying_past_bound && !upright_past_bound) {
     if (!solid.open_lowered) return fail(explains_poorly);
     // Lower, the block would explain them, but then nothing holds one of its sizes.
     const OpenLowered& open = *solid.open_lowered;

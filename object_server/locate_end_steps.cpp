@@ -102,6 +102,16 @@ std::optional<double> SideEdgeEnd(const Gradients& gradients, const Eigen::Vecto
   return last;
 }
 
+// The fitted cylinder's outline drawn again in both views, after its ends moved.
+void DrawCylinderOutline(const std::array<FitView, 2>& views, FitOutcome* f) {
+  for (int v = 0; v < 2; ++v) {
+    ViewOutline o;
+    f->outline[v].clear();
+    if (ProjectOutline(CylinderOutline(f->params), *views[v].camera, o))
+      for (const int i : o.hull) f->outline[v].push_back(o.px[i]);
+  }
+}
+
 }  // namespace
 
 void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
@@ -221,12 +231,28 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
   if (!moved) return;
   f->params = x;
   f->covariance = cov;
-  for (int v = 0; v < 2; ++v) {
-    ViewOutline o;
-    f->outline[v].clear();
-    if (ProjectOutline(CylinderOutline(x), *views[v].camera, o))
-      for (const int i : o.hull) f->outline[v].push_back(o.px[i]);
-  }
+  DrawCylinderOutline(views, f);
+}
+
+void FootOnFloor(const std::array<FitView, 2>& views, const LocateOptions& opt, FitOutcome* f) {
+  if (!opt.floor_height || !f->ok || f->params.size() != 7 || f->covariance.rows() != 7 ||
+      !f->params.allFinite())
+    return;
+  Eigen::VectorXd& x = f->params;
+  const Eigen::Index foot = x[2] < x[5] ? 0 : 3;  // the foot's first coordinate
+  const Eigen::Vector3d base = x.segment<3>(foot), top = x.segment<3>(3 - foot);
+  const double len = (top - base).norm(), floor = *opt.floor_height;
+  if (!(len > 1e-9) || top.z() - base.z() < opt.upright_axis_cos * len ||
+      base.z() >= floor - opt.floor_sink || top.z() <= floor)
+    return;
+  const Eigen::Vector3d up = (top - base) / len;
+  x.segment<3>(foot) = base + (floor - base.z()) / up.z() * up;
+  // The foot along the axis measured to floor_sink: a Kalman update of the covariance.
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(7);
+  g.segment<3>(foot) = up;
+  const Eigen::VectorXd cg = f->covariance * g;
+  f->covariance -= cg * cg.transpose() / (g.dot(cg) + opt.floor_sink * opt.floor_sink);
+  DrawCylinderOutline(views, f);
 }
 
 std::optional<Eigen::VectorXd> TopFromSides(const std::array<FitView, 2>& views,

@@ -271,6 +271,13 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
         ++out.hidden;
         continue;
       }
+      const int side = std::abs(normal.x()) >= std::abs(normal.y()) ? (normal.x() < 0 ? 0 : 1)
+                                                                    : (normal.y() < 0 ? 2 : 3);
+      ++out.side_samples[side];
+      double s_any;
+      const bool edge_here = EdgeAlongNormal(gradients, p, normal, 2.5, fit.min_gradient, &s_any) &&
+                             std::abs(s_any) <= 1.5;
+      out.side_edged[side] += edge_here;
       double in_sum = 0, out_sum = 0;
       for (const double d : {2.5, 3.5})
         for (const double w : {-1.0, 0.0, 1.0}) {
@@ -279,9 +286,7 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
         }
       if (std::abs(in_sum - out_sum) / 6 < min_step) continue;
       ++out.contrasted;
-      double s;
-      if (EdgeAlongNormal(gradients, p, normal, 2.5, fit.min_gradient, &s) && std::abs(s) <= 1.5)
-        ++out.edged;
+      out.edged += edge_here;
     }
     carry = len - (t - 1.0);
   }
@@ -370,6 +375,32 @@ std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOpt
                              FormatFixed(options.max_rms_px) + ")"};
   }
   return std::nullopt;
+}
+
+std::optional<StepFailure> CheckLimbsAgree(const std::array<OutlineSupport, 2>& support,
+                                           const LocateOptions& options) {
+  for (int k = 0; k < 2; ++k) {
+    const int n0 = support[0].side_samples[k], n1 = support[1].side_samples[k];
+    if (n0 < kMinSideSamples || n1 < kMinSideSamples) continue;
+    const double left = double(support[0].side_edged[k]) / n0;
+    const double right = double(support[1].side_edged[k]) / n1;
+    if (std::abs(left - right) > options.max_limb_edge_difference)
+      return StepFailure{Failure::kLeftRightInconsistent,
+                         std::string("the pipe's ") + (k == 0 ? "left" : "right") +
+                             " side has an edge along " + FormatFixed(100 * left, 0) +
+                             "% of it in the left image and " + FormatFixed(100 * right, 0) +
+                             "% in the right: another object's edge in one view"};
+  }
+  return std::nullopt;
+}
+
+bool ShowsAllButFoot(const std::array<OutlineSupport, 2>& support, const LocateOptions& opt) {
+  for (const auto& s : support)
+    for (int k = 0; k < 3; ++k)
+      if (s.side_samples[k] >= kMinSideSamples &&
+          s.side_edged[k] < opt.min_upright_side_share * s.side_samples[k])
+        return false;
+  return true;
 }
 
 bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const LocateOptions& opt) {

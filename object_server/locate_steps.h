@@ -394,6 +394,12 @@ SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
 // fit's edge counts are left as they were.
 void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
                    const LocateOptions& opt, FitOutcome* f);
+// An upright pipe's foot fitted more than LocateOptions::floor_sink below the site's floor
+// (LocateOptions::floor_height) moved up along its axis onto the floor, and measured there
+// to floor_sink along the axis. Nothing stands in the floor: the fit drew the foot down where
+// the table's shade or pattern gave no edge to stop it, the marks lying below it. The outline
+// is drawn again; the fit's edge counts are left as they were.
+void FootOnFloor(const std::array<FitView, 2>& views, const LocateOptions& opt, FitOutcome* f);
 
 // A fitted block whose silhouette sides' edges, walked up from their middle in both images,
 // stop short of its top (the second-highest of the four under LocateOptions::box_side_reach
@@ -420,7 +426,14 @@ struct OutlineSupport {
   int contrasted = 0;      // inside, with a step the detector can see
   int edged = 0;           // of those, with an edge on the outline
   double noise_sigma = 0;  // the image's noise near the object, grey levels
+  // Per side of the outline, by its outward normal (image left, right, top, bottom): the
+  // samples in the image and not hidden, and those with an edge on the outline, whatever the
+  // step across it.
+  std::array<int, 4> side_samples{0, 0, 0, 0};
+  std::array<int, 4> side_edged{0, 0, 0, 0};
 };
+// A side with fewer samples than this in a view is too short to judge there.
+constexpr int kMinSideSamples = 8;
 OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline,
                                      const cv::Mat& image, const Gradients& gradients,
                                      const FitOptions& fit,
@@ -448,6 +461,18 @@ std::optional<StepFailure> CheckWithinMarks(const std::vector<Eigen::Vector2d>& 
 // outline's support, the share is of the samples that should show an edge.
 std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOptions& options,
                                           const std::array<OutlineSupport, 2>* support = nullptr);
+// Fails (left-right inconsistent) when a side of an upright pipe's outline (its left or right
+// limb, OutlineSupport's sides 0 and 1) has an edge along much of it in one image and little
+// in the other (their shares differ by more than max_limb_edge_difference): a pipe's limb
+// lies against much the same background in both, where an outline run onto a neighbour's
+// edge in one view finds nothing at the depth that view gives it in the other.
+std::optional<StepFailure> CheckLimbsAgree(const std::array<OutlineSupport, 2>& support,
+                                           const LocateOptions& options);
+// Whether an upright pipe's outline has an edge along at least min_upright_side_share of its
+// left and right limbs and its top in both images (OutlineSupport's sides 0, 1 and 2; a side
+// under kMinSideSamples long is not judged): all of it but the foot, which can stand against a
+// table of its own shade. A pipe let past max_fit_score must show that much.
+bool ShowsAllButFoot(const std::array<OutlineSupport, 2>& support, const LocateOptions& opt);
 // Whether to fit the other type too: for a box always, since a box fits an upright cylinder's
 // outline (its end ellipses seen thin) about as well as the cylinder does, while a real box's
 // corners leave a cylinder well behind; for a cylinder when it explains the images only fairly

@@ -1,0 +1,168 @@
+// Upright pipes in clutter: one whose foot stands against a table of its own shade, one whose
+// foot the fit drew into the floor, one whose outline runs onto a neighbour's edge in one view,
+// and a partly hidden pipe whose limb shows almost no edge. The locator on rendered site
+// scenes, with two lights and shadows and the site's floor known, as the benchmark has them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <variant>
+
+#include "common/sim/vision/evaluation.h"
+#include "object_server/locate_steps.h"
+#include "tests/object_server/rig_camera.h"
+#include "tests/object_server/site_request.h"
+
+namespace igms::object {
+namespace {
+
+TEST(UprightPipe, APipeWhoseFootShowsNoEdgeIsJudgedOnTheRestOfItsOutline) {
+  // Level clutter, seed 9, 1920x1080: upright_5, in full view, its lower half against the
+  // table, of nearly its own shade. The right fit scores 1.30 (the bound is 0.9), and 0.44 on
+  // the outline that should show an edge; its limbs and top show edges in both images.
+  const SiteRequest r = AskFor(9, site::SiteLevel::kClutter, true, "upright_5");
+  ASSERT_TRUE(r.present);
+  const LocateOptions options = SiteLocateOptions();
+  const LocateResult found = ExpectPipeFound(r, {}, options);
+  EXPECT_GT(found.fit_score, options.max_fit_score);
+  EXPECT_LE(found.supported_fit_score, options.max_upright_supported_score);
+  // Held to the bound of every fit, it is refused.
+  LocateOptions bound = options;
+  bound.max_upright_fit_score = bound.max_fit_score;
+  const LocateResult refused = Locate(r.input, bound);
+  EXPECT_FALSE(refused.found);
+  EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
+}
+
+TEST(UprightPipe, AnOutlineOnANeighboursEdgeInOneViewOnlyIsRefused) {
+  // Level clutter, seed 32: upright_0 stands just right of a taller pipe, whose edge lies
+  // inside the marks. A fit with its left limb on that edge (0.3 in too wide) explains the
+  // left image; in the right one its left limb finds no edge at all.
+  const SiteRequest r = AskFor(32, site::SiteLevel::kClutter, false, "upright_0");
+  ASSERT_TRUE(r.present);
+  const auto& truth = std::get<site::Cylinder>(r.shape);
+  const LocateResult refused = Locate(r.input, SiteLocateOptions());
+  EXPECT_FALSE(refused.found);
+  EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
+  EXPECT_NE(refused.detail.find("left side has an edge along"), std::string::npos)
+      << refused.detail;
+  // Without the check, the wrong model is reported found (past the bound: its limbs are judged
+  // there only on how much of each shows).
+  LocateOptions unchecked = SiteLocateOptions();
+  unchecked.max_limb_edge_difference = 1;
+  unchecked.min_upright_side_share = 0;
+  const LocateResult wrong = Locate(r.input, unchecked);
+  ASSERT_TRUE(wrong.found) << wrong.detail;
+  EXPECT_GT(wrong.cylinder.radius - truth.radius, 0.15);
+}
+
+TEST(UprightPipe, APartlyHiddenPipeWithALimbBareInOneViewIsNotLetPastTheBound) {
+  // Level clutter, seed 4: upright_4, 92% in view. Its fit scores 1.18, 0.29 where an edge
+  // should show, but its left limb finds an edge along a quarter of it in the left image and
+  // none in the right: it takes in a neighbour's side and comes out 0.3 in too wide.
+  const SiteRequest r = AskFor(4, site::SiteLevel::kClutter, false, "upright_4");
+  ASSERT_TRUE(r.present);
+  const auto& truth = std::get<site::Cylinder>(r.shape);
+  const LocateResult refused = Locate(r.input, SiteLocateOptions());
+  EXPECT_FALSE(refused.found);
+  EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
+  LocateOptions any_side = SiteLocateOptions();
+  any_side.min_upright_side_share = 0;
+  const LocateResult wrong = Locate(r.input, any_side);
+  ASSERT_TRUE(wrong.found) << wrong.detail;
+  EXPECT_GT(wrong.fit_score, any_side.max_fit_score);
+  EXPECT_GT(wrong.cylinder.radius - truth.radius, 0.15);
+}
+
+TEST(UprightPipe, AFootDrawnIntoTheFloorIsStoodOnIt) {
+  // Level clutter, seed 16: upright_4, 5.1 in tall, its foot against the table of its own
+  // shade. The fit draws the foot 0.09 in into the floor (its length 0.09 in too long); stood
+  // on the floor, its length is right to 0.01 in, and its sigma says so.
+  const SiteRequest r = AskFor(16, site::SiteLevel::kClutter, false, "upright_4");
+  ASSERT_TRUE(r.present);
+  const auto& truth = std::get<site::Cylinder>(r.shape);
+  const LocateResult found = ExpectPipeFound(r, {.length = 0.03}, SiteLocateOptions());
+  EXPECT_LT(std::abs(found.cylinder.height - truth.height), 2 * found.cylinder.height_sigma + 0.01);
+  LocateOptions in_floor = SiteLocateOptions();
+  in_floor.floor_sink = 1;
+  const LocateResult sunk = Locate(r.input, in_floor);
+  ASSERT_TRUE(sunk.found) << sunk.detail;
+  EXPECT_LT(sunk.cylinder.center.z() - 0.5 * sunk.cylinder.height, -0.05);
+}
+
+TEST(UprightPipe, OnlyAnUprightFootInTheFloorIsMoved) {
+  // A pipe of radius 0.5 standing 40 in in front of the rig, its foot 0.2 in below the floor
+  // (z = 0), its covariance 1 in^2 on each end's coordinates.
+  const geometry::ProjectiveCamera left = testing::RigCamera(0), right = testing::RigCamera(3);
+  const std::array<FitView, 2> views = {FitView(&left, nullptr), FitView(&right, nullptr)};
+  FitOutcome f;
+  f.ok = true;
+  f.params.resize(7);
+  f.params << 0, 40, 3, 0, 40, -0.2, 0.5;
+  f.covariance = Eigen::MatrixXd::Identity(7, 7);
+  LocateOptions options;
+  FitOutcome moved = f;
+  FootOnFloor(views, options, &moved);  // no floor known: left alone
+  EXPECT_EQ(moved.params, f.params);
+  options.floor_height = 0.0;
+  FootOnFloor(views, options, &moved);
+  EXPECT_NEAR(moved.params[5], 0.0, 1e-12);
+  EXPECT_EQ(moved.params.head<5>(), f.params.head<5>());
+  EXPECT_NEAR(std::sqrt(moved.covariance(5, 5)), options.floor_sink, 1e-3);
+  EXPECT_NEAR(moved.covariance(2, 2), 1.0, 1e-12);  // the top as it was
+  EXPECT_FALSE(moved.outline[0].empty());
+  EXPECT_FALSE(moved.outline[1].empty());
+  // A foot within floor_sink of the floor, or a lying pipe's end under it, stays.
+  FitOutcome near = f;
+  near.params[5] = -0.5 * options.floor_sink;
+  FootOnFloor(views, options, &near);
+  EXPECT_EQ(near.params[5], -0.5 * options.floor_sink);
+  EXPECT_EQ(near.covariance, f.covariance);
+  FitOutcome lying = f;
+  lying.params << -3, 40, 0.3, 3, 40, -0.2, 0.5;
+  FootOnFloor(views, options, &lying);
+  EXPECT_EQ(lying.params[5], -0.2);
+}
+
+TEST(UprightPipe, LimbsAreComparedWhereBothViewsSeeEnoughOfThem) {
+  std::array<OutlineSupport, 2> support;
+  support[0].side_samples = {40, 40, 10, 10};
+  support[1].side_samples = {40, 40, 10, 10};
+  support[0].side_edged = {40, 20, 0, 0};
+  support[1].side_edged = {20, 20, 10, 10};  // the left limbs differ by half
+  const LocateOptions options;
+  EXPECT_FALSE(CheckLimbsAgree(support, options));
+  support[1].side_edged[0] = 10;  // by three quarters
+  const auto failure = CheckLimbsAgree(support, options);
+  ASSERT_TRUE(failure);
+  EXPECT_EQ(failure->reason, Failure::kLeftRightInconsistent);
+  EXPECT_NE(failure->detail.find("left side has an edge along 100% of it in the left image and "
+                                 "25% in the right"),
+            std::string::npos)
+      << failure->detail;
+  support[1].side_samples[0] = 7;  // too short a limb in one view to judge
+  support[1].side_edged[0] = 0;
+  EXPECT_FALSE(CheckLimbsAgree(support, options));
+  // The tops and feet are not compared: a pipe's foot stands against the table.
+  support[1] = support[0];
+  support[1].side_edged[3] = 10;
+  EXPECT_FALSE(CheckLimbsAgree(support, options));
+}
+
+TEST(UprightPipe, ItsBoundsAreChecked) {
+  std::string error;
+  LocateOptions under;
+  under.max_upright_fit_score = under.max_fit_score - 0.1;
+  EXPECT_FALSE(under.Check(&error));
+  EXPECT_NE(error.find("max_upright_fit_score"), std::string::npos);
+  for (const double bad : {-0.1, 1.1, std::nan("")}) {
+    LocateOptions share, difference;
+    share.min_upright_side_share = bad;
+    difference.max_limb_edge_difference = bad;
+    EXPECT_FALSE(share.Check(&error)) << bad;
+    EXPECT_FALSE(difference.Check(&error)) << bad;
+  }
+}
+
+}  // namespace
+}  // namespace igms::object
