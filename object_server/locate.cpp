@@ -280,12 +280,13 @@ void LowerByShares(const FitContext& c, const std::array<FitView, 2>& views, con
 }
 
 // A solid fitted off the site's floor, fitted again standing on it under its top; kept if that
-// fits better. An upright pipe's foot more than floor_gap off it (an object in front hides its
-// foot, or the foot has the table's shade and no edge holds it) is kept standing on it when
-// that scores better or is the plausible one. So is a block's bottom, but only when standing
-// scores better and is plausible: a block's foot in the table's shade leaves an implausible fit
-// of its upper part, and a plausible block standing on the floor that fits worse was, on the
-// held-out seeds, an upright pipe asked for as a block.
+// fits better. An upright pipe's foot more than pipe_floor_gap off it (an object in front hides
+// its foot, a shadow or the table's pattern holds it short, or the foot has the table's shade
+// and no edge holds it) is kept standing on it when that scores better or is the plausible
+// one; a rival pipe fitted against a block too. So is a block's bottom more than floor_gap off
+// it, but only when standing scores better and is plausible: a block's foot in the table's
+// shade leaves an implausible fit of its upper part, and a plausible block standing on the
+// floor that fits worse was, on the held-out seeds, an upright pipe asked for as a block.
 void StandOnFloor(const FitContext& c, bool cylinder, const std::array<FitView, 2>& views,
                   const FitOptions& fit, FitOutcome* f) {
   if (!c.opt.floor_height || !f->ok || f->params.size() != 7) return;
@@ -296,7 +297,7 @@ void StandOnFloor(const FitContext& c, bool cylinder, const std::array<FitView, 
     const Eigen::Vector3d axis = x.segment<3>(3) - x.segment<3>(0);
     if (!(axis.norm() > 1e-9) || std::abs(axis.z()) < c.opt.upright_axis_cos * axis.norm()) return;
     const int foot = x[2] < x[5] ? 0 : 3, top = 3 - foot;
-    if (std::abs(x[foot + 2] - floor) <= c.opt.floor_gap) return;
+    if (std::abs(x[foot + 2] - floor) <= c.opt.pipe_floor_gap) return;
     standing.segment<3>(foot) << x[top], x[top + 1], floor;
   } else {
     // Centre, size, yaw: the top kept, the bottom on the floor.
@@ -457,8 +458,8 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "floor_height must be a finite number when given";
     return false;
   }
-  if (!(floor_gap >= 0)) {
-    *error = "floor_gap must not be negative";
+  if (!(floor_gap >= 0) || !(pipe_floor_gap >= 0) || !(floor_sink >= 0)) {
+    *error = "floor_gap, pipe_floor_gap and floor_sink must not be negative";
     return false;
   }
   if (!(edge_sigma >= 0 && edge_sigma <= 10)) {
@@ -515,12 +516,12 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "match_band_px must be in 0..64";
     return false;
   }
-  if (!(max_upright_fit_score >= max_fit_score) || !(max_upright_supported_score >= 0) ||
-      !(min_upright_side_share >= 0 && min_upright_side_share <= 1) ||
+  if (!(max_shown_fit_score >= max_fit_score) || !(max_upright_supported_score >= 0) ||
+      !(min_shown_side_share >= 0 && min_shown_side_share <= 1) ||
       !(max_limb_edge_difference >= 0 && max_limb_edge_difference <= 1)) {
     *error =
-        "max_upright_fit_score must be at least max_fit_score, max_upright_supported_score not "
-        "negative, min_upright_side_share and max_limb_edge_difference in 0..1";
+        "max_shown_fit_score must be at least max_fit_score, max_upright_supported_score not "
+        "negative, min_shown_side_share and max_limb_edge_difference in 0..1";
     return false;
   }
   if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(max_lying_fit_score >= max_fit_score) ||
@@ -665,14 +666,16 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                              FormatFixed(opt.max_fit_score) + ")";
   const StepFailure explains_poorly{Failure::kLeftRightInconsistent,
                                     poorly + ": another object's edges, or the other type?"};
-  // A lying pipe over the bound, let through on the outline that should show an edge.
-  const bool lying_past_bound = res.fit_score > opt.max_fit_score && cylinder &&
-                                LyingPipe(f.params, opt) &&
-                                res.fit_score <= opt.max_lying_fit_score &&
-                                res.supported_fit_score <= opt.max_lying_supported_score;
-  // An upright pipe over the bound, let through on it too.
+  // A lying pipe over the bound, let through on the outline that should show an edge (and past
+  // max_lying_fit_score when all but its bottom shows).
+  const bool lying_past_bound =
+      res.fit_score > opt.max_fit_score && cylinder && LyingPipe(f.params, opt) &&
+      (res.fit_score <= opt.max_lying_fit_score ||
+       (res.fit_score <= opt.max_shown_fit_score && ShowsAllButFoot(support, opt))) &&
+      res.supported_fit_score <= opt.max_lying_supported_score;
+  // An upright pipe over the bound, let through on it too when all but its foot shows.
   const bool upright_past_bound =
-      res.fit_score > opt.max_fit_score && upright && res.fit_score <= opt.max_upright_fit_score &&
+      res.fit_score > opt.max_fit_score && upright && res.fit_score <= opt.max_shown_fit_score &&
       res.supported_fit_score <= opt.max_upright_supported_score && ShowsAllButFoot(support, opt);
   if (res.fit_score > opt.max_fit_score && !lying_past_bound && !upright_past_bound) {
     if (!solid.open_lowered) return fail(explains_poorly);
@@ -704,8 +707,10 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                            opt))
       return fail(*failure);
     if (lying_past_bound && other.ok &&
-        res.other_type_supported_fit_score <
-            opt.box_over_cylinder * res.supported_fit_score)  // a block better even there
+        (res.other_type_supported_fit_score <
+             opt.box_over_cylinder * res.supported_fit_score ||  // a block better even there
+         (res.fit_score > opt.max_lying_fit_score &&  // or a block nearly as good overall
+          res.other_type_fit_score < opt.other_type_ratio * res.fit_score)))
       return fail(explains_poorly);
   }
 

@@ -398,7 +398,7 @@ bool ShowsAllButFoot(const std::array<OutlineSupport, 2>& support, const LocateO
   for (const auto& s : support)
     for (int k = 0; k < 3; ++k)
       if (s.side_samples[k] >= kMinSideSamples &&
-          s.side_edged[k] < opt.min_upright_side_share * s.side_samples[k])
+          s.side_edged[k] < opt.min_shown_side_share * s.side_samples[k])
         return false;
   return true;
 }

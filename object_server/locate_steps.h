@@ -468,10 +468,11 @@ std::optional<StepFailure> CheckBothViews(const FitOutcome& fit, const LocateOpt
 // edge in one view finds nothing at the depth that view gives it in the other.
 std::optional<StepFailure> CheckLimbsAgree(const std::array<OutlineSupport, 2>& support,
                                            const LocateOptions& options);
-// Whether an upright pipe's outline has an edge along at least min_upright_side_share of its
-// left and right limbs and its top in both images (OutlineSupport's sides 0, 1 and 2; a side
-// under kMinSideSamples long is not judged): all of it but the foot, which can stand against a
-// table of its own shade. A pipe let past max_fit_score must show that much.
+// Whether a pipe's outline has an edge along at least min_shown_side_share of its left, right
+// and top sides in both images (OutlineSupport's sides 0, 1 and 2; a side under
+// kMinSideSamples long is not judged): all of it but its bottom, an upright's foot or a lying
+// pipe's lower limb, which can stand or lie against a table of its own shade. A pipe let past
+// max_lying_fit_score must show that much.
 bool ShowsAllButFoot(const std::array<OutlineSupport, 2>& support, const LocateOptions& opt);
 // Whether to fit the other type too: for a box always, since a box fits an upright cylinder's
 // outline (its end ellipses seen thin) about as well as the cylinder does, while a real box's

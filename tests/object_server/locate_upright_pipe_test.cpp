@@ -1,7 +1,8 @@
 // Upright pipes in clutter: one whose foot stands against a table of its own shade, one whose
-// foot the fit drew into the floor, one whose outline runs onto a neighbour's edge in one view,
-// and a partly hidden pipe whose limb shows almost no edge. The locator on rendered site
-// scenes, with two lights and shadows and the site's floor known, as the benchmark has them.
+// foot the fit drew into the floor, one whose foot it held short of the floor, one whose outline
+// runs onto a neighbour's edge in one view, and a partly hidden pipe whose limb shows almost no
+// edge. The locator on rendered site scenes, with two lights and shadows and the site's floor
+// known, as the benchmark has them.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,7 +29,7 @@ TEST(UprightPipe, APipeWhoseFootShowsNoEdgeIsJudgedOnTheRestOfItsOutline) {
   EXPECT_LE(found.supported_fit_score, options.max_upright_supported_score);
   // Held to the bound of every fit, it is refused.
   LocateOptions bound = options;
-  bound.max_upright_fit_score = bound.max_fit_score;
+  bound.max_shown_fit_score = bound.max_fit_score;
   const LocateResult refused = Locate(r.input, bound);
   EXPECT_FALSE(refused.found);
   EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
@@ -50,7 +51,7 @@ TEST(UprightPipe, AnOutlineOnANeighboursEdgeInOneViewOnlyIsRefused) {
   // there only on how much of each shows).
   LocateOptions unchecked = SiteLocateOptions();
   unchecked.max_limb_edge_difference = 1;
-  unchecked.min_upright_side_share = 0;
+  unchecked.min_shown_side_share = 0;
   const LocateResult wrong = Locate(r.input, unchecked);
   ASSERT_TRUE(wrong.found) << wrong.detail;
   EXPECT_GT(wrong.cylinder.radius - truth.radius, 0.15);
@@ -67,7 +68,7 @@ TEST(UprightPipe, APartlyHiddenPipeWithALimbBareInOneViewIsNotLetPastTheBound) {
   EXPECT_FALSE(refused.found);
   EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
   LocateOptions any_side = SiteLocateOptions();
-  any_side.min_upright_side_share = 0;
+  any_side.min_shown_side_share = 0;
   const LocateResult wrong = Locate(r.input, any_side);
   ASSERT_TRUE(wrong.found) << wrong.detail;
   EXPECT_GT(wrong.fit_score, any_side.max_fit_score);
@@ -88,6 +89,20 @@ TEST(UprightPipe, AFootDrawnIntoTheFloorIsStoodOnIt) {
   const LocateResult sunk = Locate(r.input, in_floor);
   ASSERT_TRUE(sunk.found) << sunk.detail;
   EXPECT_LT(sunk.cylinder.center.z() - 0.5 * sunk.cylinder.height, -0.05);
+}
+
+TEST(UprightPipe, AFootHeldShortOfTheFloorIsStoodOnIt) {
+  // Level clutter, seed 28: upright_0, its foot against the table. The fit stops 0.21 in short
+  // of the floor; stood on it, the pipe fits better, and its length is right to 0.03 in.
+  const SiteRequest r = AskFor(28, site::SiteLevel::kClutter, false, "upright_0");
+  ASSERT_TRUE(r.present);
+  const auto& truth = std::get<site::Cylinder>(r.shape);
+  ExpectPipeFound(r, {.length = 0.03}, SiteLocateOptions());
+  LocateOptions coarse = SiteLocateOptions();
+  coarse.pipe_floor_gap = coarse.floor_gap;
+  const LocateResult short_of_it = Locate(r.input, coarse);
+  ASSERT_TRUE(short_of_it.found) << short_of_it.detail;
+  EXPECT_LT(short_of_it.cylinder.height - truth.height, -0.15);
 }
 
 TEST(UprightPipe, OnlyAnUprightFootInTheFloorIsMoved) {
@@ -152,12 +167,12 @@ TEST(UprightPipe, LimbsAreComparedWhereBothViewsSeeEnoughOfThem) {
 TEST(UprightPipe, ItsBoundsAreChecked) {
   std::string error;
   LocateOptions under;
-  under.max_upright_fit_score = under.max_fit_score - 0.1;
+  under.max_shown_fit_score = under.max_fit_score - 0.1;
   EXPECT_FALSE(under.Check(&error));
-  EXPECT_NE(error.find("max_upright_fit_score"), std::string::npos);
+  EXPECT_NE(error.find("max_shown_fit_score"), std::string::npos);
   for (const double bad : {-0.1, 1.1, std::nan("")}) {
     LocateOptions share, difference;
-    share.min_upright_side_share = bad;
+    share.min_shown_side_share = bad;
     difference.max_limb_edge_difference = bad;
     EXPECT_FALSE(share.Check(&error)) << bad;
     EXPECT_FALSE(difference.Check(&error)) << bad;
