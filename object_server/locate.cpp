@@ -666,13 +666,11 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                              FormatFixed(opt.max_fit_score) + ")";
   const StepFailure explains_poorly{Failure::kLeftRightInconsistent,
                                     poorly + ": another object's edges, or the other type?"};
-  // A lying pipe over the bound, let through on the outline that should show an edge (and past
-  // max_lying_fit_score when all but its bottom shows).
-  const bool lying_past_bound =
-      res.fit_score > opt.max_fit_score && cylinder && LyingPipe(f.params, opt) &&
-      (res.fit_score <= opt.max_lying_fit_score ||
-       (res.fit_score <= opt.max_shown_fit_score && ShowsAllButFoot(support, opt))) &&
-      res.supported_fit_score <= opt.max_lying_supported_score;
+  // A lying pipe over the bound, let through on the outline that should show an edge.
+  const bool lying_past_bound = res.fit_score > opt.max_fit_score && cylinder &&
+                                LyingPipe(f.params, opt) &&
+                                res.fit_score <= opt.max_lying_fit_score &&
+                                res.supported_fit_score <= opt.max_lying_supported_score;
   // An upright pipe over the bound, let through on it too when all but its foot shows.
   const bool upright_past_bound =
       res.fit_score > opt.max_fit_score && upright && res.fit_score <= opt.max_shown_fit_score &&
@@ -707,10 +705,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                            opt))
       return fail(*failure);
     if (lying_past_bound && other.ok &&
-        (res.other_type_supported_fit_score <
-             opt.box_over_cylinder * res.supported_fit_score ||  // a block better even there
-         (res.fit_score > opt.max_lying_fit_score &&  // or a block nearly as good overall
-          res.other_type_fit_score < opt.other_type_ratio * res.fit_score)))
+        res.other_type_supported_fit_score <
+            opt.box_over_cylinder * res.supported_fit_score)  // a block better even there
       return fail(explains_poorly);
   }
 

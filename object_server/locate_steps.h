@@ -470,9 +470,9 @@ std::optional<StepFailure> CheckLimbsAgree(const std::array<OutlineSupport, 2>& 
                                            const LocateOptions& options);
 // Whether a pipe's outline has an edge along at least min_shown_side_share of its left, right
 // and top sides in both images (OutlineSupport's sides 0, 1 and 2; a side under
-// kMinSideSamples long is not judged): all of it but its bottom, an upright's foot or a lying
-// pipe's lower limb, which can stand or lie against a table of its own shade. A pipe let past
-// max_lying_fit_score must show that much.
+// kMinSideSamples long is not judged): all of it but its bottom, an upright's foot, which can
+// stand against a table of its own shade. An upright let past max_fit_score must show that
+// much.
 bool ShowsAllButFoot(const std::array<OutlineSupport, 2>& support, const LocateOptions& opt);
 // Whether to fit the other type too: for a box always, since a box fits an upright cylinder's
 // outline (its end ellipses seen thin) about as well as the cylinder does, while a real box's

@@ -9,7 +9,6 @@
 #include <string>
 #include <variant>
 
-#include "common/sim/vision/evaluation.h"
 #include "object_server/locate_steps.h"
 #include "tests/object_server/rig_camera.h"
 #include "tests/object_server/site_request.h"
@@ -51,35 +50,6 @@ TEST(LyingPipe, OnTheOutlineThatShouldShowAnEdgeAPipeIsHeldToTheBoundOfEveryFit)
   LocateOptions half;
   half.max_lying_supported_score = 0.5;
   EXPECT_GT(ExpectFoundPastTheBound(r, half).supported_fit_score, 0.5);
-}
-
-TEST(LyingPipe, PastTheBoundOfALyingPipeAllButItsLowerLimbMustShow) {
-  // Level pipes, seed 36: lying_5, 96% in view, raised across the view, its lower limb against
-  // the table. It scores 1.03 (a lying pipe's bound is 1.0), 0.62 where an edge should show;
-  // its ends and upper limb have edges in both images, and its rival box scores 2.8.
-  const SiteRequest r = AskFor(36, site::SiteLevel::kPipes, false, "lying_5");
-  ASSERT_TRUE(r.present);
-  const LocateOptions options = SiteLocateOptions();
-  const LocateResult found = ExpectPipeFound(r, {}, options);
-  EXPECT_GT(found.fit_score, options.max_lying_fit_score);
-  EXPECT_GT(found.other_type_fit_score, options.other_type_ratio * found.fit_score);
-  LocateOptions lying_bound = options;
-  lying_bound.max_shown_fit_score = lying_bound.max_lying_fit_score;
-  const LocateResult refused = Locate(r.input, lying_bound);
-  EXPECT_FALSE(refused.found);
-  EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
-}
-
-TEST(LyingPipe, PastTheBoundOfALyingPipeABoxNearlyAsGoodRefusesIt) {
-  // Level far, seed 19: lying_3, raised on a support. Its fit, 0.46 in too fat, takes in the
-  // support (score 1.22, its sides all shown); the rival box scores 1.19.
-  const SiteRequest r = AskFor(19, site::SiteLevel::kFar, false, "lying_3");
-  ASSERT_TRUE(r.present);
-  const LocateResult refused = Locate(r.input, SiteLocateOptions());
-  EXPECT_FALSE(refused.found);
-  EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
-  EXPECT_GT(refused.fit_score, SiteLocateOptions().max_lying_fit_score);
-  EXPECT_LT(refused.other_type_fit_score, SiteLocateOptions().other_type_ratio * refused.fit_score);
 }
 
 TEST(LyingPipe, APipeLyingOnABlockIsFoundFromTheUpperPartOfTheOutline) {
