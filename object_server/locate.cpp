@@ -645,11 +645,17 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   // How a pipe's side shades: the fitted one's; for a box, its rival's (below).
   SideShape side = cylinder ? ClassifySide(*pair, f.params, views, opt) : SideShape::kUnmeasured;
   // 5. Consistency between the views, on the parts of the outline that should show an edge.
-  const auto measure_support = [&](const FitOutcome& o) -> std::array<OutlineSupport, 2> {
-    return {MeasureOutlineSupport(o.outline[0], pair->left, grad_left, fit, views[0].hidden),
-            MeasureOutlineSupport(o.outline[1], pair->right, grad_right, fit, views[1].hidden)};
+  // Per side too for an upright pipe (CheckLimbsAgree, ShowsAllButFoot), the only fit that
+  // uses it.
+  const auto measure_support = [&](const FitOutcome& o,
+                                   bool per_side) -> std::array<OutlineSupport, 2> {
+    return {
+        MeasureOutlineSupport(o.outline[0], pair->left, grad_left, fit, views[0].hidden, per_side),
+        MeasureOutlineSupport(o.outline[1], pair->right, grad_right, fit, views[1].hidden,
+                              per_side)};
   };
-  const std::array<OutlineSupport, 2> support = measure_support(f);
+  const std::array<OutlineSupport, 2> support =
+      measure_support(f, cylinder && UprightPipe(f.params, opt));
   const double score_scale = ScoreResidualScale(opt, pair->left.cols);
   res.fit_score = FitScore(f, score_scale);
   res.supported_fit_score = SupportedFitScore(f, support, score_scale);
@@ -696,7 +702,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
                   FitScore(f));
     res.other_type_fit_score = FitScore(other, score_scale);
     res.other_type_supported_fit_score =
-        other.ok ? SupportedFitScore(other, measure_support(other), score_scale)
+        other.ok ? SupportedFitScore(other, measure_support(other, false), score_scale)
                  : res.other_type_fit_score;
     if (const auto failure =
             CheckOtherType(cylinder, f, other, other.ok && plausible(other), side,

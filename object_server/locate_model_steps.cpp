@@ -203,7 +203,8 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
 OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline,
                                      const cv::Mat& image, const Gradients& gradients,
                                      const FitOptions& fit,
-                                     const std::vector<std::vector<Eigen::Vector2d>>& hidden) {
+                                     const std::vector<std::vector<Eigen::Vector2d>>& hidden,
+                                     bool per_side) {
   OutlineSupport out;
   const int n = static_cast<int>(outline.size());
   if (n < 3 || image.empty()) return out;
@@ -271,13 +272,19 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
         ++out.hidden;
         continue;
       }
-      const int side = std::abs(normal.x()) >= std::abs(normal.y()) ? (normal.x() < 0 ? 0 : 1)
-                                                                    : (normal.y() < 0 ? 2 : 3);
-      ++out.side_samples[side];
-      double s_any;
-      const bool edge_here = EdgeAlongNormal(gradients, p, normal, 2.5, fit.min_gradient, &s_any) &&
-                             std::abs(s_any) <= 1.5;
-      out.side_edged[side] += edge_here;
+      const auto edge_here = [&] {
+        double s;
+        return EdgeAlongNormal(gradients, p, normal, 2.5, fit.min_gradient, &s) &&
+               std::abs(s) <= 1.5;
+      };
+      bool edged = false;
+      if (per_side) {
+        const int side = std::abs(normal.x()) >= std::abs(normal.y()) ? (normal.x() < 0 ? 0 : 1)
+                                                                      : (normal.y() < 0 ? 2 : 3);
+        ++out.side_samples[side];
+        edged = edge_here();
+        out.side_edged[side] += edged;
+      }
       double in_sum = 0, out_sum = 0;
       for (const double d : {2.5, 3.5})
         for (const double w : {-1.0, 0.0, 1.0}) {
@@ -286,7 +293,7 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
         }
       if (std::abs(in_sum - out_sum) / 6 < min_step) continue;
       ++out.contrasted;
-      out.edged += edge_here;
+      out.edged += per_side ? edged : edge_here();
     }
     carry = len - (t - 1.0);
   }

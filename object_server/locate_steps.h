@@ -428,7 +428,7 @@ struct OutlineSupport {
   double noise_sigma = 0;  // the image's noise near the object, grey levels
   // Per side of the outline, by its outward normal (image left, right, top, bottom): the
   // samples in the image and not hidden, and those with an edge on the outline, whatever the
-  // step across it.
+  // step across it. Counted only when asked for (an edge searched at every sample).
   std::array<int, 4> side_samples{0, 0, 0, 0};
   std::array<int, 4> side_edged{0, 0, 0, 0};
 };
@@ -437,7 +437,8 @@ constexpr int kMinSideSamples = 8;
 OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline,
                                      const cv::Mat& image, const Gradients& gradients,
                                      const FitOptions& fit,
-                                     const std::vector<std::vector<Eigen::Vector2d>>& hidden = {});
+                                     const std::vector<std::vector<Eigen::Vector2d>>& hidden = {},
+                                     bool per_side = true);
 // FitScore with the share without an edge taken, as CheckBothViews takes it, of the samples
 // that should show one (OutlineSupport::contrasted, both views together): an outline against
 // a background of the object's own shade, hidden by an object in front or beyond the image
