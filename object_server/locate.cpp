@@ -444,96 +444,6 @@ const char* FailureName(Failure f) {
   return "unknown";
 }
 
-bool LocateOptions::Check(std::string* error) const {
-  if (!(depth_tolerance > 0)) {
-    *error = "depth_tolerance must be positive";
-    return false;
-  }
-  for (const double share : lowered_shares)
-    if (!(share > 0 && share < 1)) {
-      *error = "lowered_shares must each be in (0, 1)";
-      return false;
-    }
-  if (floor_height && !std::isfinite(*floor_height)) {
-    *error = "floor_height must be a finite number when given";
-    return false;
-  }
-  if (!(floor_gap >= 0) || !(pipe_floor_gap >= 0) || !(floor_sink >= 0)) {
-    *error = "floor_gap, pipe_floor_gap and floor_sink must not be negative";
-    return false;
-  }
-  if (!(edge_sigma >= 0 && edge_sigma <= 10)) {
-    *error = "edge_sigma must be in 0..10";
-    return false;
-  }
-  if (!(camera_blur_px >= 0 && camera_blur_px <= 10)) {
-    *error = "camera_blur_px must be in 0..10";
-    return false;
-  }
-  if (!(max_shared_volume > 0 && max_shared_volume <= 1)) {
-    *error = "max_shared_volume must be in (0, 1]";
-    return false;
-  }
-  if (!(box_side_reach > 0 && box_side_reach <= 1) || !(max_lowered_size_sigma > 0)) {
-    *error = "box_side_reach must be in (0, 1], max_lowered_size_sigma positive";
-    return false;
-  }
-  if (!(flat_side_gain >= 0) || !(crease_gain > 0) || !(round_side_gain >= flat_side_gain) ||
-      !(even_side_gain >= 0)) {
-    *error =
-        "flat_side_gain and even_side_gain must not be negative, crease_gain must be positive, "
-        "round_side_gain at least flat_side_gain";
-    return false;
-  }
-  if (!(raised_pipe_max_tilt_deg >= 0 && raised_pipe_max_tilt_deg <= 90)) {
-    *error = "raised_pipe_max_tilt_deg must be in 0..90";
-    return false;
-  }
-  if (!(edge_fraction > 0 && edge_fraction < 1)) {
-    *error = "edge_fraction must be in (0, 1)";
-    return false;
-  }
-  if (!(search_px >= 1 && search_px <= 20)) {
-    *error = "search_px must be in 1..20";
-    return false;
-  }
-  if (outer_iterations < 1 || inner_iterations < 1) {
-    *error = "iterations must be at least 1";
-    return false;
-  }
-  if (!(region_weight >= 0) || !(cylinder_depth_reach > 0) || !(stretch_margin >= 0) ||
-      !(min_radius_px >= 0) || !(max_limb_shading_px >= 0)) {
-    *error =
-        "region_weight, stretch_margin, min_radius_px and max_limb_shading_px must not be "
-        "negative, cylinder_depth_reach must be positive";
-    return false;
-  }
-  if (!(max_face_shading_px >= 0) || !(max_face_px > 0)) {
-    *error = "max_face_shading_px must not be negative, max_face_px must be positive";
-    return false;
-  }
-  if (!(match_band_px >= 0 && match_band_px <= 64)) {
-    *error = "match_band_px must be in 0..64";
-    return false;
-  }
-  if (!(max_shown_fit_score >= max_fit_score) || !(max_upright_supported_score >= 0) ||
-      !(min_shown_side_share >= 0 && min_shown_side_share <= 1) ||
-      !(max_limb_edge_difference >= 0 && max_limb_edge_difference <= 1)) {
-    *error =
-        "max_shown_fit_score must be at least max_fit_score, max_upright_supported_score not "
-        "negative, min_shown_side_share and max_limb_edge_difference in 0..1";
-    return false;
-  }
-  if (!(max_rms_px > 0) || !(max_fit_score > 0) || !(max_lying_fit_score >= max_fit_score) ||
-      !(max_lying_supported_score >= 0) || !(score_reference_width_px > 0) ||
-      !(score_width_power >= 0) || !(sigma_width_power >= 0) ||
-      !(min_match_zncc > -1 && min_match_zncc < 1)) {
-    *error = "thresholds must be positive (max_lying_fit_score at least max_fit_score)";
-    return false;
-  }
-  return true;
-}
-
 // The result: the fitted solid's sizes, each checked as the images determine it, a box's
 // texture, and the solid checked against the known ones.
 static std::optional<StepFailure> ResultFromFit(const LocateInput& in, const FitOutcome& f,
@@ -564,6 +474,37 @@ static void DebugOutlineSupport(const std::array<OutlineSupport, 2>& support) {
   spdlog::debug("locate: outline support left {}/{}/{}/{} right {}/{}/{}/{}", support[0].samples,
                 support[0].outside, support[0].contrasted, support[0].edged, support[1].samples,
                 support[1].outside, support[1].contrasted, support[1].edged);
+}
+
+// "The fitted outline explains the edges poorly", with the score and its bound.
+static StepFailure ExplainsPoorly(double score, const LocateOptions& opt,
+                                  const std::string& why = "") {
+  return {Failure::kLeftRightInconsistent,
+          "the fitted outline explains the edges poorly (score " + FormatFixed(score) + ", limit " +
+              FormatFixed(opt.max_fit_score) + ")" +
+              (why.empty() ? ": another object's edges, or the other type?" : why)};
+}
+
+// Fails when the fit scores over max_fit_score on the whole outline, unless a lying pipe
+// (`lying_past_bound`, judged by the caller) or an upright one is let past it on the outline
+// that should show an edge: an upright when all but its foot shows. A block that explained
+// the edges only fitted lower, with a size nothing held (`open`), says so.
+static std::optional<StepFailure> CheckFitScore(const LocateResult& res, bool upright,
+                                                bool lying_past_bound,
+                                                const std::array<OutlineSupport, 2>& support,
+                                                const std::optional<OpenLowered>& open,
+                                                const LocateOptions& opt) {
+  if (res.fit_score <= opt.max_fit_score || lying_past_bound) return std::nullopt;
+  if (upright && res.fit_score <= opt.max_shown_fit_score &&
+      res.supported_fit_score <= opt.max_upright_supported_score && ShowsAllButFoot(support, opt))
+    return std::nullopt;
+  if (!open) return ExplainsPoorly(res.fit_score, opt);
+  const char* axis_names[3] = {"width", "depth", "height"};
+  return ExplainsPoorly(
+      res.fit_score, opt,
+      "; fitted lower, as under something resting on it, the box explains them (score " +
+          FormatFixed(open->score) + "), but nothing there holds its " + axis_names[open->axis] +
+          " (" + FormatFixed(open->size) + " +/- " + FormatFixed(open->sigma) + ")");
 }
 
 LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
@@ -654,8 +595,8 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
         MeasureOutlineSupport(o.outline[1], pair->right, grad_right, fit, views[1].hidden,
                               per_side)};
   };
-  const std::array<OutlineSupport, 2> support =
-      measure_support(f, cylinder && UprightPipe(f.params, opt));
+  const bool upright = cylinder && UprightPipe(f.params, opt);
+  const std::array<OutlineSupport, 2> support = measure_support(f, upright);
   const double score_scale = ScoreResidualScale(opt, pair->left.cols);
   res.fit_score = FitScore(f, score_scale);
   res.supported_fit_score = SupportedFitScore(f, support, score_scale);
@@ -664,35 +605,15 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
     return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);
-  const bool upright = cylinder && UprightPipe(f.params, opt);
   if (upright)
     if (const auto failure = CheckLimbsAgree(support, opt)) return fail(*failure);
-  const std::string poorly = "the fitted outline explains the edges poorly (score " +
-                             FormatFixed(res.fit_score) + ", limit " +
-                             FormatFixed(opt.max_fit_score) + ")";
-  const StepFailure explains_poorly{Failure::kLeftRightInconsistent,
-                                    poorly + ": another object's edges, or the other type?"};
-  // A lying pipe over the bound, let through on the outline that should show an edge.
   const bool lying_past_bound = res.fit_score > opt.max_fit_score && cylinder &&
                                 LyingPipe(f.params, opt) &&
                                 res.fit_score <= opt.max_lying_fit_score &&
                                 res.supported_fit_score <= opt.max_lying_supported_score;
-  // An upright pipe over the bound, let through on it too when all but its foot shows.
-  const bool upright_past_bound =
-      res.fit_score > opt.max_fit_score && upright && res.fit_score <= opt.max_shown_fit_score &&
-      res.supported_fit_score <= opt.max_upright_supported_score && ShowsAllButFoot(support, opt);
-  if (res.fit_score > opt.max_fit_score && !lying_past_bound && !upright_past_bound) {
-    if (!solid.open_lowered) return fail(explains_poorly);
-    // Lower, the block would explain them, but then nothing holds one of its sizes.
-    const OpenLowered& open = *solid.open_lowered;
-    const char* axis_names[3] = {"width", "depth", "height"};
-    return fail(
-        {Failure::kLeftRightInconsistent,
-         poorly +
-             "; fitted lower, as under something resting on it, the box explains them (score " +
-             FormatFixed(open.score) + "), but nothing there holds its " + axis_names[open.axis] +
-             " (" + FormatFixed(open.size) + " +/- " + FormatFixed(open.sigma) + ")"});
-  }
+  if (const auto failure =
+          CheckFitScore(res, upright, lying_past_bound, support, solid.open_lowered, opt))
+    return fail(*failure);
 
   // The other type.
   if (WantOtherType(cylinder, f, side, opt)) {
@@ -713,7 +634,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     if (lying_past_bound && other.ok &&
         res.other_type_supported_fit_score <
             opt.box_over_cylinder * res.supported_fit_score)  // a block better even there
-      return fail(explains_poorly);
+      return fail(ExplainsPoorly(res.fit_score, opt));
   }
 
   if (!cylinder) RefineBoxForFaces(*pair, views, fit, opt, &solid.fit);
