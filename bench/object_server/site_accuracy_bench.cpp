@@ -5,8 +5,11 @@
 // errors within two reported sigma; and the lying pipes' length by the rule (within
 // 0.1 in up to 7 ft where the axis lies within 60 degrees of the image's rows, beyond that
 // within two reported sigma).
-// Usage: bench_site_accuracy [scenes=40] [first_seed=1] [levels=pipes,clutter,far]
-//                            [cameras=thesis,hd] [-v [DEBUG_IMAGE_DIR]]
+// Usage: bench_site_accuracy [--log-level LEVEL] [scenes=40] [first_seed=1]
+//                            [levels=pipes,clutter,far] [cameras=thesis,hd] [-v [DEBUG_IMAGE_DIR]]
+// --log-level debug writes the locator's steps to stderr, each request named first (the
+// scene, the object and the type it was asked as); -v then prints each object's line after
+// its scene's requests.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -15,10 +18,12 @@
 #include <exception>
 #include <opencv2/core/utility.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "bench/bench_main.h"
+#include "common/log/log.h"
 #include "common/sim/site_scenes.h"
 #include "common/sim/vision/evaluation.h"
 
@@ -109,12 +114,24 @@ void PrintNothing(const std::vector<igms::object::NothingThereEvaluation>& all) 
 
 int RunBenchmark(int argc, char** argv) {
   cv::setNumThreads(1);
-  const int scenes = argc > 1 ? std::atoi(argv[1]) : 40;
-  const int first = argc > 2 ? std::atoi(argv[2]) : 1;
-  const auto levels = Split(argc > 3 ? argv[3] : "pipes,clutter,far");
-  const auto cameras = Split(argc > 4 ? argv[4] : "thesis,hd");
-  const bool verbose = argc > 5 && std::strcmp(argv[5], "-v") == 0;
-  const std::string debug_dir = argc > 6 ? argv[6] : "";
+  std::vector<std::string> args(argv + 1, argv + argc);
+  std::string log_level = "info";
+  if (!args.empty() && args[0] == "--log-level") {
+    if (args.size() < 2) throw std::runtime_error("--log-level needs a level (debug, info, ...)");
+    log_level = args[1];
+    args.erase(args.begin(), args.begin() + 2);
+  }
+  if (!igms::log::Init("bench_site_accuracy", log_level))
+    throw std::runtime_error("unknown log level '" + log_level + "'");
+  auto arg = [&](size_t k, const char* fallback) {
+    return k < args.size() ? args[k] : std::string(fallback);
+  };
+  const int scenes = std::atoi(arg(0, "40").c_str());
+  const int first = std::atoi(arg(1, "1").c_str());
+  const auto levels = Split(arg(2, "pipes,clutter,far"));
+  const auto cameras = Split(arg(3, "thesis,hd"));
+  const bool verbose = arg(4, "") == "-v";
+  const std::string debug_dir = arg(5, "");
   std::printf("Locator on site-like scenes: %d scenes per level and camera pair, seeds %d..%d\n",
               scenes, first, first + scenes - 1);
   std::printf("(full: at least %.0f%% visible in both images; hid: partly hidden or out of view)\n",

@@ -1,5 +1,7 @@
 #include "common/sim/vision/evaluation.h"
 
+#include <spdlog/spdlog.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -58,6 +60,8 @@ std::vector<ObjectEvaluation> EvaluateScene(const site::Scene& scene, const std:
     in.right_camera = scene.cameras.right;
     in.want_trace = !debug_dir.empty();
     if (database) in.known = known;
+    spdlog::debug("evaluate: {} {}, asked as a {}", scene_name, object.name,
+                  cyl ? "cylinder" : "box");
     e.result = Locate(in, options);
     if (e.result.found) known.push_back(KnownFromResult(e.result, object.name));
     if (!debug_dir.empty())
@@ -132,6 +136,8 @@ std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scen
     return in;
   };
   auto locate = [&](SolidType type, const site::Marks& marks) {
+    spdlog::debug("evaluate: {}, marks around nothing, asked as a {}", scene_name,
+                  type == SolidType::kCylinder ? "cylinder" : "box");
     return Locate(input(type, marks), options);
   };
   struct Rect {
@@ -177,6 +183,8 @@ std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scen
     if (!marks) continue;
     LocateInput in = input(cylinder ? SolidType::kBox : SolidType::kCylinder, *marks);
     in.want_trace = !debug_dir.empty();
+    spdlog::debug("evaluate: {} {}, asked as the other type, a {}", scene_name, object.name,
+                  cylinder ? "box" : "cylinder");
     out.push_back({scene_name, "wrong_type", object.name, Locate(in, options)});
     if (!debug_dir.empty())
       cv::imwrite(DebugPath(debug_dir, scene_name, object.name,
