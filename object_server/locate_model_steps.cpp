@@ -464,10 +464,21 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
   if (!cylinder && side != SideShape::kCreased &&
       (FitScore(f) > opt.box_over_cylinder * FitScore(other) ||
        (scores.other_fit <= opt.max_fit_score &&
-        scores.supported > opt.box_over_cylinder_supported * scores.other_supported)))
+        scores.supported > opt.box_over_cylinder_supported * scores.other_supported))) {
+    // A side shading flat says block, but a block seen square on shows no face that holds its
+    // depth, and let through, such blocks were wrong about as often as right
+    // (docs/locator-site-scenes.md): the operator is told why, and what would settle it.
+    if (side == SideShape::kFlat || side == SideShape::kEven)
+      return StepFailure{Failure::kFitFailed,
+                         "a cylinder explains the outline about as well as a box" + against +
+                             ", though the side shades flat, as a block's face seen square on "
+                             "does: from here the images cannot tell a block from a pipe "
+                             "standing up, nor the block's depth; a view from another side "
+                             "would"};
     return StepFailure{Failure::kFitFailed,
                        "a cylinder explains the outline about as well as a box" + against +
                            ": is the object a cylinder?"};
+  }
   return std::nullopt;
 }
 

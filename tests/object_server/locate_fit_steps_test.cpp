@@ -442,6 +442,16 @@ TEST(LocateStepsFit, APartialBoxIsNotHeldAgainstACylinderButEveryCylinderAgainst
       CheckOtherType(false, tight, middling, true, SideShape::kRound, worse_supported, options);
   ASSERT_TRUE(tie.has_value());
   EXPECT_NE(tie->detail.find("is the object a cylinder?"), std::string::npos) << tie->detail;
+  // The same against a rival whose side shades flat, as a block's face seen square on: still
+  // refused, and the operator told why the images cannot settle it.
+  for (const SideShape flat_side : {SideShape::kFlat, SideShape::kEven}) {
+    const auto square_on =
+        CheckOtherType(false, tight, middling, true, flat_side, worse_supported, options);
+    ASSERT_TRUE(square_on.has_value());
+    EXPECT_NE(square_on->detail.find("cannot tell a block from a pipe standing up"),
+              std::string::npos)
+        << square_on->detail;
+  }
   EXPECT_FALSE(CheckOtherType(false, tight, middling, true, SideShape::kRound,
                               {0.3, 0.5, 0.2, 0.25}, options));
   // Against a cylinder whose side shades clearly round, a box must beat it by

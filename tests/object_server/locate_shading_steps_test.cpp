@@ -176,6 +176,22 @@ TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenACreaseRunsAlongItsSide) {
       << without.detail;
 }
 
+TEST(SideShading, ABlockSeenSquareOnIsRefusedWithWhatWouldSettleIt) {
+  // Level far, seed 28: box_2, 78 in away, its top above the cameras, seen square on: one face
+  // shows, flat, and an upright pipe explains its outline about as well. Nothing in the images
+  // holds its depth either: let through, it came out 0.69 in too shallow.
+  const Asked a = AskFor(28, site::SiteLevel::kFar, false, "box_2", SolidType::kBox);
+  ASSERT_NE(a.shape, nullptr);
+  LocateOptions lab;
+  lab.floor_height = 0.0;
+  const LocateResult r = Locate(a.input, lab);
+  EXPECT_FALSE(r.found);
+  EXPECT_EQ(r.reason, Failure::kFitFailed);
+  EXPECT_TRUE(Contains(r.detail, "the side shades flat, as a block's face seen square on"))
+      << r.detail;
+  EXPECT_TRUE(Contains(r.detail, "cannot tell a block from a pipe standing up")) << r.detail;
+}
+
 TEST(SideShading, APipeAskedForAsABoxIsRefusedWhenItsSideShadesClearlyRound) {
   // Level far, seed 8, 1920x1080: upright_1, 93 in away. A box fits its outline as well as a
   // cylinder on the outline that should show an edge, and better on the whole; its side
