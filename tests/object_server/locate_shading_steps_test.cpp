@@ -62,6 +62,13 @@ Asked AskFor(uint64_t seed, site::SiteLevel level, bool hd, const std::string& n
   return a;
 }
 
+// The options the lab locates with on the site: its floor known (a rival pipe stands on it).
+LocateOptions LabOptions() {
+  LocateOptions o;
+  o.floor_height = 0.0;
+  return o;
+}
+
 std::array<FitView, 2> Views(const LocateInput& in) {
   return {FitView(&in.left_camera, nullptr), FitView(&in.right_camera, nullptr)};
 }
@@ -156,14 +163,11 @@ TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenACreaseRunsAlongItsSide) {
   // Level far, seed 7, 1920x1080: box_11 turned to show two faces lit 46 grey levels apart.
   const Asked a = AskFor(7, site::SiteLevel::kFar, true, "box_11", SolidType::kCylinder);
   ASSERT_NE(a.shape, nullptr);
-  // The site's floor known, as the lab configures it: the block's rival pipe stands on it.
-  LocateOptions lab;
-  lab.floor_height = 0.0;
-  const LocateResult as_pipe = Locate(a.input, lab);
+  const LocateResult as_pipe = Locate(a.input, LabOptions());
   EXPECT_FALSE(as_pipe.found);
   EXPECT_TRUE(Contains(as_pipe.detail, "crease")) << as_pipe.detail;
   // Not creased, a crease is still not round: the side counts as flat, and a box fits.
-  LocateOptions no_crease = lab;
+  LocateOptions no_crease = LabOptions();
   no_crease.crease_gain = 1e300;
   const LocateResult flat = Locate(a.input, no_crease);
   EXPECT_FALSE(flat.found);
@@ -182,9 +186,7 @@ TEST(SideShading, ABlockSeenSquareOnIsRefusedWithWhatWouldSettleIt) {
   // holds its depth either: let through, it came out 0.69 in too shallow.
   const Asked a = AskFor(28, site::SiteLevel::kFar, false, "box_2", SolidType::kBox);
   ASSERT_NE(a.shape, nullptr);
-  LocateOptions lab;
-  lab.floor_height = 0.0;
-  const LocateResult r = Locate(a.input, lab);
+  const LocateResult r = Locate(a.input, LabOptions());
   EXPECT_FALSE(r.found);
   EXPECT_EQ(r.reason, Failure::kFitFailed);
   EXPECT_TRUE(Contains(r.detail, "the side shades flat, as a block's face seen square on"))
