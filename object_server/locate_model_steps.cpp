@@ -468,16 +468,14 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
     // A side shading flat says block, but a block seen square on shows no face that holds its
     // depth, and let through, such blocks were wrong about as often as right
     // (docs/locator-site-scenes.md): the operator is told why, and what would settle it.
-    if (side == SideShape::kFlat || side == SideShape::kEven)
-      return StepFailure{Failure::kFitFailed,
-                         "a cylinder explains the outline about as well as a box" + against +
-                             ", though the side shades flat, as a block's face seen square on "
-                             "does: from here the images cannot tell a block from a pipe "
-                             "standing up, nor the block's depth; a view from another side "
-                             "would"};
+    const bool shades_flat = side == SideShape::kFlat || side == SideShape::kEven;
     return StepFailure{Failure::kFitFailed,
                        "a cylinder explains the outline about as well as a box" + against +
-                           ": is the object a cylinder?"};
+                           (shades_flat ? ", though the side shades flat, as a block's face seen "
+                                          "square on does: from here the images cannot tell a "
+                                          "block from a pipe standing up, nor the block's "
+                                          "depth; a view from another side would"
+                                        : ": is the object a cylinder?")};
   }
   return std::nullopt;
 }
