@@ -68,6 +68,30 @@ TEST(SiteLevels, SeededScenesOfEachLevel) {
   EXPECT_LE(wrong_types, 3);
 }
 
+// A found block is a wrong model when a size is off by more than 0.5 in and by more than 3 of
+// its reported sigma: a block seen square on whose depth the result says is ill seen is not.
+TEST(SiteLevels, ABlocksSizeIsWrongOnlyBeyondItsSigma) {
+  ObjectEvaluation e;
+  e.kind = "box";
+  e.result.found = true;
+  e.position_error = 0.3;
+  e.result.box.size_sigma = {0.05, 0.6, 0.05};
+  e.size_error = {0.02, 1.5, 0.03};
+  EXPECT_FALSE(WrongModel(e));  // depth 1.5 in off, within 2.5 sigma
+  e.size_error = {0.02, 1.9, 0.03};
+  EXPECT_TRUE(WrongModel(e));  // beyond 3 sigma
+  e.size_error = {0.6, 0.1, 0.03};
+  EXPECT_TRUE(WrongModel(e));  // the width, which the face shows, off by 0.6 in
+  e.size_error = {0.02, 0.4, 0.03};
+  e.result.box.size_sigma = {0.05, 0.05, 0.05};
+  EXPECT_FALSE(WrongModel(e));  // within 0.5 in: never wrong, whatever its sigma
+  e.position_error = 1.2;
+  EXPECT_TRUE(WrongModel(e));  // the centre more than 1 in off
+  EXPECT_TRUE(OffBeyondSigma(0.6, 0.1));
+  EXPECT_FALSE(OffBeyondSigma(0.6, 0.3));
+  EXPECT_FALSE(OffBeyondSigma(0.4, 0.01));
+}
+
 // A thin upright pipe (radius 0.25 in, 5.5 in tall, 46 in away, 1920x1080) whose lower half
 // stands against the table: a box fits its upper half, against the black above the table's
 // horizon, better than the whole pipe fits, but leaves the marks' bottom empty; it must not

@@ -194,13 +194,19 @@ std::vector<NothingThereEvaluation> EvaluateNothingThere(const site::Scene& scen
   return out;
 }
 
+bool OffBeyondSigma(double error, double sigma) { return error > 0.5 && error > 3 * sigma; }
+
 bool WrongModel(const ObjectEvaluation& e) {
   if (!e.result.found) return false;
   if (e.position_error > 1.0) return true;
-  if (e.kind == "box") return e.size_error.maxCoeff() > 0.5;
+  if (e.kind == "box") {
+    for (int k = 0; k < 3; ++k)
+      if (OffBeyondSigma(e.size_error[k], e.result.box.size_sigma[k])) return true;
+    return false;
+  }
   if (e.radius_error > 0.15) return true;
   if (e.kind == "lying")
-    return e.height_error > 0.5 && e.height_error > 3 * e.result.cylinder.height_sigma;
+    return OffBeyondSigma(e.height_error, e.result.cylinder.height_sigma);
   return e.height_error > 0.5;
 }
 

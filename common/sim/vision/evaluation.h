@@ -45,9 +45,14 @@ struct ObjectEvaluation {
 // less visible one is a correct answer (it cannot be measured whole).
 inline constexpr double kFullView = 0.95;
 
+// A dimension the images may leave open (a lying pipe's length pointing away, a block's
+// depth seen square on) off by more than 0.5 in and by more than 3 of its reported sigma: a
+// wrong dimension, not one the result says is ill seen.
+bool OffBeyondSigma(double error, double sigma);
+
 // Whether a found result is another solid than the object: centre off by more than 1 in, a
-// radius by 0.15 in, a height or a box size by 0.5 in, or (a lying pipe's length, which its
-// sigma may say is ill seen) by more than 0.5 in and 3 reported sigma.
+// radius by 0.15 in, an upright pipe's height by 0.5 in, or a lying pipe's length or a box's
+// size off beyond its sigma (OffBeyondSigma).
 bool WrongModel(const ObjectEvaluation& e);
 
 // The locator's options as the simulated lab configures its object server: the site's floor
