@@ -331,6 +331,25 @@ struct SolidFit {
   std::array<FitView, 2> views;
   std::optional<OpenLowered> open_lowered;  // a block's
 };
+// A block fitted as one face where two meet (FaceCrease) fitted again turned to the crease,
+// kept if it explains the images better: a turned block's faces, fitted from square on, stay
+// one face (the world-aligned fit comes first, FitBox), and its yaw and depth come out wrong.
+void TurnToCrease(const FitContext& c, const std::array<FitView, 2>& views, const FitOptions& fit,
+                  FitOutcome* f) {
+  if (!(c.opt.face_crease_gain > 0) || !IsSolid(*f)) return;
+  const Eigen::Vector3d eye = c.in.left_camera.Center();
+  const auto crease = FaceCrease(c.pair, f->params, views, c.opt);
+  if (!crease || EdgeAtCrease(f->params, *crease, eye, c.opt)) return;
+  const auto starts = CreaseStarts(f->params, *crease, eye);
+  if (starts.empty()) return;
+  InnerEdgesFn inner;
+  if (c.opt.box_inner_edges) inner = BoxInnerEdges;
+  FitOutcome turned = FitFromStarts(BoxOutline, inner, starts, views, fit, c.plausible);
+  spdlog::debug("locate: turned to the crease {:.2f} across: score {:.3f} against {:.3f}",
+                *crease, FitScore(turned), FitScore(*f));
+  if (IsSolid(turned) && BetterFit(turned, *f, c.plausible)) *f = std::move(turned);
+}
+
 SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
   SolidFit s;
   s.options = FitSettings(c.opt, c.boundary.strongest, c.pair.left.cols);
@@ -365,6 +384,7 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
   if (!cylinder) {
     LowerToSides(c, s.views, s.options, &s.fit, &s.open_lowered);
     LowerByShares(c, s.views, s.options, &s.fit, &s.open_lowered);
+    TurnToCrease(c, s.views, s.options, &s.fit);
   }
   // A rival block is left where it was fitted: stood on the floor, it took the outline of a
   // pipe lying on the table (fresh seeds, level pipes at 1920x1080, seed 7006 lying_0, found

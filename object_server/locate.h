@@ -206,6 +206,15 @@ struct LocateOptions {
   // at most 17 times better; any bound from 50 to 200 caught the same 2 pipes asked for as
   // blocks there. On the held-out seeds, bounds under 160 lost a right support.
   double round_side_gain = 200.0;
+  // A block fitted as one face where its shading steps across it in both images at the same
+  // place (FaceCrease) is fitted again turned, its nearest vertical edge at the step
+  // (CreaseStarts), and kept when it explains the images better. The step must explain the
+  // face this many times better than its mean does, by at least min_face_crease_step grey
+  // levels; both images' steps, and the fit's nearest edge, agree to face_crease_agree of the
+  // block's half width across the view. 0 gain: not tried.
+  double face_crease_gain = 8.0;
+  double min_face_crease_step = 6.0;
+  double face_crease_agree = 0.2;
   // A box is reported only when it explains the outline clearly better than a cylinder: its
   // score at most this share of the cylinder's (a box fits an upright cylinder about as well).
   // The cylinder is fitted as a cylinder asked for would be (its ends from its limbs, a raised

@@ -30,15 +30,13 @@ Eigen::VectorXd Sigmas(const std::function<Eigen::VectorXd(const Eigen::VectorXd
   return (J * cov * J.transpose()).diagonal().cwiseMax(0).cwiseSqrt();
 }
 
-// A box fit that kept a depth: one that flattened the box explained nothing (the turned box's
-// faces drawn as one). A failed fit has no parameters to look at.
+}  // namespace
+
 bool IsSolid(const FitOutcome& o) {
   if (!o.ok || o.params.size() < 6) return false;
   const Eigen::Vector3d size = o.params.segment<3>(3).cwiseAbs();
   return size.minCoeff() > 0.1 * size.maxCoeff();
 }
-
-}  // namespace
 
 FitOptions FitSettings(const LocateOptions& options, double strongest, int image_width) {
   FitOptions fit;

@@ -48,6 +48,13 @@ bool LocateOptions::Check(std::string* error) const {
         "round_side_gain at least flat_side_gain";
     return false;
   }
+  if (!(face_crease_gain >= 0) || !(min_face_crease_step >= 0) ||
+      !(face_crease_agree > 0 && face_crease_agree <= 1)) {
+    *error =
+        "face_crease_gain and min_face_crease_step must not be negative, face_crease_agree must "
+        "be in (0, 1]";
+    return false;
+  }
   if (!(raised_pipe_max_tilt_deg >= 0 && raised_pipe_max_tilt_deg <= 90)) {
     *error = "raised_pipe_max_tilt_deg must be in 0..90";
     return false;

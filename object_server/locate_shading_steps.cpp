@@ -341,6 +341,10 @@ SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveC
     const double ml = left_sum / left_count, mr = (total - left_sum) / (samples - left_count);
     double rss = 0;
     for (int k = 0; k < bins; ++k) rss += p.count[k] * std::pow(p.mean[k] - (k < br ? ml : mr), 2);
+    if (rss < out.step_rss) {
+      out.step_sine = 0.5 * (std::sin(p.angle[br - 1]) + std::sin(p.angle[br]));
+      out.step_contrast = mr - ml;
+    }
     out.step_rss = std::min(out.step_rss, rss);
   }
   out.bins = bins;
@@ -373,6 +377,122 @@ SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
   if (clearly_round == 2) return SideShape::kClearlyRound;
   if (even == 2) return SideShape::kEven;
   return flat + creased == 2 ? SideShape::kFlat : SideShape::kRound;
+}
+
+namespace {
+
+// A block seen as an upright cylinder across its extent: the same foot and top, a radius of
+// its half width across the view from `eye`; and that horizontal across (up x toward eye).
+struct BlockAcross {
+  Eigen::VectorXd cylinder;
+  Eigen::Vector3d across, toward;
+  double half_width = 0;
+};
+
+BlockAcross AcrossBlock(const Eigen::VectorXd& box, const Eigen::Vector3d& eye) {
+  BlockAcross b;
+  const Eigen::Vector3d c = box.head<3>(), h = 0.5 * box.segment<3>(3);
+  const Eigen::Matrix3d R = BoxRotation(box[6]);
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  b.toward = eye - c;
+  b.toward.z() = 0;
+  if (b.toward.norm() < 1e-9) return b;
+  b.toward.normalize();
+  b.across = up.cross(b.toward);
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d corner =
+        R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), 0);
+    b.half_width = std::max(b.half_width, std::abs(corner.dot(b.across)));
+  }
+  b.cylinder.resize(7);
+  b.cylinder << c - h.z() * up, c + h.z() * up, b.half_width;
+  return b;
+}
+
+// The offset across of the block's vertical edge nearest `eye`.
+double NearestEdgeAcross(const Eigen::VectorXd& box, const BlockAcross& b) {
+  const Eigen::Vector3d h = 0.5 * box.segment<3>(3);
+  const Eigen::Matrix3d R = BoxRotation(box[6]);
+  double nearest = -std::numeric_limits<double>::infinity(), at = 0;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d corner =
+        R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), 0);
+    if (corner.dot(b.toward) > nearest) {
+      nearest = corner.dot(b.toward);
+      at = corner.dot(b.across);
+    }
+  }
+  return at;
+}
+
+}  // namespace
+
+std::optional<double> FaceCrease(const StereoPair& pair, const Eigen::VectorXd& box,
+                                 const std::array<FitView, 2>& views, const LocateOptions& opt) {
+  const BlockAcross b = AcrossBlock(box, pair.left_camera->Center());
+  if (b.half_width <= 0) return std::nullopt;
+  std::array<double, 2> at{};
+  for (int v = 0; v < 2; ++v) {
+    const SideShading sh =
+        MeasureSideShading(v ? pair.right : pair.left, v ? *pair.right_camera : *pair.left_camera,
+                           b.cylinder, views[v].hidden);
+    if (!sh.measured || !(sh.flat_rss > opt.face_crease_gain * sh.step_rss) ||
+        std::abs(sh.step_contrast) < opt.min_face_crease_step)
+      return std::nullopt;
+    at[v] = sh.step_sine;
+  }
+  spdlog::debug("locate: the block's face steps at {:.2f} and {:.2f} of its half width across",
+                at[0], at[1]);
+  if (std::abs(at[0] - at[1]) > opt.face_crease_agree) return std::nullopt;
+  return 0.5 * (at[0] + at[1]) * b.half_width;
+}
+
+bool EdgeAtCrease(const Eigen::VectorXd& box, double crease, const Eigen::Vector3d& eye,
+                  const LocateOptions& opt) {
+  const BlockAcross b = AcrossBlock(box, eye);
+  return b.half_width > 0 &&
+         std::abs(crease - NearestEdgeAcross(box, b)) <= opt.face_crease_agree * b.half_width;
+}
+
+std::vector<Eigen::VectorXd> CreaseStarts(const Eigen::VectorXd& box, double crease,
+                                          const Eigen::Vector3d& camera_centre) {
+  const BlockAcross b = AcrossBlock(box, camera_centre);
+  std::vector<Eigen::VectorXd> starts;
+  const double left = crease + b.half_width, right = b.half_width - crease;
+  if (b.half_width <= 0 || left <= 0 || right <= 0) return starts;
+  // The nearest edge in front of the fitted block's front, at the crease.
+  const Eigen::Vector3d h = 0.5 * box.segment<3>(3);
+  const Eigen::Matrix3d R = BoxRotation(box[6]);
+  double front = 0;
+  for (int i = 0; i < 4; ++i)
+    front = std::max(front, (R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(),
+                                                  (i & 2) ? h.y() : -h.y(), 0))
+                                .dot(b.toward));
+  const Eigen::Vector3d edge = box.head<3>() + crease * b.across + front * b.toward;
+  for (const double turn_deg : kCreaseTurnsDeg) {
+    const double t = turn_deg * M_PI / 180;
+    // The left face recedes from the edge leftward at t to the view's perpendicular, the
+    // right one rightward, square to it.
+    const Eigen::Vector3d e1 = -std::cos(t) * b.across - std::sin(t) * b.toward;
+    const Eigen::Vector3d e2 = std::sin(t) * b.across - std::cos(t) * b.toward;
+    double a = left / std::cos(t), c = right / std::sin(t);
+    double yaw = std::atan2(e1.y(), e1.x());
+    // Folded into (-45, 45] degrees: a quarter turn swaps the sizes.
+    while (yaw > M_PI / 4) {
+      yaw -= M_PI / 2;
+      std::swap(a, c);
+    }
+    while (yaw <= -M_PI / 4) {
+      yaw += M_PI / 2;
+      std::swap(a, c);
+    }
+    Eigen::VectorXd st(7);
+    st << edge + 0.5 * (left / std::cos(t) * e1 + right / std::sin(t) * e2), a, c,
+        box[5], yaw;
+    st[2] = box[2];
+    starts.push_back(st);
+  }
+  return starts;
 }
 
 }  // namespace igms::object

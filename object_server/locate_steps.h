@@ -277,6 +277,9 @@ double ScoreResidualScale(const LocateOptions& options, int image_width);
 // (a pipe's half against a dark background explains its edges better than the whole pipe,
 // but leaves the marks' lower half empty).
 using PlausibleFn = std::function<bool(const FitOutcome&)>;
+// A box fit that kept a depth: one that flattened the box explained nothing (the turned box's
+// faces drawn as one). A failed fit has no parameters to look at.
+bool IsSolid(const FitOutcome& o);
 // Whether fit a goes before fit b: a plausible one first, then the lower FitScore.
 bool BetterFit(const FitOutcome& a, const FitOutcome& b, const PlausibleFn& plausible);
 // With no start, a failed fit: "no starting model to fit from".
@@ -317,6 +320,9 @@ struct SideShading {
   int bins = 0;
   double flat_rss = 0, smooth_rss = 0, step_rss = 0;
   double mean = 0, smooth_range = 0;  // the mean grey level; the smooth fit's max - min
+  // The best crease's place across the side (the sine of its angle round the axis: -1 at the
+  // left limb as the camera sees it... +1 at the right) and its step in grey levels.
+  double step_sine = 0, step_contrast = 0;
 };
 SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
                                const Eigen::VectorXd& params,
@@ -383,6 +389,25 @@ void RefineBoxForFaces(const StereoPair& pair, const std::array<FitView, 2>& vie
 enum class SideShape { kUnmeasured, kRound, kClearlyRound, kFlat, kCreased, kEven };
 SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
                        const std::array<FitView, 2>& views, const LocateOptions& options);
+
+// Where two faces of a fitted block meet as the images shade it: across the block, its
+// shading steps (a crease explains it face_crease_gain times better than its mean, by at
+// least min_face_crease_step grey levels) in both images at the same place (to
+// face_crease_agree of its half width). The crease's offset across the view from the block's
+// centre (along the horizontal perpendicular to the line of sight from the left camera: up
+// cross toward the camera); nullopt when none is seen.
+std::optional<double> FaceCrease(const StereoPair& pair, const Eigen::VectorXd& box,
+                                 const std::array<FitView, 2>& views, const LocateOptions& opt);
+// Whether the block's vertical edge nearest `eye` stands at that crease (to face_crease_agree
+// of its half width): a block fitted as one face where the images show two does not.
+bool EdgeAtCrease(const Eigen::VectorXd& box, double crease, const Eigen::Vector3d& eye,
+                  const LocateOptions& opt);
+// Blocks turned so that their nearest vertical edge stands at that crease, in front of the
+// fitted block's extent across the view and as high: the face left of the crease at each of
+// kCreaseTurnsDeg to the view, the other square to it, each spanning its side of the extent.
+inline constexpr std::array<double, 3> kCreaseTurnsDeg = {30.0, 45.0, 60.0};
+std::vector<Eigen::VectorXd> CreaseStarts(const Eigen::VectorXd& box, double crease,
+                                          const Eigen::Vector3d& camera_centre);
 
 // A fitted pipe's end that no edge holds (its sigma along the axis at least
 // LocateOptions::unheld_end_sigma: a foot of the table's shade, a cap against the dark) moved
