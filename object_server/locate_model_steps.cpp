@@ -413,6 +413,12 @@ bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const Loc
          side == SideShape::kCreased || FitScore(f) > opt.other_type_score;
 }
 
+bool DepthLeftOpen(const FitOutcome& box, const LocateOptions& opt) {
+  if (!(opt.min_open_depth_sigma > 0) || box.params.size() < 7) return false;
+  const Eigen::Vector3d sigma = BoxFromFit(box.params, box.covariance).size_sigma;
+  return std::max(sigma.x(), sigma.y()) >= opt.min_open_depth_sigma;
+}
+
 std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                                           const FitOutcome& other, bool other_within_marks,
                                           SideShape side, const TypeScores& scores,
@@ -464,9 +470,11 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
        (scores.other_fit <= opt.max_fit_score &&
         scores.supported > opt.box_over_cylinder_supported * scores.other_supported))) {
     // A side shading flat says block, but a block seen square on shows no face that holds its
-    // depth, and let through, such blocks were wrong about as often as right
+    // depth: let through when its sigma says so; a fit that claims the depth took it from
+    // edges not the block's, and such blocks were wrong about as often as right
     // (docs/locator-site-scenes.md): the operator is told why, and what would settle it.
     const bool shades_flat = side == SideShape::kFlat || side == SideShape::kEven;
+    if (shades_flat && DepthLeftOpen(f, opt)) return std::nullopt;
     return StepFailure{Failure::kFitFailed,
                        "a cylinder explains the outline about as well as a box" + against +
                            (shades_flat ? ", though the side shades flat, as a block's face seen "

@@ -48,6 +48,10 @@ bool LocateOptions::Check(std::string* error) const {
         "round_side_gain at least flat_side_gain";
     return false;
   }
+  if (!(min_open_depth_sigma >= 0)) {
+    *error = "min_open_depth_sigma must not be negative";
+    return false;
+  }
   if (!(face_crease_gain >= 0) || !(min_face_crease_step >= 0) ||
       !(face_crease_agree > 0 && face_crease_agree <= 1)) {
     *error =

@@ -514,6 +514,9 @@ bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const Loc
 // cylinder; a cylinder is held against a box wherever it lies, so a box must beat them all.
 // Both fits' scores in the reference camera's pixels (ScoreResidualScale): FitScore and
 // SupportedFitScore, this fit's and the other's.
+// Whether a box fit leaves its depth open: a horizontal size's sigma at least
+// LocateOptions::min_open_depth_sigma.
+bool DepthLeftOpen(const FitOutcome& box, const LocateOptions& opt);
 struct TypeScores {
   double fit = 0, other_fit = 0, supported = 0, other_supported = 0;
 };
@@ -527,7 +530,8 @@ struct TypeScores {
 // is not held against a cylinder whose side is creased; against one whose side is clearly
 // round and that fits at all, it must also do `box_over_cylinder` times better on the
 // outline that should show an edge. A cylinder whose side is clearly round is held against a
-// box on that outline alone.
+// box on that outline alone. A box whose rival's side shades flat or even is let through
+// when its fit leaves its depth open (DepthLeftOpen): a block seen square on.
 std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                                           const FitOutcome& other, bool other_within_marks,
                                           SideShape side, const TypeScores& scores,
