@@ -2,7 +2,7 @@
 // the thesis's cameras (pipes in any direction and on supports, clutter with occlusion and
 // textures, far objects under noise; two lights and shadows), asserting that the objects in
 // full view are found right, few wrong models are reported, and marks around bare table or a gap
-// are refused. The bounds hold the present figures (18 of 30 in full view found right, no wrong
+// are refused. The bounds hold the present figures (19 of 30 in full view found right, no wrong
 // model of 38 objects, no bare or gap request found, 1 wrong type found) against regression.
 // Before the fit's score was bounded (max_fit_score) and a box had to beat a cylinder
 // (box_over_cylinder), 17 were found right but 15 wrong models and 18 wrong types were reported;
@@ -59,7 +59,7 @@ TEST(SiteLevels, SeededScenesOfEachLevel) {
               wrong_types);
   ASSERT_GE(s.full, 25);
   // Found and right: a wrong model counts against, not for.
-  EXPECT_GE(s.full_found - s.full_wrong, 18);
+  EXPECT_GE(s.full_found - s.full_wrong, 19);
   EXPECT_LE(s.full_wrong + s.hidden_wrong, 3);
   ASSERT_GE(requests, 5);
   EXPECT_EQ(false_finds, 0);
