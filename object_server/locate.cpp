@@ -345,8 +345,8 @@ void TurnToCrease(const FitContext& c, const std::array<FitView, 2>& views, cons
   InnerEdgesFn inner;
   if (c.opt.box_inner_edges) inner = BoxInnerEdges;
   FitOutcome turned = FitFromStarts(BoxOutline, inner, starts, views, fit, c.plausible);
-  spdlog::debug("locate: turned to the crease {:.2f} across: score {:.3f} against {:.3f}",
-                *crease, FitScore(turned), FitScore(*f));
+  spdlog::debug("locate: turned to the crease {:.2f} across: score {:.3f} against {:.3f}", *crease,
+                FitScore(turned), FitScore(*f));
   if (IsSolid(turned) && BetterFit(turned, *f, c.plausible)) *f = std::move(turned);
 }
 

@@ -465,9 +465,9 @@ std::vector<Eigen::VectorXd> CreaseStarts(const Eigen::VectorXd& box, double cre
   const Eigen::Matrix3d R = BoxRotation(box[6]);
   double front = 0;
   for (int i = 0; i < 4; ++i)
-    front = std::max(front, (R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(),
-                                                  (i & 2) ? h.y() : -h.y(), 0))
-                                .dot(b.toward));
+    front = std::max(
+        front,
+        (R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), 0)).dot(b.toward));
   const Eigen::Vector3d edge = box.head<3>() + crease * b.across + front * b.toward;
   for (const double turn_deg : kCreaseTurnsDeg) {
     const double t = turn_deg * M_PI / 180;
@@ -487,8 +487,7 @@ std::vector<Eigen::VectorXd> CreaseStarts(const Eigen::VectorXd& box, double cre
       std::swap(a, c);
     }
     Eigen::VectorXd st(7);
-    st << edge + 0.5 * (left / std::cos(t) * e1 + right / std::sin(t) * e2), a, c,
-        box[5], yaw;
+    st << edge + 0.5 * (left / std::cos(t) * e1 + right / std::sin(t) * e2), a, c, box[5], yaw;
     st[2] = box[2];
     starts.push_back(st);
   }

@@ -205,8 +205,7 @@ bool WrongModel(const ObjectEvaluation& e) {
     return false;
   }
   if (e.radius_error > 0.15) return true;
-  if (e.kind == "lying")
-    return OffBeyondSigma(e.height_error, e.result.cylinder.height_sigma);
+  if (e.kind == "lying") return OffBeyondSigma(e.height_error, e.result.cylinder.height_sigma);
   return e.height_error > 0.5;
 }
 
