@@ -389,39 +389,40 @@ struct BlockAcross {
   double half_width = 0;
 };
 
+// The block's four vertical edges, from its centre, horizontally.
+std::array<Eigen::Vector3d, 4> VerticalEdges(const Eigen::VectorXd& box) {
+  const Eigen::Vector3d h = 0.5 * box.segment<3>(3);
+  const Eigen::Matrix3d R = BoxRotation(box[6]);
+  std::array<Eigen::Vector3d, 4> out;
+  for (int i = 0; i < 4; ++i)
+    out[i] = R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), 0);
+  return out;
+}
+
 BlockAcross AcrossBlock(const Eigen::VectorXd& box, const Eigen::Vector3d& eye) {
   BlockAcross b;
-  const Eigen::Vector3d c = box.head<3>(), h = 0.5 * box.segment<3>(3);
-  const Eigen::Matrix3d R = BoxRotation(box[6]);
-  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d c = box.head<3>(), up = Eigen::Vector3d::UnitZ();
+  const double half_height = 0.5 * box[5];
   b.toward = eye - c;
   b.toward.z() = 0;
   if (b.toward.norm() < 1e-9) return b;
   b.toward.normalize();
   b.across = up.cross(b.toward);
-  for (int i = 0; i < 4; ++i) {
-    const Eigen::Vector3d corner =
-        R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), 0);
-    b.half_width = std::max(b.half_width, std::abs(corner.dot(b.across)));
-  }
+  for (const auto& edge : VerticalEdges(box))
+    b.half_width = std::max(b.half_width, std::abs(edge.dot(b.across)));
   b.cylinder.resize(7);
-  b.cylinder << c - h.z() * up, c + h.z() * up, b.half_width;
+  b.cylinder << c - half_height * up, c + half_height * up, b.half_width;
   return b;
 }
 
 // The offset across of the block's vertical edge nearest `eye`.
 double NearestEdgeAcross(const Eigen::VectorXd& box, const BlockAcross& b) {
-  const Eigen::Vector3d h = 0.5 * box.segment<3>(3);
-  const Eigen::Matrix3d R = BoxRotation(box[6]);
   double nearest = -std::numeric_limits<double>::infinity(), at = 0;
-  for (int i = 0; i < 4; ++i) {
-    const Eigen::Vector3d corner =
-        R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), 0);
-    if (corner.dot(b.toward) > nearest) {
-      nearest = corner.dot(b.toward);
-      at = corner.dot(b.across);
+  for (const auto& edge : VerticalEdges(box))
+    if (edge.dot(b.toward) > nearest) {
+      nearest = edge.dot(b.toward);
+      at = edge.dot(b.across);
     }
-  }
   return at;
 }
 
@@ -461,13 +462,8 @@ std::vector<Eigen::VectorXd> CreaseStarts(const Eigen::VectorXd& box, double cre
   const double left = crease + b.half_width, right = b.half_width - crease;
   if (b.half_width <= 0 || left <= 0 || right <= 0) return starts;
   // The nearest edge in front of the fitted block's front, at the crease.
-  const Eigen::Vector3d h = 0.5 * box.segment<3>(3);
-  const Eigen::Matrix3d R = BoxRotation(box[6]);
   double front = 0;
-  for (int i = 0; i < 4; ++i)
-    front = std::max(
-        front,
-        (R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), 0)).dot(b.toward));
+  for (const auto& e : VerticalEdges(box)) front = std::max(front, e.dot(b.toward));
   const Eigen::Vector3d edge = box.head<3>() + crease * b.across + front * b.toward;
   for (const double turn_deg : kCreaseTurnsDeg) {
     const double t = turn_deg * M_PI / 180;
