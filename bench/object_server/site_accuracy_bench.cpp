@@ -26,6 +26,7 @@
 #include "common/log/log.h"
 #include "common/sim/site_scenes.h"
 #include "common/sim/vision/evaluation.h"
+#include "common/stats/percentile.h"
 
 using igms::object::ObjectEvaluation;
 using igms::object::Summary;
@@ -99,13 +100,16 @@ void PrintLyingLengths(const std::vector<ObjectEvaluation>& all) {
 }
 
 // Blocks found right with a size off by more than 0.5 in that their sigma says is ill seen
-// (WrongModel): a block seen square on shows no face that holds its depth.
+// (WrongModel): a block seen square on shows no face that holds its depth. And their yaw
+// errors.
 void PrintOpenBoxSizes(const std::vector<ObjectEvaluation>& all) {
   int right = 0, open = 0, open_within_2_sigma = 0;
+  std::vector<double> yaw;
   for (const auto& e : all) {
     if (e.kind != "box" || !e.result.found || e.wrong || e.visible < igms::object::kFullView)
       continue;
     ++right;
+    yaw.push_back(e.axis_error_deg);
     for (int k = 0; k < 3; ++k)
       if (e.size_error[k] > 0.5) {
         ++open;
@@ -116,6 +120,9 @@ void PrintOpenBoxSizes(const std::vector<ObjectEvaluation>& all) {
   std::printf("  box sizes, found right: %d, of them a size off by over 0.5 in within 3 sigma: %d",
               right, open);
   if (open > 0) std::printf(", within 2 sigma %.0f%%", 100.0 * open_within_2_sigma / open);
+  if (!yaw.empty())
+    std::printf("; yaw error median %.1f deg, p90 %.1f", igms::stats::Percentile(yaw, 0.5),
+                igms::stats::Percentile(yaw, 0.9));
   std::printf("\n");
 }
 
