@@ -331,6 +331,7 @@ struct SolidFit {
   std::array<FitView, 2> views;
   std::optional<OpenLowered> open_lowered;  // a block's
 };
+
 // A block fitted as one face where two meet (FaceCrease) fitted again turned to the crease,
 // kept if it explains the images better: a turned block's faces, fitted from square on, stay
 // one face (the world-aligned fit comes first, FitBox), and its yaw and depth come out wrong.

@@ -231,7 +231,7 @@ struct LocateOptions {
   // or even (a block's face seen square on), is let through when its fit leaves its depth
   // open: a horizontal size's sigma at least this. The images hold no face that gives such a
   // block's depth, and the sigma then says so (the benchmark judges the size by it). A fit
-  // that claims the depth took it from edges not the block's (a pipe resting on it, a
+  // that claims the depth has it from edges other than the face's (a pipe resting on it, a
   // shadow): on the tuning and held-out seeds, let through under this bound, 9 blocks were
   // right and 8 wrong; over it, 26 right and 4 wrong. 0: never let through.
   double min_open_depth_sigma = 0.3;

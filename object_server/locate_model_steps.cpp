@@ -470,9 +470,10 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
        (scores.other_fit <= opt.max_fit_score &&
         scores.supported > opt.box_over_cylinder_supported * scores.other_supported))) {
     // A side shading flat says block, but a block seen square on shows no face that holds its
-    // depth: let through when its sigma says so; a fit that claims the depth took it from
-    // edges not the block's, and such blocks were wrong about as often as right
-    // (docs/locator-site-scenes.md): the operator is told why, and what would settle it.
+    // depth: it is let through when its sigma says so. A fit that claims such a depth has it
+    // from edges other than the face's, and let through, those blocks were wrong about as
+    // often as right (docs/locator-site-scenes.md): the operator is told why, and what would
+    // settle it.
     const bool shades_flat = side == SideShape::kFlat || side == SideShape::kEven;
     if (shades_flat && DepthLeftOpen(f, opt)) return std::nullopt;
     return StepFailure{Failure::kFitFailed,
