@@ -389,13 +389,15 @@ struct BlockAcross {
   double half_width = 0;
 };
 
-// The block's four vertical edges, from its centre, horizontally.
+// The block's four vertical edges, from its centre, horizontally: its bottom corners
+// (BoxOutline's first four) lifted to the centre's height.
 std::array<Eigen::Vector3d, 4> VerticalEdges(const Eigen::VectorXd& box) {
-  const Eigen::Vector3d h = 0.5 * box.segment<3>(3);
-  const Eigen::Matrix3d R = BoxRotation(box[6]);
+  const std::vector<Eigen::Vector3d> corners = BoxOutline(box);
   std::array<Eigen::Vector3d, 4> out;
-  for (int i = 0; i < 4; ++i)
-    out[i] = R * Eigen::Vector3d((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), 0);
+  for (int i = 0; i < 4; ++i) {
+    out[i] = corners[i] - box.head<3>();
+    out[i].z() = 0;
+  }
   return out;
 }
 
@@ -484,7 +486,6 @@ std::vector<Eigen::VectorXd> CreaseStarts(const Eigen::VectorXd& box, double cre
     }
     Eigen::VectorXd st(7);
     st << edge + 0.5 * (left / std::cos(t) * e1 + right / std::sin(t) * e2), a, c, box[5], yaw;
-    st[2] = box[2];
     starts.push_back(st);
   }
   return starts;

@@ -320,8 +320,8 @@ struct SideShading {
   int bins = 0;
   double flat_rss = 0, smooth_rss = 0, step_rss = 0;
   double mean = 0, smooth_range = 0;  // the mean grey level; the smooth fit's max - min
-  // The best crease's place across the side (the sine of its angle round the axis: -1 at the
-  // left limb as the camera sees it... +1 at the right) and its step in grey levels.
+  // The best crease's place across the side (the sine of its angle round the axis, -1 to 1
+  // along the axis crossed with the direction toward the camera) and its step in grey levels.
   double step_sine = 0, step_contrast = 0;
 };
 SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
