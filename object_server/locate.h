@@ -114,7 +114,8 @@ struct LocateOptions {
   // pattern fits better stood on it: on the tuning and held-out seeds (40 scenes per level),
   // with pipe_floor_gap 0.05 instead of 0.3, 12 more uprights were found, none wrong, and
   // those found with their length over 0.05 in short went 32 -> 15. A block's bottom stood
-  // on the floor from 0.05 gave 2 more right finds and 4 more wrong models.
+  // on the floor from 0.05 gave 2 more right finds and 4 more wrong models. An upright pipe's
+  // foot within pipe_floor_gap of the floor is measured there to pipe_floor_gap (FootOnFloor).
   std::optional<double> floor_height;
   double floor_gap = 0.3;
   double pipe_floor_gap = 0.05;

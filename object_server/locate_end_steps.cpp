@@ -112,6 +112,15 @@ void DrawCylinderOutline(const std::array<FitView, 2>& views, FitOutcome* f) {
   }
 }
 
+// Measures g . params to `innovation` away from where the fit has it, with deviation `sigma`:
+// a Kalman update of the parameters and their covariance.
+void MeasureAlong(const Eigen::VectorXd& g, double innovation, double sigma, FitOutcome* f) {
+  const Eigen::VectorXd cg = f->covariance * g;
+  const Eigen::VectorXd gain = cg / (g.dot(cg) + sigma * sigma);
+  f->params += gain * innovation;
+  f->covariance -= gain * cg.transpose();
+}
+
 }  // namespace
 
 void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
@@ -242,16 +251,21 @@ void FootOnFloor(const std::array<FitView, 2>& views, const LocateOptions& opt, 
   const Eigen::Index foot = x[2] < x[5] ? 0 : 3;  // the foot's first coordinate
   const Eigen::Vector3d base = x.segment<3>(foot), top = x.segment<3>(3 - foot);
   const double len = (top - base).norm(), floor = *opt.floor_height;
-  if (!(len > 1e-9) || top.z() - base.z() < opt.upright_axis_cos * len ||
-      base.z() >= floor - opt.floor_sink || top.z() <= floor)
+  if (!(len > 1e-9) || top.z() - base.z() < opt.upright_axis_cos * len || top.z() <= floor ||
+      base.z() > floor + opt.pipe_floor_gap)
     return;
   const Eigen::Vector3d up = (top - base) / len;
-  x.segment<3>(foot) = base + (floor - base.z()) / up.z() * up;
-  // The foot along the axis measured to floor_sink: a Kalman update of the covariance.
   Eigen::VectorXd g = Eigen::VectorXd::Zero(7);
   g.segment<3>(foot) = up;
-  const Eigen::VectorXd cg = f->covariance * g;
-  f->covariance -= cg * cg.transpose() / (g.dot(cg) + opt.floor_sink * opt.floor_sink);
+  if (base.z() >= floor - opt.floor_sink) {
+    // Standing on the floor: the floor holds the foot there, to pipe_floor_gap along the axis,
+    // whatever edge the foot shows (none in the table's shade, or behind what stands in front).
+    MeasureAlong(g, (floor - base.z()) / up.z(), opt.pipe_floor_gap, f);
+  } else {
+    // In the floor: moved up onto it, and measured there to floor_sink along the axis.
+    x.segment<3>(foot) = base + (floor - base.z()) / up.z() * up;
+    MeasureAlong(g, 0.0, opt.floor_sink, f);
+  }
   DrawCylinderOutline(views, f);
 }
 

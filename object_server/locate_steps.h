@@ -422,8 +422,12 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
 // An upright pipe's foot fitted more than LocateOptions::floor_sink below the site's floor
 // (LocateOptions::floor_height) moved up along its axis onto the floor, and measured there
 // to floor_sink along the axis. Nothing stands in the floor: the fit drew the foot down where
-// the table's shade or pattern gave no edge to stop it, the marks lying below it. The outline
-// is drawn again; the fit's edge counts are left as they were.
+// the table's shade or pattern gave no edge to stop it, the marks lying below it. A foot from
+// there up to pipe_floor_gap above the floor stands on it, and the floor measures it to
+// pipe_floor_gap along the axis (a Kalman update of the fit, so a foot held by its edges
+// moves little): a foot of the table's shade, or behind what stands in front, no edge holds,
+// and its length came out unknown. The outline is drawn again; the fit's edge counts are left
+// as they were.
 void FootOnFloor(const std::array<FitView, 2>& views, const LocateOptions& opt, FitOutcome* f);
 
 // A fitted block whose silhouette sides' edges, walked up from their middle in both images,

@@ -91,20 +91,31 @@ TEST(UprightPipe, AFootDrawnIntoTheFloorIsStoodOnIt) {
 }
 
 TEST(UprightPipe, AFootHeldShortOfTheFloorIsStoodOnIt) {
-  // Level clutter, seed 28: upright_0, its foot against the table. The fit stops 0.21 in short
-  // of the floor; stood on it, the pipe fits better, and its length is right to 0.03 in.
+  // Level clutter, seed 28: upright_0, its foot against the table. With no floor known, the fit
+  // stops 0.21 in short of it; stood on it, the pipe fits better, and its length is right to
+  // 0.03 in.
   const SiteRequest r = AskFor(28, site::SiteLevel::kClutter, false, "upright_0");
   ASSERT_TRUE(r.present);
   const auto& truth = std::get<site::Cylinder>(r.shape);
   ExpectPipeFound(r, {.length = 0.03}, SiteLocateOptions());
-  LocateOptions coarse = SiteLocateOptions();
-  coarse.pipe_floor_gap = coarse.floor_gap;
-  const LocateResult short_of_it = Locate(r.input, coarse);
+  LocateOptions no_floor = SiteLocateOptions();
+  no_floor.floor_height.reset();
+  const LocateResult short_of_it = Locate(r.input, no_floor);
   ASSERT_TRUE(short_of_it.found) << short_of_it.detail;
   EXPECT_LT(short_of_it.cylinder.height - truth.height, -0.15);
 }
 
-TEST(UprightPipe, OnlyAnUprightFootInTheFloorIsMoved) {
+TEST(UprightPipe, AFootNoEdgeHoldsIsHeldByTheFloor) {
+  // Level clutter at 1920x1080, seed 11: upright_6, a thin pipe 45 in away whose lower part
+  // stands in front of a pipe on its supports and against the table: stood on the floor, it
+  // fits, but no edge holds its foot, and its length came out unknown (7.29 +/- 100).
+  const SiteRequest r = AskFor(11, site::SiteLevel::kClutter, true, "upright_6");
+  const LocateResult found = ExpectPipeFound(r, {.length = 0.03}, SiteLocateOptions());
+  ASSERT_TRUE(found.found);
+  EXPECT_LT(found.cylinder.height_sigma, 0.1);
+}
+
+TEST(UprightPipe, AnUprightFootInOrOnTheFloorIsHeldThere) {
   // A pipe of radius 0.5 standing 40 in in front of the rig, its foot 0.2 in below the floor
   // (z = 0), its covariance 1 in^2 on each end's coordinates.
   const geometry::ProjectiveCamera left = testing::RigCamera(0), right = testing::RigCamera(3);
@@ -126,12 +137,22 @@ TEST(UprightPipe, OnlyAnUprightFootInTheFloorIsMoved) {
   EXPECT_NEAR(moved.covariance(2, 2), 1.0, 1e-12);  // the top as it was
   EXPECT_FALSE(moved.outline[0].empty());
   EXPECT_FALSE(moved.outline[1].empty());
-  // A foot within floor_sink of the floor, or a lying pipe's end under it, stays.
-  FitOutcome near = f;
-  near.params[5] = -0.5 * options.floor_sink;
-  FootOnFloor(views, options, &near);
-  EXPECT_EQ(near.params[5], -0.5 * options.floor_sink);
-  EXPECT_EQ(near.covariance, f.covariance);
+  // A foot on the floor that no edge holds (the fit's deviation 10 in) is held there, to
+  // pipe_floor_gap; the top is left as it was.
+  FitOutcome standing = f;
+  standing.params[5] = 0.5 * options.pipe_floor_gap;
+  standing.covariance(5, 5) = 100.0;
+  FootOnFloor(views, options, &standing);
+  EXPECT_NEAR(standing.params[5], 0.0, 1e-3);
+  EXPECT_NEAR(std::sqrt(standing.covariance(5, 5)), options.pipe_floor_gap, 1e-3);
+  EXPECT_EQ(standing.params.head<5>(), f.params.head<5>());
+  EXPECT_NEAR(standing.covariance(2, 2), 1.0, 1e-12);
+  // A foot above the floor by more than pipe_floor_gap, or a lying pipe's end under it, stays.
+  FitOutcome raised = f;
+  raised.params[5] = 2 * options.pipe_floor_gap;
+  FootOnFloor(views, options, &raised);
+  EXPECT_EQ(raised.params[5], 2 * options.pipe_floor_gap);
+  EXPECT_EQ(raised.covariance, f.covariance);
   FitOutcome lying = f;
   lying.params << -3, 40, 0.3, 3, 40, -0.2, 0.5;
   FootOnFloor(views, options, &lying);
