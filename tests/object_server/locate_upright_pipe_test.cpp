@@ -147,6 +147,13 @@ TEST(UprightPipe, AnUprightFootInOrOnTheFloorIsHeldThere) {
   EXPECT_NEAR(std::sqrt(standing.covariance(5, 5)), options.pipe_floor_gap, 1e-3);
   EXPECT_EQ(standing.params.head<5>(), f.params.head<5>());
   EXPECT_NEAR(standing.covariance(2, 2), 1.0, 1e-12);
+  // One its edges hold to 0.01 in moves a twenty-sixth of the way to the floor.
+  FitOutcome held = standing;
+  held.params[5] = 0.8 * options.pipe_floor_gap;
+  held.covariance(5, 5) = 0.01 * 0.01;
+  FootOnFloor(views, options, &held);
+  EXPECT_NEAR(held.params[5], 0.8 * options.pipe_floor_gap * (1 - 1.0 / 26), 1e-4);
+  EXPECT_LT(std::sqrt(held.covariance(5, 5)), 0.01);
   // A foot above the floor by more than pipe_floor_gap, or a lying pipe's end under it, stays.
   FitOutcome raised = f;
   raised.params[5] = 2 * options.pipe_floor_gap;
