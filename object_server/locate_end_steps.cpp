@@ -116,7 +116,9 @@ void DrawCylinderOutline(const std::array<FitView, 2>& views, FitOutcome* f) {
 // a Kalman update of the parameters and their covariance.
 void MeasureAlong(const Eigen::VectorXd& g, double innovation, double sigma, FitOutcome* f) {
   const Eigen::VectorXd cg = f->covariance * g;
-  const Eigen::VectorXd gain = cg / (g.dot(cg) + sigma * sigma);
+  const double spread = g.dot(cg) + sigma * sigma;
+  if (!(spread > 0)) return;  // an exact measurement of what the fit already holds exactly
+  const Eigen::VectorXd gain = cg / spread;
   f->params += gain * innovation;
   f->covariance -= gain * cg.transpose();
 }

@@ -25,6 +25,11 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "floor_gap, pipe_floor_gap and floor_sink must not be negative";
     return false;
   }
+  // An upright pipe's axis rises: its foot is moved along it to the floor.
+  if (!(upright_axis_cos > 0 && upright_axis_cos <= 1)) {
+    *error = "upright_axis_cos must be in (0, 1]";
+    return false;
+  }
   if (!(edge_sigma >= 0 && edge_sigma <= 10)) {
     *error = "edge_sigma must be in 0..10";
     return false;

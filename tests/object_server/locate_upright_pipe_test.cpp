@@ -204,6 +204,12 @@ TEST(UprightPipe, ItsBoundsAreChecked) {
     EXPECT_FALSE(share.Check(&error)) << bad;
     EXPECT_FALSE(difference.Check(&error)) << bad;
   }
+  for (const double bad : {0.0, -0.5, 1.1, std::nan("")}) {
+    LocateOptions axis;
+    axis.upright_axis_cos = bad;
+    EXPECT_FALSE(axis.Check(&error)) << bad;
+    EXPECT_NE(error.find("upright_axis_cos"), std::string::npos);
+  }
 }
 
 }  // namespace
