@@ -473,7 +473,8 @@ std::vector<Eigen::VectorXd> CreaseStarts(const Eigen::VectorXd& box, double cre
     // right one rightward, square to it.
     const Eigen::Vector3d e1 = -std::cos(t) * b.across - std::sin(t) * b.toward;
     const Eigen::Vector3d e2 = std::sin(t) * b.across - std::cos(t) * b.toward;
-    double a = left / std::cos(t), c = right / std::sin(t);
+    const double left_face = left / std::cos(t), right_face = right / std::sin(t);
+    double a = left_face, c = right_face;
     double yaw = std::atan2(e1.y(), e1.x());
     // Folded into (-45, 45] degrees: a quarter turn swaps the sizes.
     while (yaw > M_PI / 4) {
@@ -485,7 +486,7 @@ std::vector<Eigen::VectorXd> CreaseStarts(const Eigen::VectorXd& box, double cre
       std::swap(a, c);
     }
     Eigen::VectorXd st(7);
-    st << edge + 0.5 * (left / std::cos(t) * e1 + right / std::sin(t) * e2), a, c, box[5], yaw;
+    st << edge + 0.5 * (left_face * e1 + right_face * e2), a, c, box[5], yaw;
     starts.push_back(st);
   }
   return starts;

@@ -510,6 +510,10 @@ bool ShowsAllButFoot(const std::array<OutlineSupport, 2>& support, const LocateO
 // (other_type_score) or its side does not shade round (ClassifySide).
 bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const LocateOptions& opt);
 
+// Whether a box fit leaves its depth open: a horizontal size's sigma at least
+// LocateOptions::min_open_depth_sigma.
+bool DepthLeftOpen(const FitOutcome& box, const LocateOptions& opt);
+
 // The other type's fit against this one's: a cylinder is refused when a box explains the
 // outline much better (`other_type_ratio`), a box unless it clearly beats a cylinder
 // (`box_over_cylinder`). A box the marks do not bound (`other_within_marks` false: it leaves
@@ -518,9 +522,6 @@ bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const Loc
 // cylinder; a cylinder is held against a box wherever it lies, so a box must beat them all.
 // Both fits' scores in the reference camera's pixels (ScoreResidualScale): FitScore and
 // SupportedFitScore, this fit's and the other's.
-// Whether a box fit leaves its depth open: a horizontal size's sigma at least
-// LocateOptions::min_open_depth_sigma.
-bool DepthLeftOpen(const FitOutcome& box, const LocateOptions& opt);
 struct TypeScores {
   double fit = 0, other_fit = 0, supported = 0, other_supported = 0;
 };
