@@ -482,6 +482,7 @@ static std::optional<StepFailure> ResultFromFit(const LocateInput& in, const Fit
       return StepFailure{Failure::kFitFailed, "the fitted box has no size"};
     ReachUpToKnown(in.known, opt, &res->box);
     if (auto failure = CheckBoxSizesDetermined(res->box, opt)) return failure;
+    WidenForFitScore(res->fit_score, opt, &res->box);
     const StepResult<cv::Rect> rect = BoxTextureRect(f.params, in.left_camera, image_rect);
     if (!rect.ok()) return rect.failure();
     res->box.texture_rect = *rect;

@@ -140,6 +140,13 @@ struct LocateOptions {
   // more. A cylinder's length (height) more uncertain than this is refused too: a lying pipe
   // pointing away reports up to about 2.3 in, an end nothing holds 100 in.
   double max_box_size_sigma = 3.5;
+  // A block's reported deviations are widened by 1 + box_sigma_score_gain times its fit score
+  // (FitScore, in reference pixels) above box_sigma_score_floor: where its outline explains
+  // the edges less well (faces in the table's shade, a pipe over its top), its errors grow
+  // beyond what the edges it has say (WidenForFitScore). After the sizes are judged known
+  // (max_box_size_sigma): the edges' own deviations say that. 0: not widened.
+  double box_sigma_score_floor = 0.2;
+  double box_sigma_score_gain = 3.0;
   // A model with more than this share of its volume inside a known solid, or of the known
   // solid's inside it, is that solid found again (FAILURE_ALREADY_MODELLED): solids cannot
   // share volume, and a pipe resting on a block shares none.

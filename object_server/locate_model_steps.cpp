@@ -577,6 +577,16 @@ void ReachUpToKnown(const std::vector<KnownShape>& known, const LocateOptions& o
   box->center_sigma.z() = 0.5 * box->size_sigma.z();
 }
 
+void WidenForFitScore(double score, const LocateOptions& opt, BoxResult* box) {
+  const double by = 1 + opt.box_sigma_score_gain * std::max(0.0, score - opt.box_sigma_score_floor);
+  if (!(by > 1) || !std::isfinite(by)) return;
+  box->size_sigma *= by;
+  box->center_sigma *= by;
+  box->min_sigma *= by;
+  box->max_sigma *= by;
+  box->yaw_sigma_deg *= by;
+}
+
 StepResult<cv::Rect> BoxTextureRect(const Eigen::VectorXd& params,
                                     const geometry::ProjectiveCamera& left_camera,
                                     const cv::Rect& image) {
