@@ -167,7 +167,8 @@ struct LocateOptions {
                                      // RMS of the views) is tried turned about the vertical
   // A fit scoring worse than this (FitScore: the views' RMS residuals plus twice the share of
   // outline without an edge) is held against the other type's: refused when that explains
-  // the images at least `other_type_ratio` times better (a box called a cylinder).
+  // the images at least `other_type_ratio` times better (a box called a cylinder), and a pipe
+  // asked for, better where an edge should show too (CheckOtherType).
   // The marks bound the object snugly (the operator puts them just outside its outline,
   // 3.8): a fitted outline that leaves more than this (world units, at the marks' depth) of
   // the marked rectangle empty on a side, or runs beyond it by more than max_beyond_marks_px,

@@ -450,9 +450,13 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                            against + ": is the object a box?"};
   // A pipe whose side shades clearly round is held against a box on the outline that should
   // show an edge alone: on the whole outline a box can score better on a far pipe than the
-  // pipe does (part of its outline finds no edge over the fit's gradient bound).
+  // pipe does (part of its outline finds no edge over the fit's gradient bound). Any other
+  // pipe the box must beat there too: a far upright pipe at 1920x1080, its foot in the
+  // table's shade, scored twice the box on the whole outline and no worse where an edge
+  // should show.
   if (cylinder && other_explains &&
-      ((side != SideShape::kClearlyRound && opt.other_type_ratio * FitScore(other) < FitScore(f)) ||
+      ((side != SideShape::kClearlyRound && opt.other_type_ratio * FitScore(other) < FitScore(f) &&
+        scores.other_supported < scores.supported) ||
        (other_fits && opt.other_type_ratio * scores.other_supported < scores.supported)))
     return StepFailure{Failure::kFitFailed, "a box explains the outline much better" + against +
                                                 ": is the object a box?"};

@@ -1,8 +1,8 @@
-// Upright pipes in clutter: one whose foot stands against a table of its own shade, one whose
-// foot the fit drew into the floor, one whose foot it held short of the floor, one whose outline
-// runs onto a neighbour's edge in one view, and a partly hidden pipe whose limb shows almost no
-// edge. The locator on rendered site scenes, with two lights and shadows and the site's floor
-// known, as the benchmark has them.
+// Upright pipes in clutter: one whose foot stands against a table of its own shade, a far one a
+// box beats only where no edge should show, one whose foot the fit drew into the floor, one
+// whose foot it held short of the floor, one whose outline runs onto a neighbour's edge in one
+// view, and a partly hidden pipe whose limb shows almost no edge. The locator on rendered site
+// scenes, with two lights and shadows and the site's floor known, as the benchmark has them.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -49,6 +49,20 @@ std::string ExpectRefusedWideUnder(const SiteRequest& r, const LocateOptions& lo
   const auto* truth = std::get_if<site::Cylinder>(&r.shape);
   EXPECT_TRUE(truth && wrong.cylinder.radius - truth->radius > 0.15) << wrong.cylinder.radius;
   return refused.detail;
+}
+
+TEST(UprightPipe, ABoxBetterOnlyWhereNoEdgeShouldShowDoesNotRefuseIt) {
+  // Level far, seed 12, 1920x1080: upright_4, 96 in away, its side too narrow to judge by its
+  // shading. A box scores less than half what the pipe does on the whole outline (part of
+  // the pipe's finds no edge over the fit's gradient bound), but no better where an edge
+  // should show: it must not refuse the pipe as "a box explains the outline much better".
+  const SiteRequest r = AskFor(12, site::SiteLevel::kFar, true, "upright_4");
+  ASSERT_TRUE(r.present);
+  const LocateOptions options = SiteLocateOptions();
+  const LocateResult found = ExpectPipeFound(r, {}, options);
+  ASSERT_GT(found.other_type_fit_score, 0);
+  EXPECT_LT(options.other_type_ratio * found.other_type_fit_score, found.fit_score);
+  EXPECT_GE(found.other_type_supported_fit_score, found.supported_fit_score);
 }
 
 TEST(UprightPipe, AnOutlineOnANeighboursEdgeInOneViewOnlyIsRefused) {
