@@ -468,9 +468,11 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
                        "the side shades round, as a pipe's does, and a cylinder fits the outline "
                        "about as well" +
                            against + ": is the object a cylinder?"};
-  // A box is not held against a pipe whose side is no pipe's: creased where two faces meet.
+  // A box is not held against a pipe whose side is no pipe's: creased where two faces meet;
+  // nor on the whole outline when it fits far better where an edge should show.
   if (!cylinder && side != SideShape::kCreased &&
-      (FitScore(f) > opt.box_over_cylinder * FitScore(other) ||
+      ((FitScore(f) > opt.box_over_cylinder * FitScore(other) &&
+        scores.supported >= opt.box_clearly_over_cylinder_supported * scores.other_supported) ||
        (scores.other_fit <= opt.max_fit_score &&
         scores.supported > opt.box_over_cylinder_supported * scores.other_supported))) {
     // A side shading flat says block, but a block seen square on shows no face that holds its

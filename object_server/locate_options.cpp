@@ -68,6 +68,10 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "raised_pipe_max_tilt_deg must be in 0..90";
     return false;
   }
+  if (!(box_clearly_over_cylinder_supported >= 0 && box_clearly_over_cylinder_supported <= 1)) {
+    *error = "box_clearly_over_cylinder_supported must be in 0..1";
+    return false;
+  }
   if (!(box_sigma_score_floor >= 0) || !(box_sigma_score_gain >= 0)) {
     *error = "box_sigma_score_floor and box_sigma_score_gain must not be negative";
     return false;
