@@ -272,6 +272,11 @@ TEST(SideShading, ABlockFarBetterWhereAnEdgeShouldShowIsNotHeldToTheWholeOutline
   EXPECT_FALSE(refused.result.found);
   EXPECT_TRUE(Contains(refused.result.detail, "a cylinder explains the outline about as well"))
       << refused.result.detail;
+  LocateOptions over = options;
+  over.box_clearly_over_cylinder_supported = 1.5;
+  std::string why;
+  EXPECT_FALSE(over.Check(&why));
+  EXPECT_TRUE(Contains(why, "box_clearly_over_cylinder_supported")) << why;
 }
 
 // The block's model parameters (centre, size, yaw about the vertical).

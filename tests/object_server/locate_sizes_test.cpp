@@ -4,7 +4,6 @@
 // rendered site scenes.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -95,8 +94,10 @@ TEST(SizesSigma, ASupportFittedLessWellReportsADepthItsErrorLiesWithin) {
   const auto before = EvaluateScene(scene, "pipes_thesis_25", 25, narrow);
   const auto after = EvaluateScene(scene, "pipes_thesis_25", 25, SiteLocateOptions());
   const auto named = [](const std::vector<ObjectEvaluation>& evals) {
-    return *std::find_if(evals.begin(), evals.end(),
-                         [](const ObjectEvaluation& e) { return e.object_name == "support_3"; });
+    for (const ObjectEvaluation& e : evals)
+      if (e.object_name == "support_3") return e;
+    ADD_FAILURE() << "support_3 is not in the scene";
+    return ObjectEvaluation{};
   };
   const ObjectEvaluation a = named(before), b = named(after);
   ASSERT_TRUE(a.result.found && b.result.found) << a.result.detail << b.result.detail;
