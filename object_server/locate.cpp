@@ -143,17 +143,19 @@ bool Collapsed(const FitOutcome& o, const std::array<FitView, 2>& views, const L
 
 // A raised pipe's starts (CylinderStarts), fitted only when the other starts' fit is poor
 // (poor_fit_score), leaves the marks or collapsed to a single edge, and kept when they fit a
-// pipe lying within raised_pipe_max_tilt_deg of the horizontal better, or hold a width where
-// the other collapsed.
+// pipe lying within raised_pipe_max_tilt_deg of the horizontal better (at any tilt, with
+// `any_tilt`: a pipe leaning across its block), or hold a width where the other collapsed.
 void TryRaisedPipe(const std::vector<Eigen::VectorXd>& raised, const std::array<FitView, 2>& views,
                    const FitOptions& fit, const LocateOptions& opt, const PlausibleFn& plausible,
-                   FitOutcome* f) {
+                   FitOutcome* f, bool any_tilt = false) {
   const auto collapsed = [&](const FitOutcome& o) { return Collapsed(o, views, opt); };
   if (raised.empty() ||
       (f->ok && plausible(*f) && FitScore(*f) <= opt.poor_fit_score && !collapsed(*f)))
     return;
   FitOutcome g = FitCylinder(raised, views, fit, opt, plausible);
-  if (!g.ok || !LyingPipe(g.params, opt)) return;
+  if (any_tilt) spdlog::debug("locate: a pipe leaning across its block scores {:.3f}", FitScore(g));
+  if (!g.ok || (!any_tilt && !LyingPipe(g.params, opt))) return;
+  if (any_tilt && collapsed(g) && f->ok && !collapsed(*f)) return;  // onto one limb line
   if (!f->ok || (collapsed(*f) && !collapsed(g)) || BetterFit(g, *f, plausible)) *f = std::move(g);
 }
 
@@ -368,7 +370,7 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
                            &raised)
           : BoxStarts(c.in.left_camera, c.boundary.pixels, c.depth0, &c.grad_left, &box_if_poor);
   if (cylinder)  // each start also stretched to fill the marks along its axis
-    for (auto* list : {&starts, &raised.upper_limb, &raised.upper_part})
+    for (auto* list : {&starts, &raised.upper_limb, &raised.upper_part, &raised.crossing})
       AddStretched(c.marks, c.in.left_camera, c.opt, list);
   const Eigen::VectorXd& x0 = starts[0];
   spdlog::debug("locate: {} from {} starts, the first [{}]", cylinder ? "cylinder" : "box",
@@ -381,6 +383,13 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
   std::vector<Eigen::VectorXd> raised_starts = std::move(raised.upper_limb);
   raised_starts.insert(raised_starts.end(), raised.upper_part.begin(), raised.upper_part.end());
   TryRaisedPipe(raised_starts, s.views, s.options, c.opt, c.plausible, &s.fit);
+  // A pipe leaning across its block (leaning_pipe_score). Not for the rival pipe fitted
+  // against a block asked for: it explained the blocks' outlines as well as they did, and
+  // refused them.
+  if (cylinder && asked &&
+      (!s.fit.ok ||
+       FitScore(s.fit, ScoreResidualScale(c.opt, c.pair.left.cols)) > c.opt.leaning_pipe_score))
+    TryRaisedPipe(raised.crossing, s.views, s.options, c.opt, c.plausible, &s.fit, true);
   if (cylinder && asked) TryBesideLimb(c.in.marks, s.views, s.options, c.opt, c.plausible, &s.fit);
   if (!cylinder) {
     LowerToSides(c, s.views, s.options, &s.fit, &s.open_lowered);

@@ -185,6 +185,12 @@ struct LocateOptions {
   // only with its axis within this of the horizontal. On the tuning seeds, unbounded, they
   // fitted upright pipes to their upper half in clutter: 2 right finds fewer, 2 wrong more.
   double raised_pipe_max_tilt_deg = 30;
+  // A pipe leaning across the block it rests on, at any tilt (CylinderStarts' crossing
+  // starts: two limb lines at each of the boundary's two strongest orientations) is tried when
+  // the fit so far scores (at the reference width) over this. Tried over max_fit_score, they
+  // also took pipes found past that bound, and pipes stood on the floor only after, to worse
+  // fits; the leaning pipes' first fits, upright over the pipe and its block, score 1.7-2.6.
+  double leaning_pipe_score = 1.5;
   double other_type_ratio = 1.5;
   // A pipe's side shades round (a Lambertian surface under distant lights: brightest where
   // it faces a light) where a block's faces shade flat, with a crease where two meet

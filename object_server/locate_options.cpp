@@ -64,8 +64,9 @@ bool LocateOptions::Check(std::string* error) const {
         "be in (0, 1]";
     return false;
   }
-  if (!(raised_pipe_max_tilt_deg >= 0 && raised_pipe_max_tilt_deg <= 90)) {
-    *error = "raised_pipe_max_tilt_deg must be in 0..90";
+  if (!(raised_pipe_max_tilt_deg >= 0 && raised_pipe_max_tilt_deg <= 90) ||
+      !(leaning_pipe_score >= 0)) {
+    *error = "raised_pipe_max_tilt_deg must be in 0..90, leaning_pipe_score not negative";
     return false;
   }
   if (!(box_clearly_over_cylinder_supported >= 0 && box_clearly_over_cylinder_supported <= 1)) {

@@ -69,42 +69,117 @@ Eigen::VectorXd BoxParams(const Eigen::Vector3d& a, const Eigen::Vector3d& b, do
 
 namespace {
 
-// The boundary pixels whose gradient lies within 20 degrees of the boundary's dominant
-// orientation (a histogram of gradient angles modulo 180, weighted by magnitude): a pipe's
-// two limbs, without the vertical edges of the blocks it rests on, however many of those
-// there are. Empty when no orientation dominates.
-std::vector<cv::Point> LimbPixels(const std::vector<cv::Point>& boundary,
-                                  const Gradients& gradients) {
-  constexpr int kBins = 36;
+// Of the pixels, those along the two lines across `normal` that hold the most (two peaks of
+// their offsets along it, 1 px bins, at least 3 px apart, the lower a quarter of the taller:
+// a block in front may hide much of one): a leaning pipe's limbs, without its ends or the
+// blocks' corners. Empty when no second line shows.
+std::vector<cv::Point> AlongTwoLines(const std::vector<cv::Point>& pixels,
+                                     const Eigen::Vector2d& normal) {
+  double lo = 1e18;
+  for (const auto& q : pixels) lo = std::min(lo, normal.dot(Eigen::Vector2d(q.x, q.y)));
+  std::vector<int> count, bin(pixels.size());
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    bin[i] = static_cast<int>(normal.dot(Eigen::Vector2d(pixels[i].x, pixels[i].y)) - lo);
+    if (bin[i] >= static_cast<int>(count.size())) count.resize(bin[i] + 1, 0);
+    ++count[bin[i]];
+  }
+  const int bins = static_cast<int>(count.size());
+  const auto peak = [&](int b) {
+    int sum = 0;
+    for (int k = std::max(0, b - 1); k <= std::min(bins - 1, b + 1); ++k) sum += count[k];
+    return sum;
+  };
+  int p1 = 0, p2 = -1;
+  for (int b = 0; b < bins; ++b)
+    if (peak(b) > peak(p1)) p1 = b;
+  for (int b = 0; b < bins; ++b)
+    if (std::abs(b - p1) >= 3 && (p2 < 0 || peak(b) > peak(p2))) p2 = b;
+  if (p2 < 0 || 4 * peak(p2) < peak(p1)) return {};
+  std::vector<cv::Point> out;
+  for (size_t i = 0; i < pixels.size(); ++i)
+    if (std::abs(bin[i] - p1) <= 1 || std::abs(bin[i] - p2) <= 1) out.push_back(pixels[i]);
+  return out;
+}
+
+// The boundary pixels' gradient orientations (modulo 180 degrees) and their histogram,
+// weighted by magnitude; a peak's weight is its bin's and its two neighbours'.
+struct Orientations {
+  static constexpr int kBins = 36;
   std::array<double, kBins> hist{};
-  std::vector<double> angle(boundary.size());
+  std::vector<double> angle;
   double total = 0;
+  double Peak(int b) const {
+    return hist[(b + kBins - 1) % kBins] + hist[b] + hist[(b + 1) % kBins];
+  }
+  // The strongest peak at least `apart` bins from `other` (any, for -1).
+  int Strongest(int other = -1, int apart = 0) const {
+    int best = -1;
+    for (int b = 0; b < kBins; ++b) {
+      const int d = other < 0 ? kBins : std::abs(b - other);
+      if (std::min(d, kBins - d) < apart) continue;
+      if (best < 0 || Peak(b) > Peak(best)) best = b;
+    }
+    return best;
+  }
+  // The pixels within 20 degrees of bin b's centre.
+  std::vector<cv::Point> Near(const std::vector<cv::Point>& boundary, int b) const {
+    const double at = (b + 0.5) * M_PI / kBins;
+    std::vector<cv::Point> out;
+    for (size_t i = 0; i < boundary.size(); ++i) {
+      double d = std::abs(angle[i] - at);
+      d = std::min(d, M_PI - d);
+      if (d < 20 * M_PI / 180) out.push_back(boundary[i]);
+    }
+    return out;
+  }
+};
+
+Orientations OrientationsOf(const std::vector<cv::Point>& boundary, const Gradients& gradients) {
+  Orientations o;
+  o.angle.resize(boundary.size());
   for (size_t i = 0; i < boundary.size(); ++i) {
     const Eigen::Vector2d g = gradients.At(Eigen::Vector2d(boundary[i].x, boundary[i].y));
     double a = std::atan2(g.y(), g.x());
     if (a < 0) a += M_PI;
     if (a >= M_PI) a -= M_PI;
-    angle[i] = a;
+    o.angle[i] = a;
     const double m = g.norm();
-    hist[static_cast<int>(a / M_PI * kBins) % kBins] += m;
-    total += m;
+    o.hist[static_cast<int>(a / M_PI * Orientations::kBins) % Orientations::kBins] += m;
+    o.total += m;
   }
-  int best = 0;
-  double best_sum = -1;
-  for (int b = 0; b < kBins; ++b) {
-    const double sum = hist[(b + kBins - 1) % kBins] + hist[b] + hist[(b + 1) % kBins];
-    if (sum > best_sum) {
-      best_sum = sum;
-      best = b;
-    }
-  }
-  if (best_sum < 0.3 * total) return {};
-  const double dominant = (best + 0.5) * M_PI / kBins;
-  std::vector<cv::Point> out;
-  for (size_t i = 0; i < boundary.size(); ++i) {
-    double d = std::abs(angle[i] - dominant);
-    d = std::min(d, M_PI - d);
-    if (d < 20 * M_PI / 180) out.push_back(boundary[i]);
+  return o;
+}
+
+// The boundary pixels whose gradient lies within 20 degrees of the boundary's dominant
+// orientation: a pipe's two limbs, without the vertical edges of the blocks it rests on,
+// however many of those there are. Empty when no orientation dominates.
+std::vector<cv::Point> LimbPixels(const std::vector<cv::Point>& boundary,
+                                  const Gradients& gradients) {
+  const Orientations o = OrientationsOf(boundary, gradients);
+  const int best = o.Strongest();
+  if (o.Peak(best) < 0.3 * o.total) return {};
+  return o.Near(boundary, best);
+}
+
+// A pipe leaning across the block it rests on, whichever of the two dominates the boundary:
+// at each of the boundary's two strongest orientations (at least 30 degrees apart, each
+// holding a sixth of its gradient), the pixels along two lines (AlongTwoLines), where they
+// run at least three times as long as they lie apart.
+std::vector<std::vector<cv::Point>> LeaningLimbs(const std::vector<cv::Point>& boundary,
+                                                 const Gradients& gradients) {
+  const Orientations o = OrientationsOf(boundary, gradients);
+  const int first = o.Strongest();
+  const int second = o.Strongest(first, Orientations::kBins / 6);
+  std::vector<std::vector<cv::Point>> out;
+  for (const int b : {first, second}) {
+    if (b < 0 || 6 * o.Peak(b) < o.total) continue;
+    const double at = (b + 0.5) * M_PI / Orientations::kBins;
+    std::vector<cv::Point> limbs =
+        AlongTwoLines(o.Near(boundary, b), Eigen::Vector2d(std::cos(at), std::sin(at)));
+    if (limbs.size() < 8) continue;
+    const cv::RotatedRect r = cv::minAreaRect(std::vector<cv::Point2f>(limbs.begin(), limbs.end()));
+    if (std::max(r.size.width, r.size.height) >= 3 * std::min(r.size.width, r.size.height))
+      out.push_back(std::move(limbs));
   }
   return out;
 }
@@ -244,6 +319,9 @@ std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
         }
     }
   }
+  if (gradients && raised)
+    for (const auto& limbs : LeaningLimbs(boundary, *gradients))
+      from_points(limbs, true, &raised->crossing);
   if (raised && raised->with_upper_part) {
     double top = 1e18, bottom = -1e18;
     for (const auto& q : boundary) {

@@ -209,6 +209,7 @@ struct RaisedPipeStarts {
   bool with_upper_part = true;
   std::vector<Eigen::VectorXd> upper_limb;
   std::vector<Eigen::VectorXd> upper_part;
+  std::vector<Eigen::VectorXd> crossing;  // a pipe leaning across a block, any tilt
 };
 std::vector<Eigen::VectorXd> CylinderStarts(const StereoPair& pair,
                                             const std::vector<cv::Point>& boundary, double depth,

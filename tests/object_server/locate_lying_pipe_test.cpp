@@ -1,6 +1,6 @@
-// Lying pipes: one whose far limb shows no edge, one lying on a block, one whose fit collapsed
-// onto its upper limb, one whose limb a neighbour's edge carries on past its end, and the
-// block under a pipe's end, where the two merge into one outline.
+// Lying pipes: one whose far limb shows no edge, one lying on a block, one leaning across
+// one, one whose fit collapsed onto its upper limb, one whose limb a neighbour's edge carries
+// on past its end, and the block under a pipe's end, where the two merge into one outline.
 // The locator on rendered site scenes, with two lights and shadows.
 #include <gtest/gtest.h>
 
@@ -67,6 +67,28 @@ TEST(LyingPipe, APipeLyingOnABlockIsFoundFromTheUpperPartOfTheOutline) {
   const LocateResult merged = Locate(r.input, no_raised);
   EXPECT_NE(merged.reason, Failure::kBadInput) << merged.detail;
   EXPECT_FALSE(merged.found && std::abs(merged.cylinder.radius - truth.radius) < 0.03);
+}
+
+TEST(LyingPipe, APipeLeaningAcrossItsBlockIsFittedAlongItsAxis) {
+  // Level pipes, seed 5009: lying_5, its low end on the table and its high end on a block in
+  // front of it, 47 degrees from the horizontal. The block's vertical edges dominate the
+  // boundary, and every start stood upright over the pipe and the block together (refused,
+  // score 2.14). The pipe's two limb lines, at the boundary's second orientation, start it
+  // along its axis.
+  const SiteRequest r = AskFor(5009, site::SiteLevel::kPipes, false, "lying_5");
+  ASSERT_TRUE(r.present);
+  const auto& truth = std::get<site::Cylinder>(r.shape);
+  ASSERT_GT(std::abs(truth.axis.normalized().z()), std::sin(45 * M_PI / 180));
+  const LocateResult found = ExpectPipeFound(r);
+  if (!found.found) return;
+  EXPECT_GT(std::abs(found.cylinder.axis.dot(truth.axis.normalized())), std::cos(2 * M_PI / 180));
+  EXPECT_LE(found.fit_score, LocateOptions().max_fit_score);
+  // Without the leaning pipe's starts, refused.
+  LocateOptions upright_only;
+  upright_only.leaning_pipe_score = 1e9;
+  const LocateResult refused = Locate(r.input, upright_only);
+  EXPECT_FALSE(refused.found);
+  EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
 }
 
 TEST(LyingPipe, AFitCollapsedOntoALimbIsTriedBesideIt) {
@@ -152,6 +174,10 @@ TEST(LyingPipe, ItsBoundsAreChecked) {
   LocateOptions negative;
   negative.max_lying_supported_score = -0.1;
   EXPECT_FALSE(negative.Check(&error));
+  LocateOptions leaning;
+  leaning.leaning_pipe_score = std::nan("");
+  EXPECT_FALSE(leaning.Check(&error));
+  EXPECT_NE(error.find("leaning_pipe_score"), std::string::npos);
 }
 
 TEST(LyingPipe, ABlockUnderAPipesEndIsStartedTurnedBetweenItsVerticalEdges) {
