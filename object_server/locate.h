@@ -189,8 +189,9 @@ struct LocateOptions {
   // starts: two limb lines at each of the boundary's two strongest orientations) is tried when
   // the fit so far scores (at the reference width) over this. Tried over max_fit_score, they
   // also took pipes found past that bound, and pipes stood on the floor only after, to worse
-  // fits; the leaning pipes' first fits, upright over the pipe and its block, score 1.7-2.6.
-  double leaning_pipe_score = 1.5;
+  // fits; the leaning pipes' first fits, upright over the pipe and its block, score 1.7-2.6,
+  // and uprights in clutter that the same starts fit along their own limbs 1.3-1.5.
+  double leaning_pipe_score = 1.3;
   double other_type_ratio = 1.5;
   // A pipe's side shades round (a Lambertian surface under distant lights: brightest where
   // it faces a light) where a block's faces shade flat, with a crease where two meet
