@@ -204,7 +204,10 @@ std::array<std::vector<Eigen::Vector2d>, 2> OutlineRegions(const MarkedRegion& m
 // depths below it, for a raised pipe whose lower limb the blocks or the background hide from
 // the boundary; and from the boundary's upper half and upper two thirds alone
 // (kRaisedPipeShares), for a pipe lying on a block whose outline merges with the block's (a
-// pipe pointing at the cameras shows no limb line), unless `with_upper_part` is off.
+// pipe pointing at the cameras shows no limb line), unless `with_upper_part` is off. And,
+// into `crossing`, a pipe leaning across the block it rests on, at any tilt: from the pixels
+// along two lines at each of the boundary's two strongest orientations (whichever of the pipe
+// and the block dominates it), each with its tilted start too.
 struct RaisedPipeStarts {
   bool with_upper_part = true;
   std::vector<Eigen::VectorXd> upper_limb;
