@@ -69,35 +69,53 @@ Eigen::VectorXd BoxParams(const Eigen::Vector3d& a, const Eigen::Vector3d& b, do
 
 namespace {
 
+// The pixels' offsets along `across`, in 1 px bins from the lowest: `smooth[b]` counts the
+// pixels of bins b - 1 to b + 1, where a pixel's bin is Bin(i) (padded by one either side).
+struct OffsetBins {
+  std::vector<double> offset, smooth;
+  double lo = 0;
+  int Bin(size_t i) const { return static_cast<int>(offset[i] - lo) + 1; }
+  // The first of the tallest bins, at least `apart` from `other` (any, for -1); -1 for none.
+  int Tallest(int other = -1, int apart = 0) const {
+    int best = -1;
+    for (int b = 1; b + 1 < static_cast<int>(smooth.size()); ++b)
+      if ((other < 0 || std::abs(b - other) >= apart) && (best < 0 || smooth[b] > smooth[best]))
+        best = b;
+    return best;
+  }
+};
+
+OffsetBins BinOffsets(const std::vector<cv::Point>& pixels, const Eigen::Vector2d& across) {
+  OffsetBins o;
+  o.offset.resize(pixels.size());
+  double hi = -1e18;
+  o.lo = 1e18;
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    o.offset[i] = across.dot(Eigen::Vector2d(pixels[i].x, pixels[i].y));
+    o.lo = std::min(o.lo, o.offset[i]);
+    hi = std::max(hi, o.offset[i]);
+  }
+  if (pixels.empty()) return o;
+  const int bins = static_cast<int>(hi - o.lo) + 3;
+  std::vector<double> hist(bins, 0.0);
+  o.smooth.assign(bins, 0.0);
+  for (size_t i = 0; i < pixels.size(); ++i) hist[o.Bin(i)] += 1;
+  for (int b = 1; b + 1 < bins; ++b) o.smooth[b] = hist[b - 1] + hist[b] + hist[b + 1];
+  return o;
+}
+
 // Of the pixels, those along the two lines across `normal` that hold the most (two peaks of
-// their offsets along it, 1 px bins, at least 3 px apart, the lower a quarter of the taller:
-// a block in front may hide much of one): a leaning pipe's limbs, without its ends or the
-// blocks' corners. Empty when no second line shows.
+// their offsets along it, at least 3 px apart, the lower a quarter of the taller: a block in
+// front may hide much of one): a leaning pipe's limbs, without its ends or the blocks'
+// corners. Empty when no second line shows.
 std::vector<cv::Point> AlongTwoLines(const std::vector<cv::Point>& pixels,
                                      const Eigen::Vector2d& normal) {
-  double lo = 1e18;
-  for (const auto& q : pixels) lo = std::min(lo, normal.dot(Eigen::Vector2d(q.x, q.y)));
-  std::vector<int> count, bin(pixels.size());
-  for (size_t i = 0; i < pixels.size(); ++i) {
-    bin[i] = static_cast<int>(normal.dot(Eigen::Vector2d(pixels[i].x, pixels[i].y)) - lo);
-    if (bin[i] >= static_cast<int>(count.size())) count.resize(bin[i] + 1, 0);
-    ++count[bin[i]];
-  }
-  const int bins = static_cast<int>(count.size());
-  const auto peak = [&](int b) {
-    int sum = 0;
-    for (int k = std::max(0, b - 1); k <= std::min(bins - 1, b + 1); ++k) sum += count[k];
-    return sum;
-  };
-  int p1 = 0, p2 = -1;
-  for (int b = 0; b < bins; ++b)
-    if (peak(b) > peak(p1)) p1 = b;
-  for (int b = 0; b < bins; ++b)
-    if (std::abs(b - p1) >= 3 && (p2 < 0 || peak(b) > peak(p2))) p2 = b;
-  if (p2 < 0 || 4 * peak(p2) < peak(p1)) return {};
+  const OffsetBins o = BinOffsets(pixels, normal);
+  const int p1 = o.Tallest(), p2 = o.Tallest(p1, 3);
+  if (p2 < 0 || 4 * o.smooth[p2] < o.smooth[p1]) return {};
   std::vector<cv::Point> out;
   for (size_t i = 0; i < pixels.size(); ++i)
-    if (std::abs(bin[i] - p1) <= 1 || std::abs(bin[i] - p2) <= 1) out.push_back(pixels[i]);
+    if (std::abs(o.Bin(i) - p1) <= 1 || std::abs(o.Bin(i) - p2) <= 1) out.push_back(pixels[i]);
   return out;
 }
 
@@ -204,17 +222,11 @@ std::vector<cv::Point> TopLimbLine(const std::vector<cv::Point>& limbs, const Gr
   const double angle = 0.5 * std::atan2(doubled.y(), doubled.x());
   const Eigen::Vector2d across(std::cos(angle), std::sin(angle));
   if (std::abs(across.y()) < std::sqrt(0.5)) return {};
-  std::vector<double> offset(limbs.size());
-  double lo = 1e18, hi = -1e18;
-  for (size_t i = 0; i < limbs.size(); ++i) {
-    offset[i] = across.dot(Eigen::Vector2d(limbs[i].x, limbs[i].y));
-    lo = std::min(lo, offset[i]);
-    hi = std::max(hi, offset[i]);
-  }
-  const int bins = static_cast<int>(hi - lo) + 3;
-  std::vector<double> hist(bins, 0.0), smooth(bins, 0.0);
-  for (const double o : offset) hist[static_cast<int>(o - lo) + 1] += 1;
-  for (int b = 1; b + 1 < bins; ++b) smooth[b] = hist[b - 1] + hist[b] + hist[b + 1];
+  const OffsetBins o = BinOffsets(limbs, across);
+  const std::vector<double>& offset = o.offset;
+  const std::vector<double>& smooth = o.smooth;
+  const double lo = o.lo;
+  const int bins = static_cast<int>(smooth.size());
   const double tallest = *std::max_element(smooth.begin(), smooth.end());
   int peak = -1;
   for (int b = 1; b + 1 < bins && peak < 0; ++b)
