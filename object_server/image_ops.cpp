@@ -71,7 +71,7 @@ float Gradients::MagnitudeAt(int x, int y) const {
 std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
                                         const std::vector<cv::Point2f>& polygon,
                                         const cv::Mat& edges, double fraction, double min_gradient,
-                                        double* strongest) {
+                                        double* strongest, double quantile) {
   const cv::Rect box = cv::boundingRect(polygon) & grad.region();
   std::vector<std::pair<cv::Point, float>> inside;
   float max_mag = 0;
@@ -99,6 +99,17 @@ std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
       const float m = grad.MagnitudeAt(x, y);
       max_mag = std::max(max_mag, m);
       inside.push_back({{x, y}, m});
+    }
+  }
+  if (quantile < 1) {
+    constexpr size_t kMinEdgePixels = 20;
+    std::vector<float> edge;
+    for (const auto& [p, m] : inside)
+      if (m >= min_gradient) edge.push_back(m);
+    if (edge.size() >= kMinEdgePixels) {
+      const auto k = std::min(edge.size() - 1, static_cast<size_t>(quantile * edge.size()));
+      std::nth_element(edge.begin(), edge.begin() + static_cast<std::ptrdiff_t>(k), edge.end());
+      max_mag = edge[k];
     }
   }
   if (strongest) *strongest = max_mag;

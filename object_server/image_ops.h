@@ -36,11 +36,13 @@ double GreyAt(const cv::Mat& image, const Eigen::Vector2d& p);
 
 // Pixels inside `polygon` (image coordinates) whose gradient magnitude is above
 // max(min_gradient, fraction * strongest in the polygon) and, when `edges` is not empty,
-// set in the edge map. Returns them with the strongest magnitude seen.
+// set in the edge map. Returns them with the strongest magnitude. The strongest is the
+// `quantile` of the magnitudes above min_gradient (1: the largest; below, a brighter
+// object's few edges do not set it), or the largest where under 20 pixels are.
 std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
                                         const std::vector<cv::Point2f>& polygon,
                                         const cv::Mat& edges, double fraction, double min_gradient,
-                                        double* strongest = nullptr);
+                                        double* strongest = nullptr, double quantile = 1.0);
 
 // Sub-pixel position of the silhouette edge along the line p + s * normal (`normal` unit,
 // pointing out of the object), |s| <= range: the outermost local maximum of the gradient

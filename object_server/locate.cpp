@@ -27,35 +27,6 @@ LocateResult Fail(LocateResult r, const StepFailure& failure, const std::string&
   return r;
 }
 
-// A size the images leave open (a block's depth behind a pipe resting on it, read off the
-// pipe's far limb) would be a guess, however well the outline fits.
-std::optional<StepFailure> CheckBoxSizesDetermined(const BoxResult& box, const LocateOptions& opt) {
-  const char* axis_names[3] = {"width", "depth", "height"};
-  for (int k = 0; k < 3; ++k)
-    if (box.size_sigma[k] > opt.max_box_size_sigma)
-      return StepFailure{Failure::kFitFailed,
-                         std::string("the images do not determine the box's ") + axis_names[k] +
-                             " (" + FormatFixed(box.size[k]) + " +/- " +
-                             FormatFixed(box.size_sigma[k]) + ")"};
-  return std::nullopt;
-}
-
-// A pipe's length the images leave open (an end no edge and no limb holds, in clutter) is a
-// guess as much as a block's: it comes out inches off. So is one shorter than its radius: the
-// end cap alone, fitted on a pipe pointing at the cameras.
-std::optional<StepFailure> CheckCylinderLengthDetermined(const CylinderResult& c,
-                                                         const LocateOptions& opt) {
-  if (c.height < c.radius)
-    return StepFailure{Failure::kFitFailed,
-                       "the fitted cylinder is " + FormatFixed(c.height) +
-                           " long, under its radius (" + FormatFixed(c.radius) +
-                           "): a pipe's end seen, not its length (is it pointing at the cameras?)"};
-  if (!(c.height_sigma > opt.max_box_size_sigma)) return std::nullopt;
-  return StepFailure{Failure::kFitFailed, "the images do not determine the cylinder's length (" +
-                                              FormatFixed(c.height) + " +/- " +
-                                              FormatFixed(c.height_sigma) + ")"};
-}
-
 // A model that lies mostly inside a known solid, or takes one in, is that solid found again:
 // the object marked is hidden behind it, or is it. Solids cannot share their volume.
 std::optional<StepFailure> CheckNotKnown(const LocateResult& res,
@@ -538,7 +509,9 @@ static std::optional<StepFailure> CheckFitScore(const LocateResult& res, bool up
           " (" + FormatFixed(open->size) + " +/- " + FormatFixed(open->sigma) + ")");
 }
 
-LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
+// One pass of the locator; `left_empty` says whether it refused a fit that leaves part of the
+// marks empty (CheckWithinMarks).
+static LocateResult LocateOnce(const LocateInput& in, const LocateOptions& opt, bool* left_empty) {
   const auto start = Clock::now();
   LocateResult res;
   res.type = in.type;
@@ -633,7 +606,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   res.supported_fit_score = SupportedFitScore(f, support, score_scale);
   DebugOutlineSupport(support);
   if (const auto failure = CheckOutlineVisible(support, opt)) return fail(*failure);
-  if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt))
+  if (const auto failure = CheckWithinMarks(f.outline[0], *marks, in.left_camera, opt, left_empty))
     return fail(*failure);
   if (const auto failure = CheckBothViews(f, opt, &support)) return fail(*failure);
   if (upright)
@@ -674,6 +647,25 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   if (in.range) CheckRange(in, opt, f.params, &res.range);
   res.found = true;
   return finish(res);
+}
+
+// A refusal for marks left empty is tried once more with the edges' strength taken at
+// retry_edge_quantile (LocateOptions): the answer is the second pass's when it finds the
+// object, the first's otherwise.
+LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
+  bool left_empty = false;
+  LocateResult first = LocateOnce(in, opt, &left_empty);
+  if (first.found || !left_empty || !(opt.retry_edge_quantile > 0) ||
+      !(opt.retry_edge_quantile < opt.edge_strength_quantile))
+    return first;
+  LocateOptions again = opt;
+  again.edge_strength_quantile = opt.retry_edge_quantile;
+  LocateResult second = LocateOnce(in, again, nullptr);
+  spdlog::debug("locate: again with the edges' strength at their {:.2f} quantile: {}",
+                opt.retry_edge_quantile, second.found ? "found" : second.detail);
+  if (!second.found) return first;
+  second.elapsed_ms += first.elapsed_ms;
+  return second;
 }
 
 }  // namespace igms::object

@@ -63,8 +63,16 @@ struct LocateOptions {
   // The camera's own blur (its point spread as a Gaussian's sigma, pixels), for the
   // correction of curved edges; the simulated site's cameras have 0.7.
   double camera_blur_px = 0.7;
-  double edge_fraction = 0.35;       // boundary edges: gradient above this share of the max
-  double min_edge_gradient = 6.0;    // ... and above this, grey levels per pixel
+  double edge_fraction = 0.35;     // boundary edges: gradient above this share of the max
+  double min_edge_gradient = 6.0;  // ... and above this, grey levels per pixel
+  // The max that edge_fraction (and the fit's own edge bound) is taken of: this quantile of
+  // the edge magnitudes inside the marks (1: the largest).
+  double edge_strength_quantile = 1.0;
+  // A fit that leaves part of the marks empty is tried again with edge_strength_quantile at
+  // this: a brighter object's edges inside the marks (a pipe's end on a block, a white box
+  // beside a dark one) set the bar over the object's own, and the boundary was the bright
+  // object's alone. 0: not tried again.
+  double retry_edge_quantile = 0.9;
   double min_boundary_share = 0.25;  // boundary pixels / marked region perimeter, at least
   // The right-image match is accepted when its zero-mean normalised cross-correlation
   // reaches this: a measure of the images' own contrast and noise, where a fixed grey-level

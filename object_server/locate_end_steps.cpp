@@ -1,6 +1,8 @@
 // A fitted pipe's ends from where its limbs end in both images (locate_steps.h:
 // EndsFromLimbs): the silhouette's ends, for an end no edge of the fit holds. A fitted block's
-// top from where its sides' edges end (TopFromSides): below a pipe resting on it.
+// top from where its sides' edges end (TopFromSides): below a pipe resting on it. And the
+// found solid's sizes judged determined by their sigmas (CheckBoxSizesDetermined,
+// CheckCylinderLengthDetermined).
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Dense>
@@ -332,6 +334,35 @@ std::optional<Eigen::VectorXd> TopFromSides(const std::array<FitView, 2>& views,
   lowered[5] = reach * size.z();
   spdlog::debug("locate: the sides' edges reach {:.2f} of the block's height", reach);
   return lowered;
+}
+
+// A size the images leave open (a block's depth behind a pipe resting on it, read off the
+// pipe's far limb) would be a guess, however well the outline fits.
+std::optional<StepFailure> CheckBoxSizesDetermined(const BoxResult& box, const LocateOptions& opt) {
+  const char* axis_names[3] = {"width", "depth", "height"};
+  for (int k = 0; k < 3; ++k)
+    if (box.size_sigma[k] > opt.max_box_size_sigma)
+      return StepFailure{Failure::kFitFailed,
+                         std::string("the images do not determine the box's ") + axis_names[k] +
+                             " (" + FormatFixed(box.size[k]) + " +/- " +
+                             FormatFixed(box.size_sigma[k]) + ")"};
+  return std::nullopt;
+}
+
+// A pipe's length the images leave open (an end no edge and no limb holds, in clutter) is a
+// guess as much as a block's: it comes out inches off. So is one shorter than its radius: the
+// end cap alone, fitted on a pipe pointing at the cameras.
+std::optional<StepFailure> CheckCylinderLengthDetermined(const CylinderResult& c,
+                                                         const LocateOptions& opt) {
+  if (c.height < c.radius)
+    return StepFailure{Failure::kFitFailed,
+                       "the fitted cylinder is " + FormatFixed(c.height) +
+                           " long, under its radius (" + FormatFixed(c.radius) +
+                           "): a pipe's end seen, not its length (is it pointing at the cameras?)"};
+  if (!(c.height_sigma > opt.max_box_size_sigma)) return std::nullopt;
+  return StepFailure{Failure::kFitFailed, "the images do not determine the cylinder's length (" +
+                                              FormatFixed(c.height) + " +/- " +
+                                              FormatFixed(c.height_sigma) + ")"};
 }
 
 }  // namespace igms::object

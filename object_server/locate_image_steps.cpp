@@ -149,9 +149,9 @@ Boundary FindBoundary(const Gradients& left_gradients, const MarkedRegion& marks
                       const cv::Mat& edge_map, const LocateOptions& options) {
   Boundary b;
   b.region = GrowPolygon(marks.hull, options.boundary_grow_px);
-  b.pixels =
-      LargestConnected(StrongEdgePixels(left_gradients, b.region, edge_map, options.edge_fraction,
-                                        options.min_edge_gradient, &b.strongest));
+  b.pixels = LargestConnected(StrongEdgePixels(left_gradients, b.region, edge_map,
+                                               options.edge_fraction, options.min_edge_gradient,
+                                               &b.strongest, options.edge_strength_quantile));
   return b;
 }
 

@@ -301,7 +301,7 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
 std::optional<StepFailure> CheckWithinMarks(const std::vector<Eigen::Vector2d>& left_outline,
                                             const MarkedRegion& marks,
                                             const geometry::ProjectiveCamera& left_camera,
-                                            const LocateOptions& options) {
+                                            const LocateOptions& options, bool* left_empty) {
   if (left_outline.empty() || marks.hull.empty()) return std::nullopt;
   Eigen::Vector2d lo(1e18, 1e18), hi(-1e18, -1e18), mlo = lo, mhi = hi;
   for (const auto& p : left_outline) {
@@ -322,11 +322,13 @@ std::optional<StepFailure> CheckWithinMarks(const std::vector<Eigen::Vector2d>& 
                                      mhi.y() - hi.y()};
   const std::array<const char*, 4> side = {"left", "top", "right", "bottom"};
   for (int k = 0; k < 4; ++k) {
-    if (gap[k] > max_gap_px)
+    if (gap[k] > max_gap_px) {
+      if (left_empty) *left_empty = true;
       return StepFailure{Failure::kFitFailed, "the fitted model leaves " +
                                                   FormatFixed(gap[k] * unit, 1) +
                                                   " of the marked region empty on its " + side[k] +
                                                   ": it fits part of the object, or another one"};
+    }
     if (-gap[k] > options.max_beyond_marks_px)
       return StepFailure{Failure::kFitFailed, "the fitted model runs " + FormatFixed(-gap[k], 0) +
                                                   " px beyond the marks on their " + side[k] +

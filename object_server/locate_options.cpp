@@ -81,6 +81,11 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "edge_fraction must be in (0, 1)";
     return false;
   }
+  if (!(edge_strength_quantile > 0 && edge_strength_quantile <= 1) ||
+      !(retry_edge_quantile >= 0 && retry_edge_quantile <= 1)) {
+    *error = "edge_strength_quantile must be in (0, 1] and retry_edge_quantile in [0, 1]";
+    return false;
+  }
   if (!(search_px >= 1 && search_px <= 20)) {
     *error = "search_px must be in 1..20";
     return false;

@@ -433,6 +433,11 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
 // and its length came out unknown. The outline is drawn again; the fit's edge counts are left
 // as they were.
 void FootOnFloor(const std::array<FitView, 2>& views, const LocateOptions& opt, FitOutcome* f);
+// Fails (fit failed) when a found box's size, or a found pipe's length, has a sigma over
+// max_box_size_sigma (the images leave it open), or the pipe is shorter than its radius.
+std::optional<StepFailure> CheckBoxSizesDetermined(const BoxResult& box, const LocateOptions& opt);
+std::optional<StepFailure> CheckCylinderLengthDetermined(const CylinderResult& c,
+                                                         const LocateOptions& opt);
 
 // A fitted block whose silhouette sides' edges, walked up from their middle in both images,
 // stop short of its top (the second-highest of the four under LocateOptions::box_side_reach
@@ -486,10 +491,12 @@ std::optional<StepFailure> CheckOutlineVisible(const std::array<OutlineSupport, 
 // Fails (fit failed) when the fitted outline in the left image leaves more than
 // max_mark_gap of the marks' bounding rectangle empty on a side, or runs beyond it by more
 // than max_beyond_marks_px: the marks bound the object snugly.
+// With `left_empty`, says whether it failed for a side left empty.
 std::optional<StepFailure> CheckWithinMarks(const std::vector<Eigen::Vector2d>& left_outline,
                                             const MarkedRegion& marks,
                                             const geometry::ProjectiveCamera& left_camera,
-                                            const LocateOptions& options);
+                                            const LocateOptions& options,
+                                            bool* left_empty = nullptr);
 // Fails (left-right inconsistent) when either image has too few outline samples on an
 // edge or a too large RMS residual: background edges picked up in one view only. With the
 // outline's support, the share is of the samples that should show an edge.
