@@ -107,7 +107,8 @@ std::vector<cv::Point> StrongEdgePixels(const Gradients& grad,
     for (const auto& [p, m] : inside)
       if (m >= min_gradient) edge.push_back(m);
     if (edge.size() >= kMinEdgePixels) {
-      const auto k = std::min(edge.size() - 1, static_cast<size_t>(quantile * edge.size()));
+      const auto k = std::min(edge.size() - 1,
+                              static_cast<size_t>(quantile * static_cast<double>(edge.size())));
       std::nth_element(edge.begin(), edge.begin() + static_cast<std::ptrdiff_t>(k), edge.end());
       max_mag = edge[k];
     }
