@@ -509,22 +509,15 @@ static std::optional<StepFailure> CheckFitScore(const LocateResult& res, bool up
           " (" + FormatFixed(open->size) + " +/- " + FormatFixed(open->sigma) + ")");
 }
 
-// One pass of the locator; `left_empty` says whether it refused a fit that leaves part of the
-// marks empty (CheckWithinMarks).
-static LocateResult LocateOnce(const LocateInput& in, const LocateOptions& opt, bool* left_empty) {
-  const auto start = Clock::now();
+// One pass of the locator on the prepared images, with checked options; `left_empty` says
+// whether it refused a fit that leaves part of the marks empty (CheckWithinMarks).
+static LocateResult LocateOnce(const LocateInput& in, const StereoPair& pair,
+                               const LocateOptions& opt, bool* left_empty) {
   LocateResult res;
   res.type = in.type;
-  auto finish = [&](LocateResult r) {
-    r.elapsed_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-    return r;
-  };
   std::string in_front_names;  // of the known solids in front of part of the marks
-  auto fail = [&](const StepFailure& f) { return finish(Fail(res, f, in_front_names)); };
-  if (std::string e; !opt.Check(&e)) return fail({Failure::kBadInput, "options: " + e});
-  const StepResult<StereoPair> pair = PrepareImages(in);
-  if (!pair.ok()) return fail(pair.failure());
-  const cv::Rect image_rect(0, 0, pair->left.cols, pair->left.rows);
+  auto fail = [&](const StepFailure& f) { return Fail(res, f, in_front_names); };
+  const cv::Rect image_rect(0, 0, pair.left.cols, pair.left.rows);
 
   // 1. Marks (3.6, 3.8).
   const StepResult<MarkedRegion> marks = MarkRegion(in);
@@ -534,28 +527,28 @@ static LocateResult LocateOnce(const LocateInput& in, const LocateOptions& opt, 
   const std::vector<KnownInFront> in_front = KnownSolidsInFront(in, *marks, opt);
   in_front_names = NamesInFront(in_front, marks->hull);
   const int pad = RegionPad(opt);
-  const Gradients grad_left(pair->left, GrowRect(cv::boundingRect(marks->hull), pad, image_rect),
+  const Gradients grad_left(pair.left, GrowRect(cv::boundingRect(marks->hull), pad, image_rect),
                             opt.edge_sigma);
   const Boundary boundary = FindBoundary(
-      grad_left, *marks, VisibleEdgeMask(in_front, in.left_edges, pair->left.size()), opt);
+      grad_left, *marks, VisibleEdgeMask(in_front, in.left_edges, pair.left.size()), opt);
   res.boundary_pixels = static_cast<int>(boundary.pixels.size());
   if (const auto failure = CheckBoundary(boundary, *marks, opt)) return fail(*failure);
 
   // 3. Depth by SSD along the epipolar segment of the marks' depth range (3.6), triangulated
   // (3.7).
   const DepthSearch search = ObjectDepthSearch(boundary.pixels, marks->depth, opt);
-  const StepResult<SsdMatch> first_match = MatchObject(*pair, search, opt);
+  const StepResult<SsdMatch> first_match = MatchObject(pair, search, opt);
   if (!first_match.ok()) return fail(first_match.failure());
   const SsdMatch match =
-      NarrowByRange(in, *pair, search, boundary, marks->depth, *first_match, opt, &res.range);
+      NarrowByRange(in, pair, search, boundary, marks->depth, *first_match, opt, &res.range);
   res.ssd_rms = match.rms;
   res.match_zncc = match.zncc;
   if (const auto failure = CheckMatch(match, opt)) return fail(*failure);
-  const auto x_match = TriangulateMatch(*pair, search, match);
+  const auto x_match = TriangulateMatch(pair, search, match);
   if (!x_match)
     return fail({Failure::kMatchOverThreshold, "the right-image match does not triangulate"});
   const double depth0 = in.left_camera.Depth(*x_match);
-  const Gradients grad_right(pair->right, RightRegion(search, match, pad, image_rect),
+  const Gradients grad_right(pair.right, RightRegion(search, match, pad, image_rect),
                              opt.edge_sigma);
 
   // 4. Starting models from the left boundary at the matched depth (3.8.1, 3.8.2), then the
@@ -567,7 +560,7 @@ static LocateResult LocateOnce(const LocateInput& in, const LocateOptions& opt, 
   const PlausibleFn plausible = [&](const FitOutcome& o) {
     return !CheckWithinMarks(o.outline[0], *marks, in.left_camera, opt);
   };
-  const FitContext context{in,        *pair,      *marks,   boundary, search,   depth0,
+  const FitContext context{in,        pair,       *marks,   boundary, search,   depth0,
                            grad_left, grad_right, in_front, opt,      plausible};
   SolidFit solid = FitSolid(cylinder, context, true);
   const FitOutcome& f = solid.fit;
@@ -588,20 +581,20 @@ static LocateResult LocateOnce(const LocateInput& in, const LocateOptions& opt, 
   res.rms_right_px = f.rms_px[1];
   if (!f.ok) return fail({Failure::kFitFailed, "model fit: " + f.error});
   // How a pipe's side shades: the fitted one's; for a box, its rival's (below).
-  SideShape side = cylinder ? ClassifySide(*pair, f.params, views, opt) : SideShape::kUnmeasured;
+  SideShape side = cylinder ? ClassifySide(pair, f.params, views, opt) : SideShape::kUnmeasured;
   // 5. Consistency between the views, on the parts of the outline that should show an edge.
   // Per side too for an upright pipe (CheckLimbsAgree, ShowsAllButFoot), the only fit that
   // uses it.
   const auto measure_support = [&](const FitOutcome& o,
                                    bool per_side) -> std::array<OutlineSupport, 2> {
     return {
-        MeasureOutlineSupport(o.outline[0], pair->left, grad_left, fit, views[0].hidden, per_side),
-        MeasureOutlineSupport(o.outline[1], pair->right, grad_right, fit, views[1].hidden,
+        MeasureOutlineSupport(o.outline[0], pair.left, grad_left, fit, views[0].hidden, per_side),
+        MeasureOutlineSupport(o.outline[1], pair.right, grad_right, fit, views[1].hidden,
                               per_side)};
   };
   const bool upright = cylinder && UprightPipe(f.params, opt);
   const std::array<OutlineSupport, 2> support = measure_support(f, upright);
-  const double score_scale = ScoreResidualScale(opt, pair->left.cols);
+  const double score_scale = ScoreResidualScale(opt, pair.left.cols);
   res.fit_score = FitScore(f, score_scale);
   res.supported_fit_score = SupportedFitScore(f, support, score_scale);
   DebugOutlineSupport(support);
@@ -622,7 +615,7 @@ static LocateResult LocateOnce(const LocateInput& in, const LocateOptions& opt, 
   // The other type.
   if (WantOtherType(cylinder, f, side, opt)) {
     const FitOutcome other = FitSolid(!cylinder, context, false).fit;
-    if (!cylinder && other.ok) side = ClassifySide(*pair, other.params, views, opt);
+    if (!cylinder && other.ok) side = ClassifySide(pair, other.params, views, opt);
     spdlog::debug("locate: the other type scores {:.3f} against {:.3f}", FitScore(other),
                   FitScore(f));
     res.other_type_fit_score = FitScore(other, score_scale);
@@ -641,31 +634,41 @@ static LocateResult LocateOnce(const LocateInput& in, const LocateOptions& opt, 
       return fail(ExplainsPoorly(res.fit_score, opt));
   }
 
-  if (!cylinder) RefineBoxForFaces(*pair, views, fit, opt, &solid.fit);
+  if (!cylinder) RefineBoxForFaces(pair, views, fit, opt, &solid.fit);
   if (const auto failure = ResultFromFit(in, f, image_rect, opt, &res)) return fail(*failure);
-  if (cylinder) RefineLimbsForShading(*pair, views, fit, opt, f, &res.cylinder);
+  if (cylinder) RefineLimbsForShading(pair, views, fit, opt, f, &res.cylinder);
   if (in.range) CheckRange(in, opt, f.params, &res.range);
   res.found = true;
-  return finish(res);
+  return res;
 }
 
 // A refusal for marks left empty is tried once more with the edges' strength taken at
 // retry_edge_quantile (LocateOptions): the answer is the second pass's when it finds the
 // object, the first's otherwise.
+// The images are prepared once for both passes.
 LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
+  const auto start = Clock::now();
+  const auto timed = [&](LocateResult r) {
+    r.elapsed_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    return r;
+  };
+  LocateResult refused;
+  refused.type = in.type;
+  if (std::string e; !opt.Check(&e))
+    return timed(Fail(refused, {Failure::kBadInput, "options: " + e}, ""));
+  const StepResult<StereoPair> pair = PrepareImages(in);
+  if (!pair.ok()) return timed(Fail(refused, pair.failure(), ""));
   bool left_empty = false;
-  LocateResult first = LocateOnce(in, opt, &left_empty);
+  LocateResult first = LocateOnce(in, *pair, opt, &left_empty);
   if (first.found || !left_empty || !(opt.retry_edge_quantile > 0) ||
       !(opt.retry_edge_quantile < opt.edge_strength_quantile))
-    return first;
+    return timed(first);
   LocateOptions again = opt;
   again.edge_strength_quantile = opt.retry_edge_quantile;
-  LocateResult second = LocateOnce(in, again, nullptr);
+  LocateResult second = LocateOnce(in, *pair, again, nullptr);
   spdlog::debug("locate: again with the edges' strength at their {:.2f} quantile: {}",
                 opt.retry_edge_quantile, second.found ? "found" : second.detail);
-  if (!second.found) return first;
-  second.elapsed_ms += first.elapsed_ms;
-  return second;
+  return timed(second.found ? std::move(second) : std::move(first));
 }
 
 }  // namespace igms::object
