@@ -197,6 +197,21 @@ double GreyAt(const cv::Mat& image, const Eigen::Vector2d& p) {
          fy * ((1 - fx) * at(y0 + 1, x0) + fx * at(y0 + 1, x0 + 1));
 }
 
+double NoiseSigma(const cv::Mat& image, cv::Rect box) {
+  box &= cv::Rect(0, 0, image.cols, image.rows);
+  std::vector<int> diffs;
+  diffs.reserve(static_cast<size_t>(box.area()));
+  for (int y = box.y; y < box.y + box.height; ++y) {
+    const uint8_t* row = image.ptr<uint8_t>(y);
+    for (int x = box.x; x + 1 < box.x + box.width; ++x)
+      diffs.push_back(std::abs(row[x + 1] - row[x]));
+  }
+  if (diffs.empty()) return 0;
+  const auto mid = diffs.begin() + static_cast<std::ptrdiff_t>(diffs.size() / 2);
+  std::nth_element(diffs.begin(), mid, diffs.end());
+  return 1.4826 * *mid / std::sqrt(2.0);
+}
+
 bool EdgeAlongNormal(const Gradients& grad, const Eigen::Vector2d& p, const Eigen::Vector2d& n,
                      double range, double min_gradient, double* s) {
   return EdgePeak(grad, p, n, range, min_gradient, Peak::kOutermost, s);

@@ -34,6 +34,11 @@ class Gradients {
 // image.
 double GreyAt(const cv::Mat& image, const Eigen::Vector2d& p);
 
+// The noise of an 8-bit grey image over `box` (clipped to it), grey levels: the median
+// absolute difference of horizontal neighbours, as a Gaussian's sigma, over sqrt(2) for the
+// difference. Edges are too few to move the median. 0 for an empty box.
+double NoiseSigma(const cv::Mat& image, cv::Rect box);
+
 // Pixels inside `polygon` (image coordinates) whose gradient magnitude is above
 // max(min_gradient, fraction * strongest in the polygon) and, when `edges` is not empty,
 // set in the edge map. Returns them with the strongest magnitude. The strongest is the

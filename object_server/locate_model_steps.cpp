@@ -213,24 +213,12 @@ OutlineSupport MeasureOutlineSupport(const std::vector<Eigen::Vector2d>& outline
     area += a.x() * b.y() - a.y() * b.x();
   }
   const double orient = area >= 0 ? 1.0 : -1.0;
-  // The image's noise near the outline: the median absolute difference of horizontal
-  // neighbours (edges are too few to move the median), over sqrt(2) for the difference.
+  // The image's noise near the outline.
   cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>(
       1, cv::Point2f(static_cast<float>(outline[0].x()), static_cast<float>(outline[0].y()))));
   for (const auto& p : outline)
     box |= cv::Rect(static_cast<int>(std::floor(p.x())), static_cast<int>(std::floor(p.y())), 2, 2);
-  box = GrowRect(box, 6, cv::Rect(0, 0, image.cols, image.rows));
-  std::vector<int> diffs;
-  for (int y = box.y; y < box.y + box.height; ++y) {
-    const uint8_t* row = image.ptr<uint8_t>(y);
-    for (int x = box.x; x + 1 < box.x + box.width; ++x)
-      diffs.push_back(std::abs(row[x + 1] - row[x]));
-  }
-  if (!diffs.empty()) {
-    std::nth_element(diffs.begin(), diffs.begin() + static_cast<std::ptrdiff_t>(diffs.size() / 2),
-                     diffs.end());
-    out.noise_sigma = 1.4826 * diffs[diffs.size() / 2] / std::sqrt(2.0);
-  }
+  out.noise_sigma = NoiseSigma(image, GrowRect(box, 6, cv::Rect(0, 0, image.cols, image.rows)));
   // A step of c grey levels blurred by edge_blur_px peaks at c / (sqrt(2 pi) blur) per pixel:
   // the detector (min_gradient) sees steps of at least this. The means either side are of 6
   // samples each, so their difference has noise sigma * sqrt(2 / 6).
