@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "object_server/image_ops.h"
 #include "object_server/locate_steps.h"
@@ -642,10 +643,25 @@ static LocateResult LocateOnce(const LocateInput& in, const StereoPair& pair,
   return res;
 }
 
-// A refusal for marks left empty is tried once more with the edges' strength taken at
-// retry_edge_quantile (LocateOptions): the answer is the second pass's when it finds the
-// object, the first's otherwise.
-// The images are prepared once for both passes.
+// The options of a pass whose gradient floor is the image's noise over the marks
+// (LocateOptions::retry_noise_gradient); nullopt when that is no lower than the first's.
+static std::optional<LocateOptions> NoiseFloorPass(const LocateInput& in, const StereoPair& pair,
+                                                   LocateOptions o) {
+  if (!(o.retry_noise_gradient > 0)) return std::nullopt;
+  const StepResult<MarkedRegion> marks = MarkRegion(in);
+  if (!marks.ok()) return std::nullopt;
+  const double noise = NoiseSigma(pair.left, cv::boundingRect(marks->hull));
+  const double floor = std::max(o.retry_noise_gradient * noise, o.retry_min_edge_gradient);
+  spdlog::debug("locate: the image's noise over the marks {:.2f}: gradient floor {:.2f}", noise,
+                floor);
+  if (!(floor < o.min_edge_gradient)) return std::nullopt;
+  o.min_edge_gradient = floor;
+  return o;
+}
+
+// A refusal for marks left empty is tried again with a lower bar for edges: the edges'
+// strength taken at retry_edge_quantile, then for a block the gradient floor at the image's
+// noise (LocateOptions). The images are prepared once for every pass.
 LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const auto start = Clock::now();
   const auto timed = [&](LocateResult r) {
@@ -660,15 +676,25 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   if (!pair.ok()) return timed(Fail(refused, pair.failure(), ""));
   bool left_empty = false;
   LocateResult first = LocateOnce(in, *pair, opt, &left_empty);
-  if (first.found || !left_empty || !(opt.retry_edge_quantile > 0) ||
-      !(opt.retry_edge_quantile < opt.edge_strength_quantile))
-    return timed(first);
+  if (first.found || !left_empty) return timed(first);
+  // Left empty: tried again with a lower bar, each pass's answer kept only when it finds the
+  // object; otherwise the first refusal stands, with its reason.
   LocateOptions again = opt;
-  again.edge_strength_quantile = opt.retry_edge_quantile;
-  LocateResult second = LocateOnce(in, *pair, again, nullptr);
-  spdlog::debug("locate: again with the edges' strength at their {:.2f} quantile: {}",
-                opt.retry_edge_quantile, second.found ? "found" : second.detail);
-  return timed(second.found ? std::move(second) : std::move(first));
+  if (opt.retry_edge_quantile > 0 && opt.retry_edge_quantile < opt.edge_strength_quantile) {
+    again.edge_strength_quantile = opt.retry_edge_quantile;
+    LocateResult second = LocateOnce(in, *pair, again, nullptr);
+    spdlog::debug("locate: again with the edges' strength at their {:.2f} quantile: {}",
+                  opt.retry_edge_quantile, second.found ? "found" : second.detail);
+    if (second.found) return timed(std::move(second));
+  }
+  if (in.type == SolidType::kBox)
+    if (const std::optional<LocateOptions> third = NoiseFloorPass(in, *pair, again)) {
+      LocateResult r = LocateOnce(in, *pair, *third, nullptr);
+      spdlog::debug("locate: again with the gradient floor at the image's noise: {}",
+                    r.found ? "found" : r.detail);
+      if (r.found) return timed(std::move(r));
+    }
+  return timed(std::move(first));
 }
 
 }  // namespace igms::object

@@ -73,6 +73,16 @@ struct LocateOptions {
   // beside a dark one) set the bar over the object's own, and the boundary was the bright
   // object's alone. 0: not tried again.
   double retry_edge_quantile = 0.9;
+  // A block still refused then, its first fit having left the marks empty, is tried a third
+  // time with min_edge_gradient lowered to the image's own noise: retry_noise_gradient times
+  // its sigma over the marks (NoiseSigma), no lower than retry_min_edge_gradient.
+  // min_edge_gradient is set for the noisiest images (the smoothed gradient's noise is about
+  // 0.14 of the image's: 0.8 sigma is over 5 of it); on a cleaner one it leaves a block's foot
+  // in the table's shade without an edge, and the fit stops at the table's far edge. For a
+  // pipe asked for, it found no pipe more on the tuning seeds and two supports asked for as
+  // pipes (docs/locator-site-scenes.md). retry_noise_gradient 0: not tried.
+  double retry_noise_gradient = 0.8;
+  double retry_min_edge_gradient = 3.0;
   double min_boundary_share = 0.25;  // boundary pixels / marked region perimeter, at least
   // The right-image match is accepted when its zero-mean normalised cross-correlation
   // reaches this: a measure of the images' own contrast and noise, where a fixed grey-level

@@ -86,6 +86,11 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "edge_strength_quantile must be in (0, 1] and retry_edge_quantile in [0, 1]";
     return false;
   }
+  if (!(retry_noise_gradient >= 0 && std::isfinite(retry_noise_gradient)) ||
+      !(retry_min_edge_gradient > 0 && std::isfinite(retry_min_edge_gradient))) {
+    *error = "retry_noise_gradient must be finite and at least 0, retry_min_edge_gradient over 0";
+    return false;
+  }
   if (!(search_px >= 1 && search_px <= 20)) {
     *error = "search_px must be in 1..20";
     return false;
