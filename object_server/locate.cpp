@@ -659,9 +659,10 @@ static std::optional<LocateOptions> NoiseFloorPass(const LocateInput& in, const 
   return o;
 }
 
-// A refusal for marks left empty is tried again with a lower bar for edges: the edges'
-// strength taken at retry_edge_quantile, then for a block the gradient floor at the image's
-// noise (LocateOptions). The images are prepared once for every pass.
+// A refusal for marks left empty is tried again with a lower bar for edges, each pass's answer
+// kept only when it finds the object (else the first refusal stands, with its reason): the
+// edges' strength taken at retry_edge_quantile, then for a block the gradient floor at the
+// image's noise (LocateOptions). The images are prepared once for every pass.
 LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const auto start = Clock::now();
   const auto timed = [&](LocateResult r) {
@@ -677,8 +678,6 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   bool left_empty = false;
   LocateResult first = LocateOnce(in, *pair, opt, &left_empty);
   if (first.found || !left_empty) return timed(first);
-  // Left empty: tried again with a lower bar, each pass's answer kept only when it finds the
-  // object; otherwise the first refusal stands, with its reason.
   LocateOptions again = opt;
   if (opt.retry_edge_quantile > 0 && opt.retry_edge_quantile < opt.edge_strength_quantile) {
     again.edge_strength_quantile = opt.retry_edge_quantile;
