@@ -79,8 +79,8 @@ struct LocateOptions {
   // min_edge_gradient is set for the noisiest images (the smoothed gradient's noise is about
   // 0.14 of the image's: 0.8 sigma is over 5 of it); on a cleaner one it leaves a block's foot
   // in the table's shade without an edge, and the fit stops at the table's far edge. For a
-  // pipe asked for, it found no pipe more on the tuning seeds and two supports asked for as
-  // pipes (docs/locator-site-scenes.md). retry_noise_gradient 0: not tried.
+  // pipe asked for, it found no pipe in full view more on the tuning seeds, and two supports
+  // asked for as pipes (docs/locator-site-scenes.md). retry_noise_gradient 0: not tried.
   double retry_noise_gradient = 0.8;
   double retry_min_edge_gradient = 3.0;
   double min_boundary_share = 0.25;  // boundary pixels / marked region perimeter, at least
