@@ -169,6 +169,11 @@ struct LocateOptions {
   // solid's inside it, is that solid found again (FAILURE_ALREADY_MODELLED): solids cannot
   // share volume, and a pipe resting on a block shares none.
   double max_shared_volume = 0.5;
+  // A known pipe passes over a block whose height the images leave open (ReachUpToKnown) when
+  // its axis comes within the block's half diagonal plus this many of the deviation of the
+  // block's centre: a narrow support seen square on is fitted thin, its centre off along the
+  // view by up to a few tenths of an inch, while the pipe it carries runs over its middle.
+  double known_reach_sigmas = 2.0;
   // A block's sides' edges that end below this share of its height put its top there
   // (TopFromSides), and the block so lowered is kept only with every size's sigma within
   // max_lowered_size_sigma.

@@ -543,7 +543,8 @@ void ReachUpToKnown(const std::vector<KnownShape>& known, const LocateOptions& o
   if (!(box->size_sigma.z() > opt.max_box_size_sigma)) return;
   const double bottom = box->min.z();
   const Eigen::Vector2d c = box->center.head<2>();
-  const double reach = 0.5 * box->size.head<2>().norm();
+  const double reach = 0.5 * box->size.head<2>().norm() +
+                       opt.known_reach_sigmas * box->center_sigma.head<2>().norm();
   std::optional<double> top;
   double top_sigma = 0;
   for (const KnownShape& k : known) {

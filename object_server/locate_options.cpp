@@ -38,6 +38,10 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "camera_blur_px must be in 0..10";
     return false;
   }
+  if (!(known_reach_sigmas >= 0)) {
+    *error = "known_reach_sigmas must not be negative";
+    return false;
+  }
   if (!(max_shared_volume > 0 && max_shared_volume <= 1)) {
     *error = "max_shared_volume must be in (0, 1]";
     return false;

@@ -560,9 +560,10 @@ CylinderResult CylinderFromFit(const Eigen::VectorXd& params, const Eigen::Matri
 // Everything but the texture, which BoxTextureRect and the left image give.
 BoxResult BoxFromFit(const Eigen::VectorXd& params, const Eigen::MatrixXd& covariance);
 // A block whose height the images leave open (its size's sigma over max_box_size_sigma: its
-// top hidden) under a known pipe passing over its footprint reaches up to the pipe's
-// underside, as a block carrying it does: its height is then from its bottom to there, with
-// both their sigmas. Otherwise, or with no such pipe, the box is left as it is.
+// top hidden) under a known pipe passing over its footprint (widened by known_reach_sigmas of
+// its centre's deviation) reaches up to the pipe's underside, as a block carrying it does: its
+// height is then from its bottom to there, with both their sigmas. Otherwise, or with no such
+// pipe, the box is left as it is.
 void ReachUpToKnown(const std::vector<KnownShape>& known, const LocateOptions& options,
                     BoxResult* box);
 // The box's deviations (sizes, centre, extent, yaw) widened for a fit that explains the edges

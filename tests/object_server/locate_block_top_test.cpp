@@ -42,6 +42,16 @@ AskedBlock AskForBlock(uint64_t seed, site::SiteLevel level, const std::string& 
   return a;
 }
 
+// A site scene's pipe as the database would hold it (its true end-cap centres and radius).
+KnownShape KnownPipe(const site::Scene& scene, const std::string& name) {
+  KnownShape k{name, SolidType::kCylinder, Eigen::VectorXd(7), 0.02};
+  for (const auto& o : scene.objects)
+    if (const auto* c = std::get_if<site::Cylinder>(&o.shape); c && o.name == name)
+      k.params << c->center - 0.5 * c->height * c->axis, c->center + 0.5 * c->height * c->axis,
+          c->radius;
+  return k;
+}
+
 // The box's fit parameters (centre, sizes along its own axes, yaw) with its top raised by
 // `raise` world units.
 Eigen::VectorXd Params(const site::Box& b, double raise) {
@@ -125,6 +135,31 @@ TEST(BlockTop, ABlockWhoseTopNothingHoldsBelowThePipeOnItSaysSo) {
   const LocateResult plain = Locate(a.input, off);
   ASSERT_FALSE(plain.found);
   EXPECT_EQ(plain.detail.find("nothing there holds"), std::string::npos) << plain.detail;
+}
+
+TEST(BlockTop, ANarrowSupportReachesUpToTheKnownPipeOverItsMiddle) {
+  // Level clutter, seed 6: support_13, a narrow block of about the table's shade seen square
+  // on, carries lying_12, which the database holds. Its fit is thin, its depth and height left
+  // open, its centre 0.5 in from the pipe's axis, beyond its half diagonal (0.2 in) but within
+  // two of its centre's deviations: it reaches up to the pipe's underside.
+  AskedBlock a = AskForBlock(6, site::SiteLevel::kClutter, "support_13");
+  ASSERT_TRUE(a.present);
+  a.input.known.push_back(KnownPipe(a.scene, "lying_12"));
+  const LocateResult r = Locate(a.input);
+  ASSERT_TRUE(r.found) << r.detail;
+  EXPECT_NEAR(r.box.size.z(), a.truth.size.z(), 0.1);
+  EXPECT_LT(std::abs(r.box.center.z() - a.truth.center.z()), 0.1);
+  // Held to its half diagonal, the pipe passes beside it and the height stays open: the pass
+  // that fitted it is refused, and the first refusal stands (its foot left empty).
+  LocateOptions footprint;
+  footprint.known_reach_sigmas = 0;
+  const LocateResult open = Locate(a.input, footprint);
+  ASSERT_FALSE(open.found);
+  EXPECT_NE(open.detail.find("empty on its bottom"), std::string::npos) << open.detail;
+  std::string error;
+  footprint.known_reach_sigmas = -1;
+  EXPECT_FALSE(footprint.Check(&error));
+  EXPECT_NE(error.find("known_reach_sigmas"), std::string::npos) << error;
 }
 
 TEST(BlockTop, TheLoweredSharesAreChecked) {
