@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -643,26 +644,12 @@ static LocateResult LocateOnce(const LocateInput& in, const StereoPair& pair,
   return res;
 }
 
-// The options of a pass whose gradient floor is the image's noise over the marks
-// (LocateOptions::retry_noise_gradient); nullopt when that is no lower than the first's.
-static std::optional<LocateOptions> NoiseFloorPass(const LocateInput& in, const StereoPair& pair,
-                                                   LocateOptions o) {
-  if (!(o.retry_noise_gradient > 0)) return std::nullopt;
-  const StepResult<MarkedRegion> marks = MarkRegion(in);
-  if (!marks.ok()) return std::nullopt;
-  const double noise = NoiseSigma(pair.left, cv::boundingRect(marks->hull));
-  const double floor = std::max(o.retry_noise_gradient * noise, o.retry_min_edge_gradient);
-  spdlog::debug("locate: the image's noise over the marks {:.2f}: gradient floor {:.2f}", noise,
-                floor);
-  if (!(floor < o.min_edge_gradient)) return std::nullopt;
-  o.min_edge_gradient = floor;
-  return o;
-}
-
-// A refusal for marks left empty is tried again with a lower bar for edges, each pass's answer
-// kept only when it finds the object (else the first refusal stands, with its reason): the
-// edges' strength taken at retry_edge_quantile, then for a block the gradient floor at the
-// image's noise (LocateOptions). The images are prepared once for every pass.
+// A refusal is tried again with a lower bar for edges, each pass's answer kept only when it
+// finds the object (else the first refusal stands, with its reason). A fit that left the marks
+// empty: the edges' strength taken at retry_edge_quantile, then for a block the gradient floor
+// at the image's noise. A pipe whose outline the edges explained poorly, or not in both views
+// (FAILURE_LEFT_RIGHT_INCONSISTENT): the floor at the noise, the rival box held against it
+// outright (other_type_outright). The images are prepared once for every pass.
 LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   const auto start = Clock::now();
   const auto timed = [&](LocateResult r) {
@@ -677,7 +664,25 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
   if (!pair.ok()) return timed(Fail(refused, pair.failure(), ""));
   bool left_empty = false;
   LocateResult first = LocateOnce(in, *pair, opt, &left_empty);
-  if (first.found || !left_empty) return timed(first);
+  if (first.found) return timed(first);
+  const auto at_noise = [&](LocateOptions o, const char* what) {
+    LocateResult r;
+    if (const auto low = NoiseFloorOptions(in, *pair, std::move(o))) {
+      r = LocateOnce(in, *pair, *low, nullptr);
+      spdlog::debug("locate: {} again with the gradient floor at the image's noise: {}", what,
+                    r.found ? "found" : r.detail);
+    }
+    return r;
+  };
+  if (!left_empty) {
+    if (in.type == SolidType::kCylinder && first.reason == Failure::kLeftRightInconsistent) {
+      LocateOptions pipe = opt;
+      pipe.other_type_score = 0;  // the rival box always fitted, and held against it outright
+      pipe.other_type_outright = true;
+      if (LocateResult r = at_noise(pipe, "a pipe"); r.found) return timed(std::move(r));
+    }
+    return timed(first);
+  }
   LocateOptions again = opt;
   if (opt.retry_edge_quantile > 0 && opt.retry_edge_quantile < opt.edge_strength_quantile) {
     again.edge_strength_quantile = opt.retry_edge_quantile;
@@ -687,12 +692,7 @@ LocateResult Locate(const LocateInput& in, const LocateOptions& opt) {
     if (second.found) return timed(std::move(second));
   }
   if (in.type == SolidType::kBox)
-    if (const std::optional<LocateOptions> third = NoiseFloorPass(in, *pair, again)) {
-      LocateResult r = LocateOnce(in, *pair, *third, nullptr);
-      spdlog::debug("locate: again with the gradient floor at the image's noise: {}",
-                    r.found ? "found" : r.detail);
-      if (r.found) return timed(std::move(r));
-    }
+    if (LocateResult r = at_noise(again, "a block"); r.found) return timed(std::move(r));
   return timed(std::move(first));
 }
 

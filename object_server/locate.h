@@ -80,7 +80,11 @@ struct LocateOptions {
   // 0.14 of the image's: 0.8 sigma is over 5 of it); on a cleaner one it leaves a block's foot
   // in the table's shade without an edge, and the fit stops at the table's far edge. For a
   // pipe asked for, it found no pipe in full view more on the tuning seeds, and two supports
-  // asked for as pipes (docs/locator-site-scenes.md). retry_noise_gradient 0: not tried.
+  // asked for as pipes (docs/locator-site-scenes.md). A pipe refused because its outline
+  // explained the edges poorly, or not in both views (FAILURE_LEFT_RIGHT_INCONSISTENT), is
+  // tried again at that floor, the rival box fitted and held against it outright
+  // (other_type_outright): a dark pipe against the dark background above the table.
+  // retry_noise_gradient 0: neither is tried.
   double retry_noise_gradient = 0.8;
   double retry_min_edge_gradient = 3.0;
   double min_boundary_share = 0.25;  // boundary pixels / marked region perimeter, at least
@@ -216,6 +220,11 @@ struct LocateOptions {
   // and uprights in clutter that the same starts fit along their own limbs 1.3-1.5.
   double leaning_pipe_score = 1.3;
   double other_type_ratio = 1.5;
+  // A pipe asked for is refused when a box that explains the images (CheckOtherType) scores
+  // under it on the whole outline: set for a pipe's pass at the image's noise floor, where
+  // the table's pattern lends either type edges. Held by other_type_ratio there (on a pass
+  // after any refusal), blocks asked for as pipes were reported found: 3 on the tuning seeds.
+  bool other_type_outright = false;
   // A pipe's side shades round (a Lambertian surface under distant lights: brightest where
   // it faces a light) where a block's faces shade flat, with a crease where two meet
   // (ClassifySide). A "pipe" whose side shades flat in both images is refused when a box fits

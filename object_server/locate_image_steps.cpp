@@ -1,6 +1,9 @@
 // Steps 0-3 of the locator (locate_steps.h): the images, the marks, the boundary and the
 // stereo match.
+#include <spdlog/spdlog.h>
+
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -105,6 +108,21 @@ StepResult<MarkedRegion> MarkRegion(const LocateInput& in) {
     return StepFailure{Failure::kMarksOutsideImage,
                        "most of the marked region lies outside the left image"};
   return region;
+}
+
+std::optional<LocateOptions> NoiseFloorOptions(const LocateInput& in, const StereoPair& pair,
+                                               LocateOptions options) {
+  if (!(options.retry_noise_gradient > 0)) return std::nullopt;
+  const StepResult<MarkedRegion> marks = MarkRegion(in);
+  if (!marks.ok()) return std::nullopt;
+  const double noise = NoiseSigma(pair.left, cv::boundingRect(marks->hull));
+  const double floor =
+      std::max(options.retry_noise_gradient * noise, options.retry_min_edge_gradient);
+  spdlog::debug("locate: the image's noise over the marks {:.2f}: gradient floor {:.2f}", noise,
+                floor);
+  if (!(floor < options.min_edge_gradient)) return std::nullopt;
+  options.min_edge_gradient = floor;
+  return options;
 }
 
 int RegionPad(const LocateOptions& options) {

@@ -431,6 +431,9 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
   // fits at all (under max_fit_score).
   const bool other_explains = other_within_marks && !CheckBothViews(other, opt);
   const bool other_fits = other_explains && scores.other_fit <= opt.max_fit_score;
+  if (cylinder && opt.other_type_outright && other_explains && scores.other_fit < scores.fit)
+    return StepFailure{Failure::kFitFailed,
+                       "a box explains the outline better" + against + ": is the object a box?"};
   // A side that shades flat is a block's face (a pipe's shades round under any light but a
   // shadow's): a box that fits at all is the better answer.
   if (cylinder && side == SideShape::kFlat && other_fits)

@@ -86,6 +86,13 @@ struct MarkedRegion {
 };
 StepResult<MarkedRegion> MarkRegion(const LocateInput& in);
 
+// The options of a pass whose gradient floor is the left image's noise over the marks
+// (NoiseSigma): LocateOptions::retry_noise_gradient times its sigma, no lower than
+// retry_min_edge_gradient. Nullopt when that pass is off, the marks do not hold, or the floor
+// is no lower than min_edge_gradient.
+std::optional<LocateOptions> NoiseFloorOptions(const LocateInput& in, const StereoPair& pair,
+                                               LocateOptions options);
+
 // 2. The left image's rectangle the boundary and its edge search need: `rect` grown by the
 // edge search and the boundary's margin, within the image.
 int RegionPad(const LocateOptions& options);
