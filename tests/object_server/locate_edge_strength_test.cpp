@@ -8,8 +8,8 @@
 
 #include <cstdint>
 #include <limits>
-#include <optional>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 #include <variant>
 
