@@ -134,9 +134,7 @@ TEST(EdgeStrength, AnUprightPipeInClutterIsFoundWithTheFloorAtTheNoise) {
   ExpectPipeFound(r, {0.03, 0.1, 0.3});
   LocateOptions fixed_floor;
   fixed_floor.retry_noise_gradient = 0;
-  const LocateResult refused = Locate(r.input, fixed_floor);
-  EXPECT_FALSE(refused.found);
-  EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
+  ExpectRefused(r, fixed_floor, Failure::kLeftRightInconsistent);
 }
 
 TEST(EdgeStrength, ABlockAskedForAsAPipeAtTheNoiseFloorLosesToTheBoxOutright) {

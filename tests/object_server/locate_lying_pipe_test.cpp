@@ -86,9 +86,7 @@ TEST(LyingPipe, APipeLeaningAcrossItsBlockIsFittedAlongItsAxis) {
   // Without the leaning pipe's starts, refused.
   LocateOptions upright_only;
   upright_only.leaning_pipe_score = 1e9;
-  const LocateResult refused = Locate(r.input, upright_only);
-  EXPECT_FALSE(refused.found);
-  EXPECT_EQ(refused.reason, Failure::kLeftRightInconsistent) << refused.detail;
+  ExpectRefused(r, upright_only, Failure::kLeftRightInconsistent);
 }
 
 TEST(LyingPipe, AFitCollapsedOntoALimbIsTriedBesideIt) {

@@ -60,4 +60,11 @@ inline LocateResult ExpectPipeFound(const SiteRequest& r, const PipeTolerance& t
   return found;
 }
 
+// The request located with `options` (a step turned off): refused, for `reason`.
+inline void ExpectRefused(const SiteRequest& r, const LocateOptions& options, Failure reason) {
+  const LocateResult refused = Locate(r.input, options);
+  EXPECT_FALSE(refused.found);
+  EXPECT_EQ(refused.reason, reason) << refused.detail;
+}
+
 }  // namespace igms::object
