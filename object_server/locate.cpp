@@ -285,8 +285,13 @@ void StandOnFloor(const FitContext& c, bool cylinder, const std::array<FitView, 
   spdlog::debug("locate: standing on the floor, it scores {:.3f} against {:.3f}", FitScore(g),
                 FitScore(*f));
   if (!g.ok) return;
-  const bool keep = cylinder ? BetterFit(g, *f, c.plausible)
-                             : FitScore(g) < FitScore(*f) && (!c.plausible || c.plausible(g));
+  const bool plausible = !c.plausible || c.plausible(g);
+  // A pipe's foot where the background changes beside it (the table's far edge) may be held
+  // there by that change: standing is kept up to background_foot_ratio times worse.
+  const bool keep = cylinder ? BetterFit(g, *f, c.plausible) ||
+                                   (plausible && FootAtBackgroundChange(views, fit, *f) &&
+                                    FitScore(g) <= c.opt.background_foot_ratio * FitScore(*f))
+                             : FitScore(g) < FitScore(*f) && plausible;
   if (keep) *f = std::move(g);
 }
 
@@ -377,24 +382,6 @@ SolidFit FitSolid(bool cylinder, const FitContext& c, bool asked) {
     FootOnFloor(s.views, c.opt, &s.fit);
   }
   return s;
-}
-
-// The names of the known solids in front of part of the marked region.
-std::string NamesInFront(const std::vector<KnownInFront>& in_front,
-                         const std::vector<cv::Point2f>& hull) {
-  std::vector<Eigen::Vector2d> marked;
-  marked.reserve(hull.size());
-  for (const auto& p : hull) marked.emplace_back(p.x, p.y);
-  std::string names;
-  for (const KnownInFront& k : in_front) {
-    const auto inside = [](const std::vector<Eigen::Vector2d>& polygon) {
-      return [&polygon](const Eigen::Vector2d& p) { return SignedDistance(polygon, p) < 0; };
-    };
-    const bool overlaps = std::any_of(marked.begin(), marked.end(), inside(k.outline[0])) ||
-                          std::any_of(k.outline[0].begin(), k.outline[0].end(), inside(marked));
-    if (overlaps) names += (names.empty() ? "" : ", ") + k.name;
-  }
-  return names;
 }
 
 }  // namespace

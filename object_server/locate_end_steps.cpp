@@ -127,6 +127,19 @@ void MeasureAlong(const Eigen::VectorXd& g, double innovation, double sigma, Fit
 
 }  // namespace
 
+bool BackgroundChangesBeside(const Gradients& gradients, const Eigen::Vector2d& end,
+                             const Eigen::Vector2d& dir, double radius_px, double min_gradient) {
+  // The blur carries a limb's edge a few pixels either side of the change.
+  constexpr int kBackgroundReachPx = 5;
+  const Eigen::Vector2d n(-dir.y(), dir.x());
+  for (const double side : {-1.0, 1.0})
+    for (int k = -kBackgroundReachPx; k <= kBackgroundReachPx; ++k) {
+      const Eigen::Vector2d q = end + k * dir + side * (radius_px + 3) * n;
+      if (std::abs(gradients.At(q).dot(dir)) > min_gradient) return true;
+    }
+  return false;
+}
+
 void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
                    const LocateOptions& opt, FitOutcome* f) {
   if (!f->ok || f->params.size() != 7 || f->covariance.rows() != 7 || !f->params.allFinite())
@@ -139,7 +152,6 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
   // says nothing of it), and a pixel's length along the axis in each view.
   std::array<std::vector<double>, 2> reach;
   constexpr double kKeep = std::numeric_limits<double>::quiet_NaN();
-  constexpr int kBackgroundReachPx = 5;
   constexpr double kBorderPx = 5;
   std::array<double, 2> unit{0, 0};
   std::array<std::optional<std::pair<double, double>>, 2> between;  // limbs' end, marks' exit
@@ -181,13 +193,8 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
       // edge behind an upright pipe), the limbs may stop because the pipe turns to the
       // background's shade there, not because it ends. The blur carries a limb's edge a few
       // pixels either side of the change.
-      bool background_changes = false;
-      for (const double side : {-1.0, 1.0})
-        for (int k = -kBackgroundReachPx; k <= kBackgroundReachPx; ++k) {
-          const Eigen::Vector2d q = *q0 + (s_end + k) * dir + side * (radius_px + 3) * n;
-          if (std::abs(views[v].gradients->At(q).dot(dir)) > fit.min_gradient)
-            background_changes = true;
-        }
+      const bool background_changes = BackgroundChangesBeside(
+          *views[v].gradients, *q0 + s_end * dir, dir, radius_px, fit.min_gradient);
       const bool border = at_border(s_end, out);
       reach[end].push_back(background_changes || border ? kKeep : *t);
       // In the left image, where the limbs stop at a change of the background, the pipe ends
@@ -245,6 +252,21 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
   f->params = x;
   f->covariance = cov;
   DrawCylinderOutline(views, f);
+}
+
+bool FootAtBackgroundChange(const std::array<FitView, 2>& views, const FitOptions& fit,
+                            const FitOutcome& f) {
+  const FitView& view = views[0];
+  if (!f.ok || f.params.size() != 7 || !f.params.allFinite() || f.outline[0].empty()) return false;
+  const Eigen::VectorXd& x = f.params;
+  const Eigen::Index foot = x[2] < x[5] ? 0 : 3;
+  const auto q0 = view.camera->Project(x.segment<3>(foot));
+  const auto q1 = view.camera->Project(x.segment<3>(3 - foot));
+  if (!q0 || !q1 || (*q1 - *q0).norm() < 8) return false;
+  const Eigen::Vector2d dir = (*q1 - *q0).normalized(), n(-dir.y(), dir.x());
+  double radius_px = 0;
+  for (const auto& h : f.outline[0]) radius_px = std::max(radius_px, std::abs(n.dot(h - *q0)));
+  return BackgroundChangesBeside(*view.gradients, *q0, dir, radius_px, fit.min_gradient);
 }
 
 void FootOnFloor(const std::array<FitView, 2>& views, const LocateOptions& opt, FitOutcome* f) {

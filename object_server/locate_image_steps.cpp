@@ -232,6 +232,23 @@ cv::Mat VisibleEdgeMask(const std::vector<KnownInFront>& in_front, const cv::Mat
   return mask;
 }
 
+std::string NamesInFront(const std::vector<KnownInFront>& in_front,
+                         const std::vector<cv::Point2f>& hull) {
+  std::vector<Eigen::Vector2d> marked;
+  marked.reserve(hull.size());
+  for (const auto& p : hull) marked.emplace_back(p.x, p.y);
+  std::string names;
+  for (const KnownInFront& k : in_front) {
+    const auto inside = [](const std::vector<Eigen::Vector2d>& polygon) {
+      return [&polygon](const Eigen::Vector2d& p) { return SignedDistance(polygon, p) < 0; };
+    };
+    const bool overlaps = std::any_of(marked.begin(), marked.end(), inside(k.outline[0])) ||
+                          std::any_of(k.outline[0].begin(), k.outline[0].end(), inside(marked));
+    if (overlaps) names += (names.empty() ? "" : ", ") + k.name;
+  }
+  return names;
+}
+
 std::optional<StepFailure> CheckBoundary(const Boundary& boundary, const MarkedRegion& marks,
                                          const LocateOptions& options) {
   if (boundary.pixels.empty())

@@ -21,8 +21,9 @@ bool LocateOptions::Check(std::string* error) const {
     *error = "floor_height must be a finite number when given";
     return false;
   }
-  if (!(floor_gap >= 0) || !(pipe_floor_gap >= 0) || !(floor_sink >= 0)) {
-    *error = "floor_gap, pipe_floor_gap and floor_sink must not be negative";
+  if (!(floor_gap >= 0) || !(pipe_floor_gap >= 0) || !(floor_sink >= 0) ||
+      !(background_foot_ratio >= 0)) {
+    *error = "floor_gap, pipe_floor_gap, floor_sink and background_foot_ratio must not be negative";
     return false;
   }
   // An upright pipe's axis rises: its foot is moved along it to the floor.

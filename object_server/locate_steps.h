@@ -135,6 +135,10 @@ std::vector<KnownInFront> KnownSolidsInFront(const LocateInput& in, const Marked
 // is given: the boundary's candidates. Empty when nothing is in front and there is no map.
 cv::Mat VisibleEdgeMask(const std::vector<KnownInFront>& in_front, const cv::Mat& edge_map,
                         cv::Size image_size);
+// The names of the known solids in front of part of the marked region (its hull), for the
+// operator: what may hide the object. Empty when none.
+std::string NamesInFront(const std::vector<KnownInFront>& in_front,
+                         const std::vector<cv::Point2f>& hull);
 
 // 3. The object's patch in the left image (its boundary's rectangle and a 3 px margin) and
 // the range of left-camera depths its match is searched over: the marks' depth +/- the
@@ -419,6 +423,17 @@ bool EdgeAtCrease(const Eigen::VectorXd& box, double crease, const Eigen::Vector
 inline constexpr std::array<double, 3> kCreaseTurnsDeg = {30.0, 45.0, 60.0};
 std::vector<Eigen::VectorXd> CreaseStarts(const Eigen::VectorXd& box, double crease,
                                           const Eigen::Vector3d& camera_centre);
+
+// Whether the background changes across a pipe's axis beside its end (`end`, the axis's image
+// direction `dir`, its radius in pixels): an edge along the axis within a few pixels of the
+// end, just outside either limb, over min_gradient. The table's far edge behind an upright
+// pipe: the pipe turns to the background's shade there, and its outline may stop there too.
+bool BackgroundChangesBeside(const Gradients& gradients, const Eigen::Vector2d& end,
+                             const Eigen::Vector2d& dir, double radius_px, double min_gradient);
+// Whether a pipe's fitted foot (its lower end) lies where the background changes beside it in
+// the left image: the table's far edge may hold it there.
+bool FootAtBackgroundChange(const std::array<FitView, 2>& views, const FitOptions& fit,
+                            const FitOutcome& f);
 
 // A fitted pipe's end that no edge holds (its sigma along the axis at least
 // LocateOptions::unheld_end_sigma: a foot of the table's shade, a cap against the dark) moved
