@@ -105,19 +105,26 @@ TEST(UprightPipe, AFootDrawnIntoTheFloorIsStoodOnIt) {
   EXPECT_LT(sunk.cylinder.center.z() - 0.5 * sunk.cylinder.height, -0.05);
 }
 
+// The request's upright pipe found with the site's options, its length right to 0.03 in, and
+// with `without` (a step turned off) found at least `short_by` short.
+void ExpectRightButShortWithout(const SiteRequest& r, const LocateOptions& without,
+                                double short_by) {
+  ASSERT_TRUE(r.present);
+  const auto& truth = std::get<site::Cylinder>(r.shape);
+  ExpectPipeFound(r, {.length = 0.03}, SiteLocateOptions());
+  const LocateResult short_of_it = Locate(r.input, without);
+  ASSERT_TRUE(short_of_it.found) << short_of_it.detail;
+  EXPECT_LT(short_of_it.cylinder.height - truth.height, -short_by);
+}
+
 TEST(UprightPipe, AFootHeldShortOfTheFloorIsStoodOnIt) {
   // Level clutter, seed 28: upright_0, its foot against the table. With no floor known, the fit
   // stops 0.21 in short of it; stood on it, the pipe fits better, and its length is right to
   // 0.03 in.
-  const SiteRequest r = AskFor(28, site::SiteLevel::kClutter, false, "upright_0");
-  ASSERT_TRUE(r.present);
-  const auto& truth = std::get<site::Cylinder>(r.shape);
-  ExpectPipeFound(r, {.length = 0.03}, SiteLocateOptions());
   LocateOptions no_floor = SiteLocateOptions();
   no_floor.floor_height.reset();
-  const LocateResult short_of_it = Locate(r.input, no_floor);
-  ASSERT_TRUE(short_of_it.found) << short_of_it.detail;
-  EXPECT_LT(short_of_it.cylinder.height - truth.height, -0.15);
+  ExpectRightButShortWithout(AskFor(28, site::SiteLevel::kClutter, false, "upright_0"), no_floor,
+                             0.15);
 }
 
 TEST(UprightPipe, AFootHeldAtTheTablesFarEdgeIsStoodOnTheFloor) {
@@ -126,15 +133,10 @@ TEST(UprightPipe, AFootHeldAtTheTablesFarEdgeIsStoodOnTheFloor) {
   // the pipe, held there by that edge: 0.83 in short. Stood on the floor it scores a little
   // worse (the lower part shows less edge), within background_foot_ratio: kept, its length
   // right to 0.03 in.
-  const SiteRequest r = AskFor(13, site::SiteLevel::kClutter, true, "upright_7");
-  ASSERT_TRUE(r.present);
-  const auto& truth = std::get<site::Cylinder>(r.shape);
-  ExpectPipeFound(r, {.length = 0.03}, SiteLocateOptions());
   LocateOptions held_there = SiteLocateOptions();
   held_there.background_foot_ratio = 0;
-  const LocateResult short_of_it = Locate(r.input, held_there);
-  ASSERT_TRUE(short_of_it.found) << short_of_it.detail;
-  EXPECT_LT(short_of_it.cylinder.height - truth.height, -0.5);
+  ExpectRightButShortWithout(AskFor(13, site::SiteLevel::kClutter, true, "upright_7"), held_there,
+                             0.5);
   std::string error;
   held_there.background_foot_ratio = -1;
   EXPECT_FALSE(held_there.Check(&error));
