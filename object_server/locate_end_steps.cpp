@@ -191,8 +191,7 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
       if (!t) return;
       // Where the background changes across the axis beside a limb's end (the table's far
       // edge behind an upright pipe), the limbs may stop because the pipe turns to the
-      // background's shade there, not because it ends. The blur carries a limb's edge a few
-      // pixels either side of the change.
+      // background's shade there, not because it ends.
       const bool background_changes = BackgroundChangesBeside(
           *views[v].gradients, *q0 + s_end * dir, dir, radius_px, fit.min_gradient);
       const bool border = at_border(s_end, out);
