@@ -125,6 +125,27 @@ void MeasureAlong(const Eigen::VectorXd& g, double innovation, double sigma, Fit
   f->covariance -= gain * cg.transpose();
 }
 
+// A fitted pipe's axis from `from` to `to` as a view sees it: its start, unit direction and
+// length in the image, and its radius in pixels (the farthest of the view's fitted outline
+// from the axis). Nullopt when an end does not project or the axis is under 8 px long.
+struct AxisInImage {
+  Eigen::Vector2d q0, dir;
+  double length = 0, radius_px = 0;
+};
+std::optional<AxisInImage> AxisIn(const geometry::ProjectiveCamera& camera,
+                                  const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                                  const std::vector<Eigen::Vector2d>& outline) {
+  const auto q0 = camera.Project(from), q1 = camera.Project(to);
+  if (!q0 || !q1 || (*q1 - *q0).norm() < 8) return std::nullopt;
+  AxisInImage a;
+  a.q0 = *q0;
+  a.length = (*q1 - *q0).norm();
+  a.dir = (*q1 - *q0) / a.length;
+  const Eigen::Vector2d n(-a.dir.y(), a.dir.x());
+  for (const auto& h : outline) a.radius_px = std::max(a.radius_px, std::abs(n.dot(h - *q0)));
+  return a;
+}
+
 }  // namespace
 
 bool BackgroundChangesBeside(const Gradients& gradients, const Eigen::Vector2d& end,
@@ -157,13 +178,11 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
   std::array<std::optional<std::pair<double, double>>, 2> between;  // limbs' end, marks' exit
   for (int v = 0; v < 2; ++v) {
     const geometry::ProjectiveCamera& cam = *views[v].camera;
-    const auto q0 = cam.Project(p0), q1 = cam.Project(p1);
-    if (!q0 || !q1 || (*q1 - *q0).norm() < 8) return;
-    const double length = (*q1 - *q0).norm();
-    const Eigen::Vector2d dir = (*q1 - *q0) / length, n(-dir.y(), dir.x());
-    double radius_px = 0;
-    for (const auto& h : f->outline[v]) radius_px = std::max(radius_px, std::abs(n.dot(h - *q0)));
-    const auto limbs = LimbExtent(*views[v].gradients, views[v].region, *q0, dir, length, radius_px,
+    const auto axis = AxisIn(cam, p0, p1, f->outline[v]);
+    if (!axis) return;
+    const Eigen::Vector2d q0 = axis->q0, dir = axis->dir, n(-dir.y(), dir.x());
+    const double length = axis->length, radius_px = axis->radius_px;
+    const auto limbs = LimbExtent(*views[v].gradients, views[v].region, q0, dir, length, radius_px,
                                   fit.min_gradient);
     if (!limbs) return;
     unit[v] = len / length;
@@ -172,7 +191,7 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
     const auto at_border = [&](double s_end, double out) {
       if (views[v].region.size() < 3) return false;
       for (const double side : {-1.0, 1.0}) {
-        const Eigen::Vector2d past = *q0 + (s_end + kBorderPx * out) * dir + side * radius_px * n;
+        const Eigen::Vector2d past = q0 + (s_end + kBorderPx * out) * dir + side * radius_px * n;
         if (SignedDistance(views[v].region, past) > 0) return true;
       }
       return false;
@@ -192,8 +211,8 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
       // Where the background changes across the axis beside a limb's end (the table's far
       // edge behind an upright pipe), the limbs may stop because the pipe turns to the
       // background's shade there, not because it ends.
-      const bool background_changes = BackgroundChangesBeside(
-          *views[v].gradients, *q0 + s_end * dir, dir, radius_px, fit.min_gradient);
+      const bool background_changes = BackgroundChangesBeside(*views[v].gradients, q0 + s_end * dir,
+                                                              dir, radius_px, fit.min_gradient);
       const bool border = at_border(s_end, out);
       reach[end].push_back(background_changes || border ? kKeep : *t);
       // In the left image, where the limbs stop at a change of the background, the pipe ends
@@ -201,7 +220,7 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
       if (v != 0 || !background_changes || border || views[v].region.size() < 3) continue;
       double s = s_end;
       while (std::abs(s - s_end) < 4 * length &&
-             SignedDistance(views[v].region, *q0 + (s + out) * dir) <= 0)
+             SignedDistance(views[v].region, q0 + (s + out) * dir) <= 0)
         s += out;
       if (const auto t_exit = AxisParameterAt(cam, p0, p1, s)) between[end] = {*t, *t_exit};
     }
@@ -255,17 +274,13 @@ void EndsFromLimbs(const std::array<FitView, 2>& views, const FitOptions& fit,
 
 bool FootAtBackgroundChange(const std::array<FitView, 2>& views, const FitOptions& fit,
                             const FitOutcome& f) {
-  const FitView& view = views[0];
   if (!f.ok || f.params.size() != 7 || !f.params.allFinite() || f.outline[0].empty()) return false;
   const Eigen::VectorXd& x = f.params;
   const Eigen::Index foot = x[2] < x[5] ? 0 : 3;
-  const auto q0 = view.camera->Project(x.segment<3>(foot));
-  const auto q1 = view.camera->Project(x.segment<3>(3 - foot));
-  if (!q0 || !q1 || (*q1 - *q0).norm() < 8) return false;
-  const Eigen::Vector2d dir = (*q1 - *q0).normalized(), n(-dir.y(), dir.x());
-  double radius_px = 0;
-  for (const auto& h : f.outline[0]) radius_px = std::max(radius_px, std::abs(n.dot(h - *q0)));
-  return BackgroundChangesBeside(*view.gradients, *q0, dir, radius_px, fit.min_gradient);
+  const auto axis =
+      AxisIn(*views[0].camera, x.segment<3>(foot), x.segment<3>(3 - foot), f.outline[0]);
+  return axis && BackgroundChangesBeside(*views[0].gradients, axis->q0, axis->dir, axis->radius_px,
+                                         fit.min_gradient);
 }
 
 void FootOnFloor(const std::array<FitView, 2>& views, const LocateOptions& opt, FitOutcome* f) {
