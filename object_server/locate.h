@@ -262,6 +262,10 @@ struct LocateOptions {
   // at most 17 times better; any bound from 50 to 200 caught the same 2 pipes asked for as
   // blocks there. On the held-out seeds, bounds under 160 lost a right support.
   double round_side_gain = 200.0;
+  // A side under 12 px across measured in bins half a pixel wide (down to 8 px): a narrow
+  // block's face seen square on, left unmeasured, was refused as a pipe standing there
+  // (docs/locator-site-scenes.md). false: such sides are not measured.
+  bool side_half_pixel_bins = true;
   // A block fitted as one face where its shading steps across it in both images at the same
   // place (FaceCrease) is fitted again turned, its nearest vertical edge at the step
   // (CreaseStarts), and kept when it explains the images better. The step must explain the

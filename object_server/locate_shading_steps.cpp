@@ -69,14 +69,18 @@ SideFrame FrameOfSide(const geometry::ProjectiveCamera& camera, const Eigen::Vec
 // Profile of the side; empty when too narrow or short to tell, or a bin has under 3 samples.
 Profile SampleProfile(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
                       const Eigen::VectorXd& params,
-                      const std::vector<std::vector<Eigen::Vector2d>>& hidden) {
+                      const std::vector<std::vector<Eigen::Vector2d>>& hidden,
+                      bool half_pixel_bins) {
   const SideFrame side = FrameOfSide(camera, params);
   if (!side.ok || image.empty()) return {};
   const Eigen::Vector3d &p0 = side.p0, &axis = side.axis, &w = side.w, &u = side.u;
   const double r = side.r, len = side.len, r_px = side.r_px, len_px = side.len_px;
-  // Clear of the limbs by 2 px (the blur mixes the background in there); a bin a pixel wide.
+  // Clear of the limbs by 2 px (the blur mixes the background in there); a bin a pixel wide,
+  // or half a pixel where that leaves under 8 bins (half_pixel_bins).
   const double s_max = 1.0 - 2.0 / std::max(r_px, 1e-9);
-  const int bins = std::min(16, static_cast<int>(2 * r_px * s_max));
+  const double clear_px = 2 * r_px * s_max;
+  int bins = std::min(16, static_cast<int>(clear_px));
+  if (bins < 8 && half_pixel_bins) bins = std::min(16, static_cast<int>(2 * clear_px));
   if (bins < 8 || len_px < 6) return {};
   const int steps = std::max(4, static_cast<int>(0.7 * len_px));
   Profile p;
@@ -297,9 +301,10 @@ void RefineLimbsForShading(const StereoPair& pair, const std::array<FitView, 2>&
 
 SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
                                const Eigen::VectorXd& params,
-                               const std::vector<std::vector<Eigen::Vector2d>>& hidden) {
+                               const std::vector<std::vector<Eigen::Vector2d>>& hidden,
+                               bool half_pixel_bins) {
   SideShading out;
-  const Profile p = SampleProfile(image, camera, params, hidden);
+  const Profile p = SampleProfile(image, camera, params, hidden, half_pixel_bins);
   const int bins = static_cast<int>(p.mean.size());
   if (bins == 0) return out;
   // Residuals weighted by the bins' sample counts: each bin's mean is as good as its samples.
@@ -358,7 +363,7 @@ SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
   for (int v = 0; v < 2; ++v) {
     const SideShading sh =
         MeasureSideShading(v ? pair.right : pair.left, v ? *pair.right_camera : *pair.left_camera,
-                           params, views[v].hidden);
+                           params, views[v].hidden, options.side_half_pixel_bins);
     if (!sh.measured) return SideShape::kUnmeasured;
     spdlog::debug(
         "locate: the side in the {} image shades {:.1f} times better round than flat, "
@@ -438,7 +443,7 @@ std::optional<double> FaceCrease(const StereoPair& pair, const Eigen::VectorXd& 
   for (int v = 0; v < 2; ++v) {
     const SideShading sh =
         MeasureSideShading(v ? pair.right : pair.left, v ? *pair.right_camera : *pair.left_camera,
-                           b.cylinder, views[v].hidden);
+                           b.cylinder, views[v].hidden, opt.side_half_pixel_bins);
     if (!sh.measured || !(sh.flat_rss > opt.face_crease_gain * sh.step_rss) ||
         std::abs(sh.step_contrast) < opt.min_face_crease_step)
       return std::nullopt;

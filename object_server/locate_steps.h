@@ -328,8 +328,8 @@ FitOutcome FitBox(const std::vector<Eigen::VectorXd>& starts, const std::array<F
 // middle 60% of the length; not where a known solid hides it), fitted three ways, residuals
 // weighted by each bin's sample count: flat (its mean); round, as a Lambertian side under
 // distant lights shades (a constant and the first two harmonics of the angle); and creased, as
-// two flat faces of a block meeting. Not measured when the side is under 8 px across or 6 px
-// long.
+// two flat faces of a block meeting. Not measured when the side is under 12 px across (8 px
+// with `half_pixel_bins`: bins half a pixel wide there) or 6 px long.
 struct SideShading {
   bool measured = false;
   int bins = 0;
@@ -341,7 +341,8 @@ struct SideShading {
 };
 SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveCamera& camera,
                                const Eigen::VectorXd& params,
-                               const std::vector<std::vector<Eigen::Vector2d>>& hidden);
+                               const std::vector<std::vector<Eigen::Vector2d>>& hidden,
+                               bool half_pixel_bins = true);
 // A fitted pipe's two limbs in one image: each one's grey levels outward from the fitted limb line,
 // every 0.25 px from -inside to +outside, averaged along the middle 60% of the side, and where
 // the fit's edge search (EdgeAlongNormal over min_gradient) finds it on the same lines
