@@ -262,6 +262,14 @@ struct LocateOptions {
   // at most 17 times better; any bound from 50 to 200 caught the same 2 pipes asked for as
   // blocks there. On the held-out seeds, bounds under 160 lost a right support.
   double round_side_gain = 200.0;
+  // A pipe asked for whose side shades round, but in either image under this many times
+  // better than flat (faintly round), is refused when a box explains both its whole outline
+  // and the part that should show an edge faint_round_box_ratio times as well or better: on
+  // the tuning seeds right pipes whose rival box scored within 1.5 times theirs shaded round 9
+  // to 26000 times better in either image, blocks asked for as pipes and found 1.7 to 940
+  // (docs/locator-site-scenes.md). 0: never.
+  double faint_round_side_gain = 20.0;
+  double faint_round_box_ratio = 0.9;
   // A side under 12 px across measured in bins half a pixel wide (down to 8 px): a narrow
   // block's face seen square on, left unmeasured, was refused as a pipe standing there
   // (docs/locator-site-scenes.md). false: such sides are not measured.

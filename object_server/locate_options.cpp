@@ -58,6 +58,12 @@ bool LocateOptions::Check(std::string* error) const {
         "round_side_gain at least flat_side_gain";
     return false;
   }
+  if (!(faint_round_side_gain >= 0 && faint_round_side_gain <= round_side_gain) ||
+      !(faint_round_box_ratio > 0 && faint_round_box_ratio <= 1)) {
+    *error =
+        "faint_round_side_gain must be in [0, round_side_gain], faint_round_box_ratio in (0, 1]";
+    return false;
+  }
   if (!(min_open_depth_sigma >= 0)) {
     *error = "min_open_depth_sigma must not be negative";
     return false;

@@ -359,7 +359,7 @@ SideShading MeasureSideShading(const cv::Mat& image, const geometry::ProjectiveC
 
 SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
                        const std::array<FitView, 2>& views, const LocateOptions& options) {
-  int flat = 0, creased = 0, clearly_round = 0, even = 0;
+  int flat = 0, creased = 0, clearly_round = 0, even = 0, faint = 0;
   for (int v = 0; v < 2; ++v) {
     const SideShading sh =
         MeasureSideShading(v ? pair.right : pair.left, v ? *pair.right_camera : *pair.left_camera,
@@ -377,11 +377,13 @@ SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
     else if (sh.flat_rss >= options.round_side_gain * sh.smooth_rss)
       ++clearly_round;
     if (sh.flat_rss < options.even_side_gain * std::min(sh.smooth_rss, sh.step_rss)) ++even;
+    if (sh.flat_rss < options.faint_round_side_gain * sh.smooth_rss) ++faint;
   }
   if (creased == 2) return SideShape::kCreased;
   if (clearly_round == 2) return SideShape::kClearlyRound;
   if (even == 2) return SideShape::kEven;
-  return flat + creased == 2 ? SideShape::kFlat : SideShape::kRound;
+  if (flat + creased == 2) return SideShape::kFlat;
+  return faint > 0 ? SideShape::kFaintlyRound : SideShape::kRound;
 }
 
 namespace {

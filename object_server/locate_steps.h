@@ -399,10 +399,11 @@ void RefineBoxForFaces(const StereoPair& pair, const std::array<FitView, 2>& vie
 // flat faces explains it `crease_gain` times better than the smooth fit; flat when in both it
 // is creased or the smooth fit explains it less than `flat_side_gain` times better than its
 // mean does; clearly round when in both the smooth fit explains it at least `round_side_gain`
+// times better; faintly round when round, but in either image under `faint_round_side_gain`
 // times better; round otherwise; unmeasured when an image cannot tell (MeasureSideShading).
 // Even when in both neither the smooth fit nor the crease explains it `even_side_gain` times
 // better than its mean does: no shading at all (one face seen square on).
-enum class SideShape { kUnmeasured, kRound, kClearlyRound, kFlat, kCreased, kEven };
+enum class SideShape { kUnmeasured, kRound, kClearlyRound, kFlat, kCreased, kEven, kFaintlyRound };
 SideShape ClassifySide(const StereoPair& pair, const Eigen::VectorXd& params,
                        const std::array<FitView, 2>& views, const LocateOptions& options);
 

@@ -92,13 +92,14 @@ TEST(SideShading, PipesInFullViewShadeRound) {
         if (!c || std::min(left[i], right[i]) < 0.95) continue;
         const SideShape side = ClassifySide(*pair, PipeParams(*c), Views(a.input), opt);
         EXPECT_TRUE(side == SideShape::kRound || side == SideShape::kClearlyRound ||
-                    side == SideShape::kUnmeasured)
+                    side == SideShape::kFaintlyRound || side == SideShape::kUnmeasured)
             << "seed " << seed << " " << a.scene.objects[i].name;
-        round += side == SideShape::kRound || side == SideShape::kClearlyRound;
+        round += side == SideShape::kRound || side == SideShape::kClearlyRound ||
+                 side == SideShape::kFaintlyRound;
         unmeasured += side == SideShape::kUnmeasured;
       }
     }
-  // Pipes seen end on, or under 8 px across, are not measured: 20 of 50 on these seeds.
+  // Pipes seen end on, or under 8 px across, are not measured.
   EXPECT_GE(round, 20);
   EXPECT_LE(unmeasured, round);
 }
@@ -160,6 +161,22 @@ TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenItsSideShadesEven) {
   ExpectRefusedByTheRuleAlone(a.input, "shades flat and even", off);
   off.even_side_gain = -1;
   ExpectCheckNames(off, "even_side_gain");
+}
+
+TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenItsSideShadesFaintlyRound) {
+  // Level clutter, seed 40, the thesis's cameras: support_1, under a pipe. The pipe fitted to
+  // it shades round, but under 20 times better than flat, and a box explains both its whole
+  // outline and the part that should show an edge better (0.39 against 0.52, 0.35 against
+  // 0.47): without the rule, the block was reported found as a pipe.
+  const Asked a = AskFor(40, site::SiteLevel::kClutter, false, "support_1", SolidType::kCylinder);
+  ASSERT_NE(a.shape, nullptr);
+  const LocateResult refused = Locate(a.input, LabOptions());
+  EXPECT_FALSE(refused.found);
+  EXPECT_EQ(refused.reason, Failure::kFitFailed);
+  EXPECT_TRUE(Contains(refused.detail, "only faintly round")) << refused.detail;
+  LocateOptions off = LabOptions();
+  off.faint_round_side_gain = 0;
+  EXPECT_TRUE(Locate(a.input, off).found);
 }
 
 TEST(SideShading, ABlockAskedForAsAPipeIsRefusedWhenACreaseRunsAlongItsSide) {
