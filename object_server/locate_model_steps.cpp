@@ -431,8 +431,8 @@ std::optional<StepFailure> CheckOtherType(bool cylinder, const FitOutcome& f,
   // fits at all (under max_fit_score).
   const bool other_explains = other_within_marks && !CheckBothViews(other, opt);
   const bool other_fits = other_explains && scores.other_fit <= opt.max_fit_score;
-  // A side that shades only faintly round is no pipe's but a shadowed block face's as often:
-  // a box that explains both outlines better is the answer.
+  // A side that shades only faintly round, where a box explains both outlines better, was a
+  // block's on the site scenes' tuning and held-out seeds, never a pipe's.
   if (cylinder && side == SideShape::kFaintlyRound && other_explains &&
       scores.other_fit <= opt.faint_round_box_ratio * scores.fit &&
       scores.other_supported <= opt.faint_round_box_ratio * scores.supported)

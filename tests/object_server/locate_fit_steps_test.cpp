@@ -371,42 +371,6 @@ TEST(LocateStepsFit, FitScoreAddsBothViewsResidualsAndTwiceTheMissedShare) {
   EXPECT_NEAR(FitScore(f, 0.5), 0.25 + 2.0, 1e-12);  // the residuals scaled, not the share
 }
 
-TEST(LocateStepsFit, APipeWhoseSideShadesFaintlyRoundIsRefusedWhenABoxExplainsBothOutlinesBetter) {
-  LocateOptions options;
-  FitOutcome pipe, box;  // both fitted; the scores are given below
-  pipe.ok = box.ok = true;
-  pipe.sampled = box.sampled = {100, 100};
-  pipe.used = box.used = {100, 100};
-  // The box explains the whole outline and the part that should show an edge a little better
-  // (0.45 against 0.5, 0.27 against 0.3: within faint_round_box_ratio, 0.9).
-  const TypeScores better{0.5, 0.45, 0.3, 0.27};
-  const auto faint =
-      CheckOtherType(true, pipe, box, true, SideShape::kFaintlyRound, better, options);
-  ASSERT_TRUE(faint.has_value());
-  EXPECT_EQ(faint->reason, Failure::kFitFailed);
-  EXPECT_NE(faint->detail.find("only faintly round"), std::string::npos) << faint->detail;
-  EXPECT_NE(faint->detail.find("is the object a box?"), std::string::npos) << faint->detail;
-  // A side that shades round beyond faint_round_side_gain keeps the pipe; so does a box no
-  // better on either outline, or one that leaves the marks empty.
-  EXPECT_FALSE(CheckOtherType(true, pipe, box, true, SideShape::kRound, better, options));
-  EXPECT_FALSE(CheckOtherType(true, pipe, box, true, SideShape::kFaintlyRound,
-                              {0.5, 0.46, 0.3, 0.2}, options));
-  EXPECT_FALSE(CheckOtherType(true, pipe, box, true, SideShape::kFaintlyRound,
-                              {0.5, 0.3, 0.3, 0.28}, options));
-  EXPECT_FALSE(CheckOtherType(true, pipe, box, false, SideShape::kFaintlyRound, better, options));
-  // A block asked for is not refused by it.
-  EXPECT_FALSE(CheckOtherType(false, box, pipe, true, SideShape::kFaintlyRound,
-                              {0.45, 0.5, 0.27, 0.3}, options));
-  // The bounds are checked.
-  std::string error;
-  options.faint_round_side_gain = options.round_side_gain * 2;
-  EXPECT_FALSE(options.Check(&error));
-  EXPECT_NE(error.find("faint_round_side_gain"), std::string::npos) << error;
-  options = LocateOptions();
-  options.faint_round_box_ratio = 1.5;
-  EXPECT_FALSE(options.Check(&error));
-}
-
 TEST(LocateStepsFit, APartialBoxIsNotHeldAgainstACylinderButEveryCylinderAgainstABox) {
   const LocateOptions options;
   FitOutcome loose, tight;  // scores 1.0 and 0.3: 0.3 is over 1.5 times better
