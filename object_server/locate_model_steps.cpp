@@ -400,7 +400,8 @@ bool ShowsAllButFoot(const std::array<OutlineSupport, 2>& support, const LocateO
 
 bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const LocateOptions& opt) {
   return !cylinder || side == SideShape::kFlat || side == SideShape::kEven ||
-         side == SideShape::kCreased || FitScore(f) > opt.other_type_score;
+         side == SideShape::kCreased || side == SideShape::kFaintlyRound ||
+         FitScore(f) > opt.other_type_score;
 }
 
 bool DepthLeftOpen(const FitOutcome& box, const LocateOptions& opt) {

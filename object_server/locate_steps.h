@@ -542,7 +542,7 @@ bool ShowsAllButFoot(const std::array<OutlineSupport, 2>& support, const LocateO
 // Whether to fit the other type too: for a box always, since a box fits an upright cylinder's
 // outline (its end ellipses seen thin) about as well as the cylinder does, while a real box's
 // corners leave a cylinder well behind; for a cylinder when it explains the images only fairly
-// (other_type_score) or its side does not shade round (ClassifySide).
+// (other_type_score) or its side does not shade round or only faintly (ClassifySide).
 bool WantOtherType(bool cylinder, const FitOutcome& f, SideShape side, const LocateOptions& opt);
 
 // Whether a box fit leaves its depth open: a horizontal size's sigma at least
