@@ -80,7 +80,7 @@ Profile SampleProfile(const cv::Mat& image, const geometry::ProjectiveCamera& ca
   const double s_max = 1.0 - 2.0 / std::max(r_px, 1e-9);
   const double clear_px = 2 * r_px * s_max;
   int bins = std::min(16, static_cast<int>(clear_px));
-  if (bins < 8 && half_pixel_bins) bins = std::min(16, static_cast<int>(2 * clear_px));
+  if (bins < 8 && half_pixel_bins) bins = static_cast<int>(2 * clear_px);  // under 16: clear_px < 8
   if (bins < 8 || len_px < 6) return {};
   const int steps = std::max(4, static_cast<int>(0.7 * len_px));
   Profile p;
